@@ -1,0 +1,56 @@
+// Flutter shutter codes: the gains alpha_0 .. alpha_{L-1}, their text format
+// and the six codes of the paper, which are embedded in the library.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fss {
+
+// How the code is applied (SPEC 2): analog gains in [0, 1] modulate the light
+// of one exposure; numerical gains (any real) weight a burst of L frames.
+enum class ShutterMode { kNumerical, kAnalog };
+std::string to_string(ShutterMode mode);
+std::optional<ShutterMode> shutter_mode_from_string(std::string_view text);
+
+struct ShutterCode {
+  std::string name;          // built-in name, or the file it was read from
+  std::vector<double> gains;  // alpha_k, k = 0 .. L-1
+  int length() const { return static_cast<int>(gains.size()); }
+};
+
+// Parses the code text format: numbers separated by white space, commas or
+// semicolons; '#' starts a comment running to the end of the line. The paper
+// program's code.txt ("1;" per line) is accepted as is. Throws a runtime
+// fss::Error naming `origin`, the line and the token when the text is empty,
+// holds a non-numeric token, or a NaN or infinite value.
+ShutterCode parse_code_text(std::string_view text, const std::string& origin);
+
+// Names of the built-in codes: snapshot, accumulation, raskar, random, mip, sinc.
+std::vector<std::string> builtin_code_names();
+std::optional<ShutterCode> builtin_code(std::string_view name);
+
+// A built-in name, or else the path of a code file.
+ShutterCode load_code(const std::string& name_or_path);
+
+// The reference program's code.txt format: one gain per line followed by ';'.
+std::string format_code_txt(const ShutterCode& code);
+
+// Sums used by the theory: sum alpha_k, sum alpha_k^2, max |alpha_k|, and
+// the normalized L1 norm ||alpha||_1 / sup |alpha| (0 for an all-zero code).
+double gain_sum(const std::vector<double>& gains);
+double gain_square_sum(const std::vector<double>& gains);
+double gain_max_abs(const std::vector<double>& gains);
+double normalized_l1(const std::vector<double>& gains);
+
+namespace detail {
+struct EmbeddedCode {
+  const char* name;
+  const char* text;
+};
+const std::vector<EmbeddedCode>& embedded_codes();
+}  // namespace detail
+
+}  // namespace fss

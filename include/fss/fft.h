@@ -1,0 +1,67 @@
+// Row-wise real FFTs (FFTW3, double precision).
+//
+// FFTW discipline: one RowFFT holds the r2c and c2r plans for one row length
+// N, created once (FFTW_ESTIMATE, under a process-wide lock because the FFTW
+// planner is not thread-safe) and executed many times on per-thread
+// workspaces with FFTW's new-array interface, which is thread-safe.
+//
+// Scaling: forward is the unnormalized DFT X[i] = sum_x u[x] exp(-2 pi i i x / N);
+// inverse is unnormalized too, so inverse(forward(u)) = N u.
+// Layout: the half spectrum holds bins 0 .. N/2 (N/2 + 1 values); see
+// transfer.h for the frequency of each bin.
+#pragma once
+
+#include <complex>
+#include <span>
+
+namespace fss {
+
+class RowFFT {
+ public:
+  // Buffers of one worker, allocated with fftw_malloc so they have the
+  // alignment the plans were made for.
+  class Workspace {
+   public:
+    explicit Workspace(int n);
+    ~Workspace();
+    Workspace(const Workspace&) = delete;
+    Workspace& operator=(const Workspace&) = delete;
+    std::span<double> real() { return {real_, static_cast<std::size_t>(n_)}; }
+    std::span<std::complex<double>> spectrum() {
+      return {spectrum_, static_cast<std::size_t>(n_ / 2 + 1)};
+    }
+
+   private:
+    friend class RowFFT;
+    int n_;
+    double* real_;
+    std::complex<double>* spectrum_;
+  };
+
+  explicit RowFFT(int n);
+  ~RowFFT();
+  RowFFT(const RowFFT&) = delete;
+  RowFFT& operator=(const RowFFT&) = delete;
+
+  int size() const { return n_; }
+  int spectrum_size() const { return n_ / 2 + 1; }
+
+  // workspace.real() -> workspace.spectrum().
+  void forward(Workspace& workspace) const;
+  // workspace.spectrum() -> workspace.real(); the spectrum is overwritten.
+  void inverse(Workspace& workspace) const;
+
+ private:
+  int n_;
+  void* forward_plan_;
+  void* inverse_plan_;
+};
+
+// spectrum[i] *= filter[i] for the half spectrum of a real row of length n.
+// The Nyquist bin (even n) of a real row is real and so must its product be
+// for the row to stay real: it is multiplied by Re(filter), which is what the
+// real part of a full complex inverse DFT gives.
+void multiply_half_spectrum(std::span<std::complex<double>> spectrum,
+                            std::span<const std::complex<double>> filter, int n);
+
+}  // namespace fss

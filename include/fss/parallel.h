@@ -1,0 +1,17 @@
+// Splitting loops over threads. Work items must be independent: results are
+// then the same whatever the thread count.
+#pragma once
+
+#include <functional>
+
+namespace fss {
+
+// 0 means all hardware threads (at least 1).
+int resolve_thread_count(int threads);
+
+// Calls body(begin, end) on contiguous blocks covering [0, count), on up to
+// `threads` threads (see resolve_thread_count). The first exception thrown by
+// a block is rethrown in the caller after all threads have finished.
+void parallel_for(int count, int threads, const std::function<void(int begin, int end)>& body);
+
+}  // namespace fss

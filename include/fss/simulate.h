@@ -1,0 +1,99 @@
+// One call runs the whole simulator: SimulationOptions -> Simulate() ->
+// SimulationReport. Conventions: image.h.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fss/code.h"
+#include "fss/image.h"
+#include "fss/kernel.h"
+#include "fss/restore.h"
+#include "fss/theory.h"
+
+namespace fss {
+
+enum class NoiseModel { kPoisson, kNone };
+std::string to_string(NoiseModel noise);
+std::optional<NoiseModel> noise_model_from_string(std::string_view text);
+
+struct SimulationOptions {
+  ShutterMode mode = ShutterMode::kNumerical;
+  double velocity_px_per_slot = 1.0;  // any real; the sign is the direction along rows
+  double dt = 1.0;                    // time slot length, > 0
+  double snr = 100.0;                 // > 0
+  std::uint64_t seed = 0;
+  NoiseModel noise = NoiseModel::kPoisson;
+  // Columns left out at each side of the output for the RMSE; -1 means 3 B.
+  int rmse_margin_columns = -1;
+  // Independent noise realizations, seeds seed, seed + 1, ...; images and the
+  // headline metrics are those of the first.
+  int trials = 1;
+  int threads = 0;  // 0: all hardware threads; never changes the results
+  // Called after each trial with (done, total); may be empty.
+  std::function<void(int, int)> trial_callback;
+
+  // False, with a message naming the field, its value and the rule, when an
+  // option is out of range on its own (image and code checks are in Simulate).
+  bool IsValid(std::string* error) const;
+};
+
+struct Metrics {
+  double rmse = 0.0;
+  double psnr = 0.0;
+  double rmse_ci = 0.0;
+  double psnr_ci = 0.0;
+};
+
+struct TrialStatistics {
+  int n = 0;
+  double rmse_mean = 0.0;
+  double rmse_sd = 0.0;  // sample standard deviation, 0 for one trial
+  double rmse_ci_mean = 0.0;
+  double rmse_ci_sd = 0.0;
+};
+
+struct SimulationReport {
+  SimulationOptions options;
+  std::string code_name;
+  std::vector<double> gains;
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+
+  Geometry geometry;
+  int rmse_first = 0;  // RMSE window [rmse_first, rmse_end) of the output
+  int rmse_end = 0;
+  int rmse_ci_first = 0;  // RMSE_CI window
+  int rmse_ci_end = 0;
+
+  KernelAnalysis kernel;
+  double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) = 0
+  int zero_bins = 0;              // deconvolution bins with K = 0, left at 0
+
+  Metrics metrics;         // of the first trial
+  TrialStatistics trials;  // over all trials
+  Prediction prediction;
+  std::vector<std::string> warnings;
+
+  // Wo x H outputs, on the 0..255 scale (not rounded).
+  Image observed;  // divided by observed_divisor
+  Image restored;
+  Image groundtruth;
+  Image residual;  // stretched to [0, 255]
+
+  // Human-readable summary of everything above but the images.
+  std::string FullReport() const;
+};
+
+// Runs the simulation of `code` on `input`. Throws a usage fss::Error for a
+// combination that cannot run (invalid options, analog gains outside [0, 1],
+// an all-zero code, an image too narrow for the RMSE window).
+SimulationReport Simulate(const SimulationOptions& options, const Image& input,
+                          const ShutterCode& code);
+
+}  // namespace fss

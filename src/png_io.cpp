@@ -1,0 +1,232 @@
+#include "fss/png_io.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+#include "fss/error.h"
+
+namespace fss {
+namespace {
+
+// libpng reports errors by longjmp. The functions that call setjmp below hold
+// no object with a destructor, and everything they touch after setjmp lives
+// in this heap-allocated context, so the jump skips no destructor and leaves
+// no indeterminate local.
+struct PngContext {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  char message[256] = {0};
+  const std::uint8_t* bytes = nullptr;  // reading: the source
+  std::size_t size = 0;
+  std::size_t offset = 0;
+  std::vector<std::uint8_t>* sink = nullptr;  // writing: the destination
+};
+
+void on_error(png_structp png, png_const_charp message) {
+  auto* ctx = static_cast<PngContext*>(png_get_error_ptr(png));
+  std::snprintf(ctx->message, sizeof ctx->message, "%s", message ? message : "unknown error");
+  png_longjmp(png, 1);
+}
+
+void on_warning(png_structp, png_const_charp) {
+  // Warnings (such as "known incorrect sRGB profile") do not affect pixels.
+}
+
+void read_from_memory(png_structp png, png_bytep out, png_size_t length) {
+  auto* ctx = static_cast<PngContext*>(png_get_io_ptr(png));
+  if (length > ctx->size - ctx->offset) {
+    png_error(png, "file is truncated");
+  }
+  std::memcpy(out, ctx->bytes + ctx->offset, length);
+  ctx->offset += length;
+}
+
+void write_to_memory(png_structp png, png_bytep data, png_size_t length) {
+  auto* ctx = static_cast<PngContext*>(png_get_io_ptr(png));
+  ctx->sink->insert(ctx->sink->end(), data, data + length);
+}
+
+void flush_nothing(png_structp) {}
+
+struct PngHeader {
+  png_uint_32 width = 0;
+  png_uint_32 height = 0;
+  int channels = 0;   // after transformations
+  int bit_depth = 0;  // 8 or 16 after transformations
+  std::size_t rowbytes = 0;
+};
+
+// Reads the header and sets the transformations: palette -> RGB, low bit
+// depths -> 8, alpha stripped, 16-bit samples in host order.
+bool read_header(PngContext* ctx, PngHeader* header) {
+  if (setjmp(png_jmpbuf(ctx->png))) return false;
+  png_set_user_limits(ctx->png, kMaxImageSide, kMaxImageSide);
+  png_set_read_fn(ctx->png, ctx, read_from_memory);
+  png_read_info(ctx->png, ctx->info);
+  const int color_type = png_get_color_type(ctx->png, ctx->info);
+  const int bit_depth = png_get_bit_depth(ctx->png, ctx->info);
+  if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(ctx->png);
+  if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(ctx->png);
+  if (color_type & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(ctx->png);
+  if (bit_depth == 16) png_set_swap(ctx->png);  // host is little endian on every Debian target
+  png_set_interlace_handling(ctx->png);
+  png_read_update_info(ctx->png, ctx->info);
+  header->width = png_get_image_width(ctx->png, ctx->info);
+  header->height = png_get_image_height(ctx->png, ctx->info);
+  header->channels = png_get_channels(ctx->png, ctx->info);
+  header->bit_depth = png_get_bit_depth(ctx->png, ctx->info);
+  header->rowbytes = png_get_rowbytes(ctx->png, ctx->info);
+  return true;
+}
+
+bool read_rows(PngContext* ctx, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(ctx->png))) return false;
+  png_read_image(ctx->png, rows);
+  png_read_end(ctx->png, nullptr);
+  return true;
+}
+
+bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int color_type,
+                 png_bytepp rows) {
+  if (setjmp(png_jmpbuf(ctx->png))) return false;
+  png_set_write_fn(ctx->png, ctx, write_to_memory, flush_nothing);
+  png_set_IHDR(ctx->png, ctx->info, width, height, 8, color_type, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(ctx->png, ctx->info);
+  png_write_image(ctx->png, rows);
+  png_write_end(ctx->png, nullptr);
+  return true;
+}
+
+struct ReadStructs {
+  PngContext ctx;
+  ~ReadStructs() {
+    if (ctx.png) png_destroy_read_struct(&ctx.png, ctx.info ? &ctx.info : nullptr, nullptr);
+  }
+};
+
+struct WriteStructs {
+  PngContext ctx;
+  ~WriteStructs() {
+    if (ctx.png) png_destroy_write_struct(&ctx.png, ctx.info ? &ctx.info : nullptr);
+  }
+};
+
+}  // namespace
+
+Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string& name) {
+  if (size < 8 || png_sig_cmp(bytes, 0, 8) != 0) {
+    throw_runtime_error("input '" + name + "' is not a PNG file (bad signature)");
+  }
+  auto structs = std::make_unique<ReadStructs>();
+  PngContext* ctx = &structs->ctx;
+  ctx->bytes = bytes;
+  ctx->size = size;
+  ctx->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
+  if (!ctx->png) throw_runtime_error("cannot read '" + name + "': out of memory");
+  ctx->info = png_create_info_struct(ctx->png);
+  if (!ctx->info) throw_runtime_error("cannot read '" + name + "': out of memory");
+
+  PngHeader header;
+  if (!read_header(ctx, &header)) {
+    throw_runtime_error("cannot read PNG '" + name + "': " + ctx->message);
+  }
+  if (header.width == 0 || header.height == 0) {
+    throw_runtime_error("PNG '" + name + "' has no pixels");
+  }
+  std::vector<std::uint8_t> pixels(header.rowbytes * header.height);
+  std::vector<png_bytep> rows(header.height);
+  for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = pixels.data() + y * header.rowbytes;
+  if (!read_rows(ctx, rows.data())) {
+    throw_runtime_error("cannot read PNG '" + name + "': " + ctx->message);
+  }
+
+  const int in_channels = header.channels;  // 1 or 3 after the transformations
+  const int out_channels = in_channels >= 3 ? 3 : 1;
+  Image image(static_cast<int>(header.width), static_cast<int>(header.height), out_channels);
+  for (png_uint_32 y = 0; y < header.height; ++y) {
+    const std::uint8_t* row = rows[y];
+    for (png_uint_32 x = 0; x < header.width; ++x) {
+      for (int c = 0; c < out_channels; ++c) {
+        const std::size_t sample = static_cast<std::size_t>(x) * in_channels + c;
+        double value;
+        if (header.bit_depth == 16) {
+          std::uint16_t v16;
+          std::memcpy(&v16, row + 2 * sample, 2);
+          value = v16 / 257.0;
+        } else {
+          value = row[sample];
+        }
+        image.at(c, static_cast<int>(y), static_cast<int>(x)) = value;
+      }
+    }
+  }
+  return image;
+}
+
+Image read_png(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw_runtime_error("input '" + name + "' is a directory, expected a PNG file");
+  }
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    throw_runtime_error("cannot open input '" + name + "': " + std::strerror(errno));
+  }
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)),
+                                  std::istreambuf_iterator<char>());
+  if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
+  if (bytes.empty()) throw_runtime_error("input '" + name + "' is empty, expected a PNG file");
+  return decode_png(bytes.data(), bytes.size(), name);
+}
+
+std::vector<std::uint8_t> encode_png8(const Image& image) {
+  if (image.channels != 1 && image.channels != 3) {
+    throw_usage_error("PNG encoding needs 1 or 3 channels, got " + std::to_string(image.channels));
+  }
+  if (image.width <= 0 || image.height <= 0) {
+    throw_usage_error("PNG encoding needs a non-empty image, got " + std::to_string(image.width) +
+                      "x" + std::to_string(image.height));
+  }
+  const int channels = image.channels;
+  std::vector<std::uint8_t> pixels(image.plane_size() * channels);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      for (int c = 0; c < channels; ++c) {
+        const double v = std::clamp(std::round(image.at(c, y, x)), 0.0, 255.0);
+        pixels[(static_cast<std::size_t>(y) * image.width + x) * channels + c] =
+            static_cast<std::uint8_t>(std::isnan(v) ? 0.0 : v);
+      }
+    }
+  }
+  std::vector<png_bytep> rows(image.height);
+  for (int y = 0; y < image.height; ++y) {
+    rows[y] = pixels.data() + static_cast<std::size_t>(y) * image.width * channels;
+  }
+  std::vector<std::uint8_t> out;
+  auto structs = std::make_unique<WriteStructs>();
+  PngContext* ctx = &structs->ctx;
+  ctx->sink = &out;
+  ctx->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
+  if (!ctx->png) throw_runtime_error("PNG encoding: out of memory");
+  ctx->info = png_create_info_struct(ctx->png);
+  if (!ctx->info) throw_runtime_error("PNG encoding: out of memory");
+  const int color_type = channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
+  if (!write_image(ctx, static_cast<png_uint_32>(image.width),
+                   static_cast<png_uint_32>(image.height), color_type, rows.data())) {
+    throw_runtime_error(std::string("PNG encoding failed: ") + ctx->message);
+  }
+  return out;
+}
+
+}  // namespace fss

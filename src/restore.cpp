@@ -1,0 +1,98 @@
+#include "fss/restore.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "fss/error.h"
+#include "fss/fft.h"
+#include "fss/parallel.h"
+#include "fss/transfer.h"
+
+namespace fss {
+
+Geometry Geometry::compute(int width, int code_length, double velocity, double dt) {
+  if (code_length < 1) throw_usage_error("the code must have at least one gain");
+  // B = max(L, ceil(|v| dt L))
+  const double motion = std::ceil(std::abs(velocity) * dt * code_length);
+  if (!(motion < static_cast<double>(width))) {
+    throw_usage_error("the blur of velocity " + std::to_string(velocity) + " over " +
+                      std::to_string(code_length) + " slots of dt " + std::to_string(dt) +
+                      " spans " + std::to_string(motion) + " pixels, more than the image width " +
+                      std::to_string(width));
+  }
+  Geometry g;
+  g.width = width;
+  g.blur_length = std::max(code_length, static_cast<int>(motion));
+  g.half_blur = g.blur_length / 2;
+  g.observed_width = width - g.blur_length;
+  g.mirror_width = 2 * g.observed_width;
+  g.output_width = width - 3 * g.blur_length;
+  if (g.output_width < 1) {
+    throw_usage_error("image width " + std::to_string(width) + " is too narrow for blur length B = " +
+                      std::to_string(g.blur_length) + ": the outputs need a width above 3B = " +
+                      std::to_string(3 * g.blur_length));
+  }
+  return g;
+}
+
+Image mirror_extend(const Image& crop) {
+  const int wa = crop.width;
+  Image out(2 * wa, crop.height, crop.channels);
+  for (int c = 0; c < crop.channels; ++c) {
+    for (int y = 0; y < crop.height; ++y) {
+      const double* src = crop.row(c, y);
+      double* dst = out.row(c, y);
+      std::copy(src, src + wa, dst);
+      std::reverse_copy(src, src + wa, dst + wa);  // column j >= Wa is 2 Wa - 1 - j
+    }
+  }
+  return out;
+}
+
+Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
+                             double dt, int threads) {
+  const int n = mirrored.width;
+  Deconvolution result;
+  // r = IDFT(DFT(mirror) / K); bins with K = 0 carry no information and are zeroed.
+  std::vector<Complex> inverse = transfer_function_bins(gains, velocity, dt, n);
+  for (Complex& k : inverse) {
+    if (k == Complex(0.0)) {
+      ++result.zero_bins;
+    } else {
+      k = 1.0 / k;
+    }
+  }
+  result.image = Image(n, mirrored.height, mirrored.channels);
+  const RowFFT fft(n);
+  const double inverse_n = 1.0 / n;
+  parallel_for(mirrored.channels * mirrored.height, threads, [&](int begin, int end) {
+    RowFFT::Workspace workspace(n);
+    for (int r = begin; r < end; ++r) {
+      const double* src = mirrored.data.data() + static_cast<std::size_t>(r) * n;
+      std::copy(src, src + n, workspace.real().begin());
+      fft.forward(workspace);
+      multiply_half_spectrum(workspace.spectrum(), inverse, n);
+      fft.inverse(workspace);
+      double* dst = result.image.data.data() + static_cast<std::size_t>(r) * n;
+      for (int x = 0; x < n; ++x) dst[x] = workspace.real()[x] * inverse_n;
+    }
+  });
+  return result;
+}
+
+Restoration restore(const Image& observation, const Image& input, const Geometry& geometry,
+                    std::span<const double> gains, double velocity, double dt, int threads) {
+  const int h = geometry.half_blur;
+  const Image crop = crop_columns(observation, h, geometry.observed_width);
+  Deconvolution deconvolved =
+      inverse_filter(mirror_extend(crop), gains, velocity, dt, threads);
+  Restoration out;
+  out.restored = crop_columns(deconvolved.image, 2 * h, geometry.output_width);
+  out.observed = crop_columns(observation, 3 * h, geometry.output_width);
+  out.groundtruth = crop_columns(input, 3 * h, geometry.output_width);
+  out.zero_bins = deconvolved.zero_bins;
+  return out;
+}
+
+}  // namespace fss

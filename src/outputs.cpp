@@ -44,6 +44,11 @@ nlohmann::json report_json(const SimulationReport& r, const std::string& input_p
                      {"seed", r.options.seed},
                      {"noise", to_string(r.options.noise)},
                      {"trials", r.options.trials}};
+  j["code"] = {{"name", r.code_name},
+               {"gains", r.gains},
+               {"sum", gain_sum(r.gains)},
+               {"square_sum", gain_square_sum(r.gains)},
+               {"normalized_l1", normalized_l1(r.gains)}};
   j["geometry"] = {{"blur_length", r.geometry.blur_length},
                    {"observed_width", r.geometry.observed_width},
                    {"mirror_width", r.geometry.mirror_width},

@@ -1,0 +1,95 @@
+#include "test_util.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace fss::test {
+
+TempDir::TempDir() {
+  std::string pattern = (std::filesystem::temp_directory_path() / "fssim-test-XXXXXX").string();
+  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+  path_ = pattern;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  // Restore permissions a test may have removed, then delete.
+  std::filesystem::permissions(path_, std::filesystem::perms::owner_all,
+                               std::filesystem::perm_options::add, ec);
+  std::filesystem::remove_all(path_, ec);
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error("cannot open " + path.string());
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+void write_file(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!file) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::vector<std::string> list_directory(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+CommandResult run_command(const std::string& command) {
+  TempDir dir;
+  const auto out_path = dir / "stdout";
+  const auto err_path = dir / "stderr";
+  const std::string full = command + " >'" + out_path.string() + "' 2>'" + err_path.string() + "' </dev/null";
+  const int status = std::system(full.c_str());
+  CommandResult result;
+  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+  result.out = read_file(out_path);
+  result.err = read_file(err_path);
+  return result;
+}
+
+CommandResult run_fssim(const std::string& arguments) {
+  return run_command(std::string("'") + FSSIM_BINARY_PATH + "' " + arguments);
+}
+
+Image make_test_image(int width, int height, int channels, std::uint64_t seed) {
+  Image image(width, height, channels);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> texture(-20.0, 20.0);
+  for (int c = 0; c < channels; ++c) {
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        double v = 40.0 + 150.0 * x / std::max(1, width - 1);  // ramp
+        if ((x / 17 + y / 23 + c) % 2 == 0) v += 40.0;          // blocks with sharp edges
+        v += 15.0 * std::sin(0.3 * y + 0.1 * c);                // smooth vertical variation
+        v += texture(rng);                                      // texture
+        image.at(c, y, x) = std::clamp(v, 0.0, 255.0);
+      }
+    }
+  }
+  return image;
+}
+
+std::filesystem::path source_path(const std::string& relative) {
+  return std::filesystem::path(FSS_SOURCE_DIR) / relative;
+}
+
+std::filesystem::path fixture_path(const std::string& relative) {
+  return std::filesystem::path(FSS_FIXTURES_DIR) / relative;
+}
+
+}  // namespace fss::test

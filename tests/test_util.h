@@ -1,0 +1,54 @@
+// Helpers shared by the tests: temporary directories, files, synthetic
+// images and running the fssim binary.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fss/image.h"
+
+namespace fss::test {
+
+// A fresh empty directory under the system temp dir, removed on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::string read_file(const std::filesystem::path& path);
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+
+// Names of the entries of a directory, sorted.
+std::vector<std::string> list_directory(const std::filesystem::path& dir);
+
+struct CommandResult {
+  int exit_code = -1;  // -1 when killed by a signal
+  std::string out;
+  std::string err;
+};
+// Runs `command` through /bin/sh with stdout and stderr captured.
+CommandResult run_command(const std::string& command);
+
+// Runs the fssim binary under test with the given arguments (shell-quoted by
+// the caller where needed).
+CommandResult run_fssim(const std::string& arguments);
+
+// Deterministic test image with edges, smooth ramps and texture; values in
+// [0, 255].
+Image make_test_image(int width, int height, int channels, std::uint64_t seed = 1);
+
+// Repository paths.
+std::filesystem::path source_path(const std::string& relative);
+std::filesystem::path fixture_path(const std::string& relative);
+
+}  // namespace fss::test

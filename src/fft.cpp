@@ -25,9 +25,7 @@ T* fftw_alloc(std::size_t count) {
 }  // namespace
 
 RowFFT::Workspace::Workspace(int n)
-    : n_(n),
-      real_(fftw_alloc<double>(static_cast<std::size_t>(n))),
-      spectrum_(nullptr) {
+    : n_(n), real_(fftw_alloc<double>(static_cast<std::size_t>(n))), spectrum_(nullptr) {
   try {
     spectrum_ = fftw_alloc<std::complex<double>>(static_cast<std::size_t>(n / 2 + 1));
   } catch (...) {

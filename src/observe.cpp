@@ -132,7 +132,8 @@ Image observe_numerical(const RowSpectra& u, std::span<const double> gains,
         slot_transfer_function_bins(static_cast<int>(k), params.velocity, params.dt, u.width);
     for_each_filtered_row(u, filter, fft, params.threads,
                           [&](int c, int y, std::span<const double> e) {
-                            // o(x) += alpha_k PoissonSNR(e_k(x)), one stream per (channel, slot, row)
+                            // o(x) += alpha_k PoissonSNR(e_k(x)), one stream per (channel, slot,
+                            // row)
                             RandomStream stream(params.seed, static_cast<std::uint64_t>(c), k,
                                                 static_cast<std::uint64_t>(y));
                             double* o = out.row(c, y);

@@ -34,7 +34,8 @@ nlohmann::json finite_or_null(double value) {
 
 nlohmann::json report_json(const SimulationReport& r, const std::string& input_path) {
   nlohmann::json j;
-  j["input"] = {{"path", input_path}, {"width", r.width}, {"height", r.height}, {"channels", r.channels}};
+  j["input"] = {
+      {"path", input_path}, {"width", r.width}, {"height", r.height}, {"channels", r.channels}};
   j["parameters"] = {{"code", r.code_name},
                      {"code_length", r.gains.size()},
                      {"mode", to_string(r.options.mode)},
@@ -131,7 +132,8 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
   }
   std::filesystem::create_directories(outdir, ec);
   if (ec) {
-    throw_runtime_error("cannot create output directory '" + outdir.string() + "': " + ec.message());
+    throw_runtime_error("cannot create output directory '" + outdir.string() +
+                        "': " + ec.message());
   }
   for (const auto& [name, bytes] : contents) {
     const auto target = outdir / name;
@@ -162,7 +164,8 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
     if (ec) {
       const std::string message = "cannot move '" + staged[i].temporary.string() + "' to '" +
                                   staged[i].target.string() + "': " + ec.message();
-      for (std::size_t j = i; j < staged.size(); ++j) std::filesystem::remove(staged[j].temporary, ec);
+      for (std::size_t j = i; j < staged.size(); ++j)
+        std::filesystem::remove(staged[j].temporary, ec);
       throw_runtime_error(message);
     }
   }

@@ -53,7 +53,8 @@ CommandResult run_command(const std::string& command) {
   TempDir dir;
   const auto out_path = dir / "stdout";
   const auto err_path = dir / "stderr";
-  const std::string full = command + " >'" + out_path.string() + "' 2>'" + err_path.string() + "' </dev/null";
+  const std::string full =
+      command + " >'" + out_path.string() + "' 2>'" + err_path.string() + "' </dev/null";
   const int status = std::system(full.c_str());
   CommandResult result;
   if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
@@ -74,9 +75,9 @@ Image make_test_image(int width, int height, int channels, std::uint64_t seed) {
     for (int y = 0; y < height; ++y) {
       for (int x = 0; x < width; ++x) {
         double v = 40.0 + 150.0 * x / std::max(1, width - 1);  // ramp
-        if ((x / 17 + y / 23 + c) % 2 == 0) v += 40.0;          // blocks with sharp edges
-        v += 15.0 * std::sin(0.3 * y + 0.1 * c);                // smooth vertical variation
-        v += texture(rng);                                      // texture
+        if ((x / 17 + y / 23 + c) % 2 == 0) v += 40.0;         // blocks with sharp edges
+        v += 15.0 * std::sin(0.3 * y + 0.1 * c);               // smooth vertical variation
+        v += texture(rng);                                     // texture
         image.at(c, y, x) = std::clamp(v, 0.0, 255.0);
       }
     }

@@ -1,0 +1,346 @@
+// Tests of the output files of a run (outputs.h): spectrum.txt, report.json
+// and the all-or-nothing writing of the output directory.
+#include "fss/outputs.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fss/code.h"
+#include "fss/error.h"
+#include "fss/png_io.h"
+#include "fss/transfer.h"
+#include "test_util.h"
+
+namespace fss {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<std::string> sorted(std::vector<std::string> names) {
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A small real run: 64 x 8 gray, a 4-slot code, so B = 4 and Wo = 52.
+SimulationReport small_report(const std::vector<double>& gains = {1.0, 0.0, 1.0, 1.0},
+                              std::uint64_t seed = 3) {
+  SimulationOptions options;
+  options.seed = seed;
+  options.threads = 1;
+  return Simulate(options, test::make_test_image(64, 8, 1, 5), ShutterCode{"short", gains});
+}
+
+std::string png_bytes(const Image& image) {
+  const std::vector<std::uint8_t> bytes = encode_png8(image);
+  return {bytes.begin(), bytes.end()};
+}
+
+// The expected content of each output file of `report`.
+std::vector<std::pair<std::string, std::string>> expected_files(const SimulationReport& report,
+                                                                const std::string& input_path) {
+  return {
+      {"observed.png", png_bytes(report.observed)},
+      {"restored.png", png_bytes(report.restored)},
+      {"groundtruth.png", png_bytes(report.groundtruth)},
+      {"residual.png", png_bytes(report.residual)},
+      {"code.txt", format_code_txt({report.code_name, report.gains})},
+      {"spectrum.txt",
+       format_spectrum_txt(report.gains, report.options.velocity_px_per_slot, report.options.dt)},
+  };
+}
+
+template <typename F>
+std::optional<Error> error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------
+// spectrum.txt
+
+TEST(FormatSpectrumTxt, HundredSamplesOfAbsK) {
+  const std::vector<double> gains = builtin_code("random").value().gains;
+  const double v = 0.8, dt = 1.2;
+  const std::vector<std::string> lines = split_lines(format_spectrum_txt(gains, v, dt));
+  ASSERT_EQ(lines.size(), 100u);
+  EXPECT_EQ(lines[0].substr(0, 9), "-3.14159 ");
+  for (int j = 0; j < 100; ++j) {
+    std::istringstream in(lines[j]);
+    double xi = 0.0, magnitude = 0.0;
+    ASSERT_TRUE(in >> xi >> magnitude) << lines[j];
+    std::string rest;
+    EXPECT_FALSE(in >> rest) << "extra text on line " << j << ": " << lines[j];
+    const double expected_xi = -M_PI + j * 2.0 * M_PI / 100.0;
+    const double expected = std::abs(transfer_function(gains, v, dt, expected_xi));
+    // Six significant digits are printed.
+    EXPECT_NEAR(xi, expected_xi, 5e-6) << "line " << j;
+    EXPECT_NEAR(magnitude, expected, 5e-6 * expected) << "line " << j;
+  }
+}
+
+TEST(FormatSpectrumTxt, MatchesTheReferenceProgramForRaskar) {
+  const std::vector<std::string> ours =
+      split_lines(format_spectrum_txt(builtin_code("raskar").value().gains, 1.0, 1.0));
+  const std::vector<std::string> reference = split_lines(
+      test::read_file(test::fixture_path("camera_numerical_raskar_v1_noisefree/spectrum.txt")));
+  ASSERT_EQ(ours.size(), reference.size());
+  for (std::size_t j = 0; j < ours.size(); ++j) {
+    std::istringstream a(ours[j]), b(reference[j]);
+    double xi_a, k_a, xi_b, k_b;
+    ASSERT_TRUE(a >> xi_a >> k_a);
+    ASSERT_TRUE(b >> xi_b >> k_b);
+    // The reference steps xi in single precision (float accumulation
+    // reproduces its file to 4e-6): its printed xi may differ by one unit in
+    // the sixth digit, and |K| by up to 5e-5 relative.
+    EXPECT_NEAR(xi_a, xi_b, 2e-5) << "line " << j;
+    EXPECT_NEAR(k_a, k_b, 1e-4 * std::max(1.0, k_b)) << "line " << j;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// report.json
+
+TEST(ReportJson, HasEveryDocumentedKey) {
+  const SimulationReport report = small_report();
+  const json j = report_json(report, "some/input.png");
+  const std::vector<std::pair<std::string, std::vector<std::string>>> keys = {
+      {"input", {"path", "width", "height", "channels"}},
+      {"parameters", {"code", "code_length", "mode", "velocity", "dt", "snr", "seed", "noise"}},
+      {"geometry",
+       {"blur_length", "observed_width", "output_width", "rmse_columns", "rmse_ci_columns"}},
+      {"metrics", {"rmse", "psnr", "rmse_ci", "psnr_ci"}},
+      {"kernel", {"min_abs", "min_abs_xi", "invertible"}},
+      {"prediction", {"rmse_noise_free", "sigma", "rmse", "snr_level100"}},
+  };
+  for (const auto& [section, names] : keys) {
+    ASSERT_TRUE(j.contains(section)) << section;
+    ASSERT_TRUE(j[section].is_object()) << section;
+    for (const std::string& name : names) {
+      EXPECT_TRUE(j[section].contains(name)) << section << "." << name;
+    }
+  }
+  ASSERT_TRUE(j["geometry"]["rmse_columns"].is_array());
+  ASSERT_TRUE(j["geometry"]["rmse_ci_columns"].is_array());
+  EXPECT_EQ(j["geometry"]["rmse_columns"].size(), 2u);
+  EXPECT_EQ(j["geometry"]["rmse_ci_columns"].size(), 2u);
+}
+
+TEST(ReportJson, ValuesAreThoseOfTheReport) {
+  const SimulationReport report = small_report();
+  const json j = report_json(report, "some/input.png");
+  EXPECT_EQ(j["input"]["path"], "some/input.png");
+  EXPECT_EQ(j["input"]["width"], 64);
+  EXPECT_EQ(j["input"]["height"], 8);
+  EXPECT_EQ(j["input"]["channels"], 1);
+  EXPECT_EQ(j["parameters"]["code"], "short");
+  EXPECT_EQ(j["parameters"]["code_length"], 4);
+  EXPECT_EQ(j["parameters"]["mode"], "numerical");
+  EXPECT_EQ(j["parameters"]["noise"], "poisson");
+  EXPECT_EQ(j["parameters"]["velocity"], 1.0);
+  EXPECT_EQ(j["parameters"]["dt"], 1.0);
+  EXPECT_EQ(j["parameters"]["snr"], 100.0);
+  EXPECT_EQ(j["parameters"]["seed"], 3u);
+  EXPECT_EQ(j["geometry"]["blur_length"], 4);
+  EXPECT_EQ(j["geometry"]["observed_width"], 60);
+  EXPECT_EQ(j["geometry"]["output_width"], 52);
+  EXPECT_EQ(j["geometry"]["rmse_columns"], json::array({12, 40}));
+  EXPECT_EQ(j["geometry"]["rmse_ci_columns"], json::array({4, 48}));
+  EXPECT_EQ(j["metrics"]["rmse"], report.metrics.rmse);
+  EXPECT_EQ(j["metrics"]["psnr"], report.metrics.psnr);
+  EXPECT_EQ(j["metrics"]["rmse_ci"], report.metrics.rmse_ci);
+  EXPECT_EQ(j["metrics"]["psnr_ci"], report.metrics.psnr_ci);
+  EXPECT_EQ(j["kernel"]["min_abs"], report.kernel.min_abs);
+  EXPECT_EQ(j["kernel"]["min_abs_xi"], report.kernel.min_abs_xi);
+  EXPECT_EQ(j["kernel"]["invertible"], true);
+  EXPECT_EQ(j["prediction"]["rmse_noise_free"], report.prediction.rmse_noise_free);
+  EXPECT_EQ(j["prediction"]["sigma"], report.prediction.sigma);
+  EXPECT_EQ(j["prediction"]["rmse"], report.prediction.rmse);
+  EXPECT_EQ(j["prediction"]["snr_level100"], report.prediction.snr_level100);
+}
+
+TEST(ReportJson, LargestSeedIsKeptExactly) {
+  const std::uint64_t seed = std::numeric_limits<std::uint64_t>::max();
+  const json j = report_json(small_report({1.0, 0.0, 1.0, 1.0}, seed), "in.png");
+  ASSERT_TRUE(j["parameters"]["seed"].is_number_unsigned());
+  EXPECT_EQ(j["parameters"]["seed"].get<std::uint64_t>(), seed);
+  // Through the text too.
+  EXPECT_EQ(json::parse(j.dump())["parameters"]["seed"].get<std::uint64_t>(), seed);
+}
+
+TEST(ReportJson, InfiniteValuesAreNull) {
+  // {1, 1, 1, 1} at v = 1 has zeros at xi = pi / 2 and pi: not invertible.
+  SimulationReport report = small_report({1.0, 1.0, 1.0, 1.0});
+  ASSERT_FALSE(report.kernel.invertible);
+  ASSERT_TRUE(std::isinf(report.prediction.rmse));
+  report.metrics.rmse = 0.0;  // a perfect restoration: PSNR is infinite
+  report.metrics.psnr = std::numeric_limits<double>::infinity();
+  report.metrics.rmse_ci = std::numeric_limits<double>::quiet_NaN();
+  report.metrics.psnr_ci = std::numeric_limits<double>::infinity();
+  const json j = report_json(report, "in.png");
+  EXPECT_TRUE(j["metrics"]["psnr"].is_null());
+  EXPECT_TRUE(j["metrics"]["psnr_ci"].is_null());
+  EXPECT_TRUE(j["metrics"]["rmse_ci"].is_null());
+  EXPECT_EQ(j["metrics"]["rmse"], 0.0);
+  EXPECT_TRUE(j["prediction"]["rmse"].is_null());
+  EXPECT_TRUE(j["prediction"]["sigma"].is_null());
+  EXPECT_EQ(j["kernel"]["invertible"], false);
+  // And the text is valid JSON with a null where the infinity was.
+  const json parsed = json::parse(j.dump(2));
+  EXPECT_TRUE(parsed["prediction"]["rmse"].is_null());
+}
+
+// ---------------------------------------------------------------------------
+// write_outputs
+
+TEST(OutputFileNames, AreTheSevenDocumentedFiles) {
+  EXPECT_EQ(sorted(output_file_names()),
+            sorted({"observed.png", "restored.png", "groundtruth.png", "residual.png", "code.txt",
+                    "spectrum.txt", "report.json"}));
+}
+
+class WriteOutputs : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { report_ = new SimulationReport(small_report()); }
+  static void TearDownTestSuite() {
+    delete report_;
+    report_ = nullptr;
+  }
+  static const SimulationReport& report() { return *report_; }
+
+  // Every output file of `outdir` has the content of a fresh write.
+  void expect_complete_outputs(const fs::path& outdir, const std::string& input_path) {
+    for (const auto& [name, bytes] : expected_files(report(), input_path)) {
+      EXPECT_TRUE(test::read_file(outdir / name) == bytes) << name << " differs";
+    }
+    const json written = json::parse(test::read_file(outdir / "report.json"));
+    EXPECT_EQ(written, report_json(report(), input_path));
+  }
+
+  test::TempDir dir_;
+
+ private:
+  static SimulationReport* report_;
+};
+SimulationReport* WriteOutputs::report_ = nullptr;
+
+TEST_F(WriteOutputs, WritesExactlyTheListedFilesIntoANewDirectory) {
+  const fs::path outdir = dir_ / "nested/out";
+  write_outputs(outdir, report(), "input.png");
+  EXPECT_EQ(test::list_directory(outdir), sorted(output_file_names()));
+  expect_complete_outputs(outdir, "input.png");
+  // No staging leftovers next to the directory either.
+  EXPECT_EQ(test::list_directory(dir_ / "nested"), std::vector<std::string>{"out"});
+  const Image observed = read_png(outdir / "observed.png");
+  EXPECT_EQ(observed.width, 52);
+  EXPECT_EQ(observed.height, 8);
+  EXPECT_EQ(observed.channels, 1);
+}
+
+TEST_F(WriteOutputs, WritesIntoAnExistingEmptyDirectory) {
+  write_outputs(dir_.path(), report(), "input.png");
+  EXPECT_EQ(test::list_directory(dir_.path()), sorted(output_file_names()));
+}
+
+TEST_F(WriteOutputs, OutdirThatIsARegularFileIsRefused) {
+  const fs::path file = dir_ / "not-a-directory";
+  test::write_file(file, "precious content\n");
+  const auto error = error_of([&] { write_outputs(file, report(), "input.png"); });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+  EXPECT_THAT(error->what(), HasSubstr(file.string()));
+  EXPECT_EQ(test::read_file(file), "precious content\n");
+  EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"not-a-directory"});
+}
+
+TEST_F(WriteOutputs, RefusesToOverwriteTheInput) {
+  const std::string input_bytes = png_bytes(test::make_test_image(64, 8, 1, 5));
+  test::write_file(dir_ / "observed.png", input_bytes);
+  // The same file, spelled three ways.
+  const std::vector<std::pair<fs::path, std::string>> spellings = {
+      {dir_.path(), (dir_ / "observed.png").string()},
+      {dir_.path(), (dir_.path() / "." / "observed.png").string()},
+      {dir_.path() / ".", (dir_ / "observed.png").string()},
+  };
+  for (const auto& [outdir, input_path] : spellings) {
+    const auto error = error_of([&] { write_outputs(outdir, report(), input_path); });
+    ASSERT_TRUE(error.has_value()) << outdir << " / " << input_path;
+    EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+    EXPECT_THAT(error->what(), HasSubstr(input_path));
+    EXPECT_TRUE(test::read_file(dir_ / "observed.png") == input_bytes);
+    EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"observed.png"});
+  }
+}
+
+TEST_F(WriteOutputs, InputWithAnOutputNameElsewhereIsFine) {
+  // An input called observed.png in another directory is not in the way.
+  test::write_file(dir_ / "observed.png", "input");
+  const fs::path outdir = dir_ / "out";
+  write_outputs(outdir, report(), (dir_ / "observed.png").string());
+  EXPECT_EQ(test::read_file(dir_ / "observed.png"), "input");
+  EXPECT_EQ(test::list_directory(outdir), sorted(output_file_names()));
+}
+
+TEST_F(WriteOutputs, ReplacesPreviousOutputsOnSuccess) {
+  for (const std::string& name : output_file_names()) test::write_file(dir_ / name, "old " + name);
+  test::write_file(dir_ / "unrelated.txt", "keep me");
+  write_outputs(dir_.path(), report(), "input.png");
+  expect_complete_outputs(dir_.path(), "input.png");
+  EXPECT_EQ(test::read_file(dir_ / "unrelated.txt"), "keep me");
+  std::vector<std::string> expected = output_file_names();
+  expected.push_back("unrelated.txt");
+  EXPECT_EQ(test::list_directory(dir_.path()), sorted(expected));
+}
+
+TEST_F(WriteOutputs, KeepsPreviousOutputsOnFailure) {
+  // report.json is a directory: writing it must fail, and then no other
+  // output may have been replaced.
+  for (const std::string& name : output_file_names()) {
+    if (name != "report.json") test::write_file(dir_ / name, "old " + name);
+  }
+  fs::create_directory(dir_ / "report.json");
+  const auto error = error_of([&] { write_outputs(dir_.path(), report(), "input.png"); });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+  for (const std::string& name : output_file_names()) {
+    if (name != "report.json") EXPECT_EQ(test::read_file(dir_ / name), "old " + name) << name;
+  }
+  EXPECT_TRUE(fs::is_directory(dir_ / "report.json"));
+  EXPECT_EQ(test::list_directory(dir_.path()), sorted(output_file_names()));
+}
+
+TEST_F(WriteOutputs, KeepsPreviousOutputsWhenTheInputIsInTheWay) {
+  for (const std::string& name : output_file_names()) test::write_file(dir_ / name, "old " + name);
+  const auto error =
+      error_of([&] { write_outputs(dir_.path(), report(), (dir_ / "restored.png").string()); });
+  ASSERT_TRUE(error.has_value());
+  for (const std::string& name : output_file_names()) {
+    EXPECT_EQ(test::read_file(dir_ / name), "old " + name) << name;
+  }
+  EXPECT_EQ(test::list_directory(dir_.path()), sorted(output_file_names()));
+}
+
+}  // namespace
+}  // namespace fss

@@ -2,7 +2,8 @@
 
 namespace fss {
 
-Error::Error(ErrorKind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+Error::Error(ErrorKind kind, const std::string& message)
+    : std::runtime_error(message), kind_(kind) {}
 
 void throw_usage_error(const std::string& message) { throw Error(ErrorKind::kUsage, message); }
 

@@ -14,8 +14,8 @@ namespace {
 void require_same_size(const Image& a, const Image& b) {
   if (a.width != b.width || a.height != b.height || a.channels != b.channels) {
     throw_usage_error("images of different sizes cannot be compared: " + std::to_string(a.width) +
-                      "x" + std::to_string(a.height) + "x" + std::to_string(a.channels) +
-                      " and " + std::to_string(b.width) + "x" + std::to_string(b.height) + "x" +
+                      "x" + std::to_string(a.height) + "x" + std::to_string(a.channels) + " and " +
+                      std::to_string(b.width) + "x" + std::to_string(b.height) + "x" +
                       std::to_string(b.channels));
   }
 }
@@ -106,9 +106,10 @@ Image residual_display(const Image& a, const Image& b) {
     lo = std::min(lo, d.data[i]);
     hi = std::max(hi, d.data[i]);
   }
-  // (d - min) * 255 / (max - min), every pixel including the first
-  const double scale = hi > lo ? 255.0 / (hi - lo) : 0.0;
-  for (double& v : d.data) v = (v - lo) * scale;
+  // (d - min) / (max - min) * 255, every pixel including the first; dividing
+  // first makes both ends exact (x / x = 1), which 255 / range * x is not.
+  const double range = hi - lo;
+  for (double& v : d.data) v = range > 0.0 ? (v - lo) / range * 255.0 : 0.0;
   return d;
 }
 

@@ -29,9 +29,9 @@ Geometry Geometry::compute(int width, int code_length, double velocity, double d
   g.mirror_width = 2 * g.observed_width;
   g.output_width = width - 3 * g.blur_length;
   if (g.output_width < 1) {
-    throw_usage_error("image width " + std::to_string(width) + " is too narrow for blur length B = " +
-                      std::to_string(g.blur_length) + ": the outputs need a width above 3B = " +
-                      std::to_string(3 * g.blur_length));
+    throw_usage_error("image width " + std::to_string(width) +
+                      " is too narrow for blur length B = " + std::to_string(g.blur_length) +
+                      ": the outputs need a width above 3B = " + std::to_string(3 * g.blur_length));
   }
   return g;
 }
@@ -64,7 +64,7 @@ Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gain
     }
   }
   result.image = Image(n, mirrored.height, mirrored.channels);
-  const RowFFT fft(n);
+  const RowFFT& fft = RowFFT::for_size(n);
   const double inverse_n = 1.0 / n;
   parallel_for(mirrored.channels * mirrored.height, threads, [&](int begin, int end) {
     RowFFT::Workspace workspace(n);
@@ -85,8 +85,7 @@ Restoration restore(const Image& observation, const Image& input, const Geometry
                     std::span<const double> gains, double velocity, double dt, int threads) {
   const int h = geometry.half_blur;
   const Image crop = crop_columns(observation, h, geometry.observed_width);
-  Deconvolution deconvolved =
-      inverse_filter(mirror_extend(crop), gains, velocity, dt, threads);
+  Deconvolution deconvolved = inverse_filter(mirror_extend(crop), gains, velocity, dt, threads);
   Restoration out;
   out.restored = crop_columns(deconvolved.image, 2 * h, geometry.output_width);
   out.observed = crop_columns(observation, 3 * h, geometry.output_width);

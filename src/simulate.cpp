@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "fss/error.h"
@@ -39,7 +39,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
     return fail("velocity_px_per_slot = " + number(velocity_px_per_slot) +
                 ": must be a finite number");
   }
-  if (!(std::isfinite(dt) && dt > 0.0)) return fail("dt = " + number(dt) + ": must be finite and > 0");
+  if (!(std::isfinite(dt) && dt > 0.0))
+    return fail("dt = " + number(dt) + ": must be finite and > 0");
   if (!(std::isfinite(snr) && snr > 0.0)) {
     return fail("snr = " + number(snr) + ": must be finite and > 0");
   }
@@ -80,19 +81,21 @@ Windows metric_windows(const SimulationOptions& options, const Geometry& g) {
   const int b = g.blur_length;
   const int margin = options.rmse_margin_columns < 0 ? 3 * b : options.rmse_margin_columns;
   Windows w{margin, g.output_width - margin, b, g.output_width - b};
+  // The RMSE_CI window [B, Wo - B) needs W > 5B whatever the margin.
+  if (w.ci_first >= w.ci_end) {
+    throw_usage_error(
+        "image width " + std::to_string(g.width) +
+        " is too narrow for blur length B = " + std::to_string(b) +
+        ": the contrast-invariant RMSE window [B, W - 4B) needs a width of at least " +
+        std::to_string(5 * b + 1) + " (5B + 1), which no --rmse-margin can change");
+  }
   if (w.rmse_first >= w.rmse_end) {
     const int needed = 3 * b + 2 * margin + 1;
-    throw_usage_error(
-        "image width " + std::to_string(g.width) + " is too narrow for the RMSE window: blur length B = " +
-        std::to_string(b) + " and margin " + std::to_string(margin) + " need a width of at least " +
-        std::to_string(needed) + " (3B + 2 margin + 1); choose a margin below " +
-        std::to_string((g.output_width + 1) / 2) + " with --rmse-margin");
-  }
-  if (w.ci_first >= w.ci_end) {
     throw_usage_error("image width " + std::to_string(g.width) +
-                      " is too narrow for the contrast-invariant window [B, W - 4B) with B = " +
-                      std::to_string(b) + ": a width of at least " + std::to_string(5 * b + 1) +
-                      " is needed");
+                      " is too narrow for the RMSE window: blur length B = " + std::to_string(b) +
+                      " and margin " + std::to_string(margin) + " need a width of at least " +
+                      std::to_string(needed) + " (3B + 2 margin + 1); choose a margin below " +
+                      std::to_string((g.output_width + 1) / 2) + " with --rmse-margin");
   }
   return w;
 }
@@ -156,18 +159,19 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 
   report.kernel = analyze_kernel(gains, v, dt);
   if (!report.kernel.invertible) {
-    report.warnings.push_back("code '" + code.name + "' is not invertible at velocity " + number(v) +
-                              ": min |K| = " + number(report.kernel.min_abs) + " at xi = " +
-                              number(report.kernel.min_abs_xi) +
+    report.warnings.push_back("code '" + code.name + "' is not invertible at velocity " +
+                              number(v) + ": min |K| = " + number(report.kernel.min_abs) +
+                              " at xi = " + number(report.kernel.min_abs_xi) +
                               "; the restoration amplifies noise without bound and no finite "
                               "error prediction exists");
   }
   report.observed_divisor = report.kernel.k0;
   if (report.observed_divisor == 0.0) {
     report.observed_divisor = dt * gain_max_abs(gains);
-    report.warnings.push_back("K(0) = dt * sum of gains is 0: observed.png is divided by dt * max "
-                              "|gain| = " +
-                              number(report.observed_divisor) + " instead");
+    report.warnings.push_back(
+        "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max "
+        "|gain| = " +
+        number(report.observed_divisor) + " instead");
   }
 
   const RowSpectra spectra = row_spectra(input, options.threads);
@@ -215,16 +219,16 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     if (options.trial_callback) options.trial_callback(t + 1, options.trials);
   }
   const int n = options.trials;
-  report.trials = {n, sum / n, sample_sd(sum, sum_sq, n), sum_ci / n, sample_sd(sum_ci, sum_ci_sq, n)};
+  report.trials = {n, sum / n, sample_sd(sum, sum_sq, n), sum_ci / n,
+                   sample_sd(sum_ci, sum_ci_sq, n)};
 
   // Prediction (SPEC 6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.
   Prediction& p = report.prediction;
   p.finite = report.kernel.invertible;
   p.window_mean = window_mean(first.groundtruth, windows.rmse_first, windows.rmse_end);
   p.q = noise_gain(gains, dt, options.mode);
-  p.m_amplification =
-      p.finite ? mean_inverse_power(gains, v, dt, report.geometry.mirror_width)
-               : std::numeric_limits<double>::infinity();
+  p.m_amplification = p.finite ? mean_inverse_power(gains, v, dt, report.geometry.mirror_width)
+                               : std::numeric_limits<double>::infinity();
   p.rmse_noise_free = rmse_noise_free;
   p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
   p.sigma = options.noise == NoiseModel::kNone
@@ -249,17 +253,20 @@ std::string SimulationReport::FullReport() const {
   out << "  input            " << width << " x " << height << ", " << channels
       << (channels == 1 ? " channel\n" : " channels\n");
   out << "  code             " << code_name << " (L = " << gains.size()
-      << ", sum = " << number(gain_sum(gains)) << ", normalized L1 = " << number(normalized_l1(gains))
-      << ")\n";
-  out << "  mode             " << to_string(options.mode) << ", velocity " << number(options.velocity_px_per_slot)
-      << ", dt " << number(options.dt) << ", snr " << number(options.snr) << ", noise "
-      << to_string(options.noise) << ", seed " << options.seed << "\n";
-  out << "  geometry         B = " << geometry.blur_length << ", observed crop " << geometry.observed_width
-      << ", deconvolution grid " << geometry.mirror_width << ", output " << geometry.output_width << "\n";
-  out << "  windows          RMSE columns [" << rmse_first << ", " << rmse_end << "), RMSE_CI columns ["
-      << rmse_ci_first << ", " << rmse_ci_end << ")\n";
-  out << "  kernel           K(0) = " << number(kernel.k0) << ", min |K| = " << number(kernel.min_abs)
-      << " at xi = " << number(kernel.min_abs_xi) << (kernel.invertible ? ", invertible\n" : ", NOT invertible\n");
+      << ", sum = " << number(gain_sum(gains))
+      << ", normalized L1 = " << number(normalized_l1(gains)) << ")\n";
+  out << "  mode             " << to_string(options.mode) << ", velocity "
+      << number(options.velocity_px_per_slot) << ", dt " << number(options.dt) << ", snr "
+      << number(options.snr) << ", noise " << to_string(options.noise) << ", seed " << options.seed
+      << "\n";
+  out << "  geometry         B = " << geometry.blur_length << ", observed crop "
+      << geometry.observed_width << ", deconvolution grid " << geometry.mirror_width << ", output "
+      << geometry.output_width << "\n";
+  out << "  windows          RMSE columns [" << rmse_first << ", " << rmse_end
+      << "), RMSE_CI columns [" << rmse_ci_first << ", " << rmse_ci_end << ")\n";
+  out << "  kernel           K(0) = " << number(kernel.k0)
+      << ", min |K| = " << number(kernel.min_abs) << " at xi = " << number(kernel.min_abs_xi)
+      << (kernel.invertible ? ", invertible\n" : ", NOT invertible\n");
   out << "  measured         RMSE " << number(metrics.rmse) << " (PSNR " << number(metrics.psnr)
       << "), RMSE_CI " << number(metrics.rmse_ci) << " (PSNR " << number(metrics.psnr_ci) << ")\n";
   if (trials.n > 1) {
@@ -268,9 +275,9 @@ std::string SimulationReport::FullReport() const {
         << number(trials.rmse_ci_sd) << "\n";
   }
   if (prediction.finite) {
-    out << "  predicted        RMSE " << number(prediction.rmse) << " = sqrt(" << number(prediction.rmse_noise_free)
-        << "^2 + " << number(prediction.sigma) << "^2), SNR at level 100 " << number(prediction.snr_level100)
-        << "\n";
+    out << "  predicted        RMSE " << number(prediction.rmse) << " = sqrt("
+        << number(prediction.rmse_noise_free) << "^2 + " << number(prediction.sigma)
+        << "^2), SNR at level 100 " << number(prediction.snr_level100) << "\n";
   } else {
     out << "  predicted        none: the code is not invertible (infinite noise)\n";
   }

@@ -16,7 +16,7 @@ std::string to_string(ShutterMode mode);
 std::optional<ShutterMode> shutter_mode_from_string(std::string_view text);
 
 struct ShutterCode {
-  std::string name;          // built-in name, or the file it was read from
+  std::string name;           // built-in name, or the file it was read from
   std::vector<double> gains;  // alpha_k, k = 0 .. L-1
   int length() const { return static_cast<int>(gains.size()); }
 };

@@ -23,8 +23,8 @@ struct Geometry {
 Image mirror_extend(const Image& crop);
 
 struct Deconvolution {
-  Image image;           // IDFT(DFT(mirror) / K), same size as the input
-  int zero_bins = 0;     // bins where K = 0 exactly; they are set to 0
+  Image image;        // IDFT(DFT(mirror) / K), same size as the input
+  int zero_bins = 0;  // bins where K = 0 exactly; they are set to 0
 };
 // Plain inverse filter, K evaluated on the mirror's own width.
 Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
@@ -34,7 +34,7 @@ Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gain
 // observed = observation column c + 3h, ground truth = input column c + 3h.
 struct Restoration {
   Image restored;
-  Image observed;     // not yet divided by K(0)
+  Image observed;  // not yet divided by K(0)
   Image groundtruth;
   int zero_bins = 0;
 };

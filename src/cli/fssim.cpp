@@ -40,6 +40,20 @@ const CLI::Validator kPositive(
     },
     "POSITIVE", "positive");
 
+// Integer option of at least `minimum`, with a short message (CLI11's own
+// range checks print the largest double in full).
+CLI::Validator at_least(long long minimum) {
+  return CLI::Validator(
+      [minimum](std::string& text) -> std::string {
+        long long value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || value < minimum) {
+          return "value " + text + " must be an integer >= " + std::to_string(minimum);
+        }
+        return {};
+      },
+      ">=" + std::to_string(minimum));
+}
+
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
 
 }  // namespace
@@ -60,36 +74,45 @@ int main(int argc, char** argv) {
   std::string outdir = "out";
   fss::SimulationOptions options;
 
-  app.add_option("-i,--input", input, "input PNG image (8/16-bit gray, RGB, palette; alpha ignored)")
+  app.add_option("-i,--input", input,
+                 "input PNG image (8/16-bit gray, RGB, palette; alpha ignored)")
       ->required();
   app.add_option("-c,--code", code_name,
                  "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
       ->capture_default_str();
-  app.add_option("-m,--mode", mode_text, "numerical (burst of frames, any real gains) or analog (gains in [0,1])")
+  app.add_option("-m,--mode", mode_text,
+                 "numerical (burst of frames, any real gains) or analog (gains in [0,1])")
       ->check(CLI::IsMember({"numerical", "analog"}))
       ->capture_default_str();
   app.add_option("-v,--velocity", options.velocity_px_per_slot,
                  "velocity in pixels per time slot, signed (direction along rows)")
       ->check(kFinite)
       ->capture_default_str();
-  app.add_option("--dt", options.dt, "time slot length, > 0")->check(kFinite & kPositive)->capture_default_str();
+  app.add_option("--dt", options.dt, "time slot length, > 0")
+      ->check(kFinite & kPositive)
+      ->capture_default_str();
   app.add_option("--snr", options.snr, "SNR of a level-100 landscape seen through one slot, > 0")
       ->check(kFinite & kPositive)
       ->capture_default_str();
   app.add_option("--seed", options.seed, "seed of the photon noise")->capture_default_str();
-  app.add_option("--noise", noise_text, "poisson, or none for a noise-free run of the same pipeline")
+  app.add_option("--noise", noise_text,
+                 "poisson, or none for a noise-free run of the same pipeline")
       ->check(CLI::IsMember({"poisson", "none"}))
       ->capture_default_str();
-  app.add_option("--rmse-margin", options.rmse_margin_columns,
-                 "columns left out at each side of the output for the RMSE (default 3B, B the blur length)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--trials", options.trials, "independent noise realizations (seeds seed, seed+1, ...)")
-      ->check(CLI::PositiveNumber)
+  app.add_option(
+         "--rmse-margin", options.rmse_margin_columns,
+         "columns left out at each side of the output for the RMSE (default 3B, B the blur length)")
+      ->check(at_least(0));
+  app.add_option("--trials", options.trials,
+                 "independent noise realizations (seeds seed, seed+1, ...)")
+      ->check(at_least(1))
       ->capture_default_str();
-  app.add_option("--threads", options.threads, "worker threads, 0 = all cores (results do not depend on it)")
-      ->check(CLI::NonNegativeNumber)
+  app.add_option("--threads", options.threads,
+                 "worker threads, 0 = all cores (results do not depend on it)")
+      ->check(at_least(0))
       ->capture_default_str();
-  app.add_option("-o,--outdir", outdir, "output directory, created if missing")->capture_default_str();
+  app.add_option("-o,--outdir", outdir, "output directory, created if missing")
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -134,11 +157,12 @@ int main(int argc, char** argv) {
                   report.trials.rmse_ci_sd);
     }
     std::printf("Seed: %llu\n", static_cast<unsigned long long>(options.seed));
-    std::printf("Geometry: blur length %d, output %dx%d (input columns %d..%d), RMSE columns [%d, %d)\n",
-                report.geometry.blur_length, report.geometry.output_width, report.height,
-                3 * report.geometry.half_blur,
-                3 * report.geometry.half_blur + report.geometry.output_width - 1, report.rmse_first,
-                report.rmse_end);
+    std::printf(
+        "Geometry: blur length %d, output %dx%d (input columns %d..%d), RMSE columns [%d, %d)\n",
+        report.geometry.blur_length, report.geometry.output_width, report.height,
+        3 * report.geometry.half_blur,
+        3 * report.geometry.half_blur + report.geometry.output_width - 1, report.rmse_first,
+        report.rmse_end);
     std::printf("Outputs: %s\n", outdir.c_str());
     return 0;
   } catch (const fss::Error& e) {

@@ -2,6 +2,8 @@
 
 #include <fftw3.h>
 
+#include <map>
+#include <memory>
 #include <mutex>
 #include <new>
 #include <string>
@@ -53,6 +55,17 @@ RowFFT::RowFFT(int n) : n_(n), forward_plan_(nullptr), inverse_plan_(nullptr) {
   }
 }
 
+const RowFFT& RowFFT::for_size(int n) {
+  static std::mutex cache_mutex;
+  // Never destroyed: destroying plans during static destruction could run
+  // after the planner mutex is gone. The plans live until the process exits.
+  static auto* cache = new std::map<int, std::unique_ptr<RowFFT>>();
+  std::lock_guard<std::mutex> lock(cache_mutex);
+  auto& entry = (*cache)[n];
+  if (!entry) entry = std::make_unique<RowFFT>(n);
+  return *entry;
+}
+
 RowFFT::~RowFFT() {
   std::lock_guard<std::mutex> lock(planner_mutex());
   fftw_destroy_plan(static_cast<fftw_plan>(forward_plan_));
@@ -74,7 +87,13 @@ void multiply_half_spectrum(std::span<std::complex<double>> spectrum,
   const std::size_t bins = static_cast<std::size_t>(n / 2 + 1);
   const bool has_nyquist = n % 2 == 0;
   const std::size_t full = has_nyquist ? bins - 1 : bins;
-  for (std::size_t i = 0; i < full; ++i) spectrum[i] *= filter[i];
+  // Plain (a + ib)(c + id): std::complex's operator* adds NaN/inf recovery
+  // branches that cost as much as the FFT; the values here are finite.
+  for (std::size_t i = 0; i < full; ++i) {
+    const double a = spectrum[i].real(), b = spectrum[i].imag();
+    const double c = filter[i].real(), d = filter[i].imag();
+    spectrum[i] = std::complex<double>(a * c - b * d, a * d + b * c);
+  }
   if (has_nyquist) {
     // X[n/2] of a real row is real: keep Re(X H) = X Re(H).
     spectrum[bins - 1] = std::complex<double>(spectrum[bins - 1].real() * filter[bins - 1].real());

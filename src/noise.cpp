@@ -17,11 +17,11 @@ std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); 
 }  // namespace
 
 RandomStream::RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint64_t frame,
-                           std::uint64_t row) {
-  // Hash the four coordinates into one key, each step a full splitmix64 round,
+                           std::uint64_t row, std::uint64_t lane) {
+  // Hash the coordinates into one key, each step a full splitmix64 round,
   // then expand the key into the 256-bit state.
   std::uint64_t key = seed;
-  for (const std::uint64_t coordinate : {channel, frame, row}) {
+  for (const std::uint64_t coordinate : {channel, frame, row, lane}) {
     std::uint64_t x = key ^ rotl(coordinate + 0x632be59bd9b4e019ULL, 17);
     key = splitmix64(x);
   }
@@ -41,10 +41,14 @@ std::uint64_t RandomStream::next() {
   return result;
 }
 
-double RandomStream::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+// The 53-bit integers are converted as signed: one instruction, where an
+// unsigned 64-bit conversion takes several on x86-64.
+double RandomStream::uniform() {
+  return static_cast<double>(static_cast<std::int64_t>(next() >> 11)) * 0x1.0p-53;
+}
 
 double RandomStream::uniform_open_zero() {
-  return static_cast<double>((next() >> 11) + 1) * 0x1.0p-53;
+  return static_cast<double>(static_cast<std::int64_t>((next() >> 11) + 1)) * 0x1.0p-53;
 }
 
 double RandomStream::standard_normal() {
@@ -76,7 +80,18 @@ double poisson_variate(double lambda, RandomStream& stream) {
   }
   // Normal approximation, rounded; a negative value (probability < 1e-12 at
   // lambda = 50) is clamped to 0.
-  return std::max(0.0, std::round(lambda + std::sqrt(lambda) * stream.standard_normal()));
+  return round_nonnegative(lambda + std::sqrt(lambda) * stream.standard_normal());
+}
+
+double round_nonnegative(double x) {
+  // Branch-free so that loops over it vectorize. (x + 2^52) - 2^52 rounds x
+  // in [0, 2^52) to the nearest integer, ties to even (default rounding
+  // mode); a tie rounded down is moved up, giving round()'s ties away from
+  // zero. From 2^52 on, x is already an integer.
+  const double nearest = (x + 0x1p52) - 0x1p52;
+  const double rounded = nearest - x == -0.5 ? nearest + 1.0 : nearest;
+  const double big = x >= 0x1p52 ? x : rounded;
+  return x > 0.0 ? big : 0.0;
 }
 
 PoissonSNR::PoissonSNR(double snr) : lambda2_(snr * snr / 100.0) {}
@@ -84,6 +99,46 @@ PoissonSNR::PoissonSNR(double snr) : lambda2_(snr * snr / 100.0) {}
 double PoissonSNR::operator()(double e, RandomStream& stream) const {
   // P / lambda2 with P ~ Poisson(max(e, 0) lambda2)
   return poisson_variate(std::max(e, 0.0) * lambda2_, stream) / lambda2_;
+}
+
+}  // namespace fss
+
+namespace fss {
+
+PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(snr * snr / 100.0) {}
+
+void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
+                                   std::span<double> out) {
+  const std::size_t n = e.size();
+  const std::size_t pairs = (n + 1) / 2;
+  lambda_.resize(n);
+  u1_.resize(pairs);
+  u2_.resize(pairs);
+  normals_.resize(2 * pairs);
+  double* __restrict lambda = lambda_.data();
+  double* __restrict normal = normals_.data();
+  for (std::size_t x = 0; x < n; ++x) lambda[x] = std::max(e[x], 0.0) * lambda2_;
+
+  // One normal per pixel, normal x for pixel x, from lane 0 (pixels on
+  // Knuth's branch leave theirs unused).
+  RandomStream normal_stream(id.seed, id.channel, id.frame, id.row, 0);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    u1_[j] = normal_stream.uniform_open_zero();
+    u2_[j] = normal_stream.uniform();
+  }
+  box_muller_batch(u1_.data(), u2_.data(), normal, pairs);
+
+  // Normal branch for every pixel, vectorized: P = round(lambda + sqrt(lambda) N).
+  for (std::size_t x = 0; x < n; ++x) {
+    normal[x] = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+  }
+  // Knuth's branch where lambda < 50, uniforms from lane 1, in pixel order.
+  RandomStream knuth_stream(id.seed, id.channel, id.frame, id.row, 1);
+  for (std::size_t x = 0; x < n; ++x) {
+    if (lambda[x] < kKnuthLimit) normal[x] = poisson_variate(lambda[x], knuth_stream);
+  }
+  const double scale = gain / lambda2_;
+  for (std::size_t x = 0; x < n; ++x) out[x] += scale * normal[x];  // gain * P / lambda2
 }
 
 }  // namespace fss

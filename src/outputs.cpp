@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "fss/error.h"
+#include "fss/parallel.h"
 #include "fss/png_io.h"
 #include "fss/transfer.h"
 
@@ -115,11 +116,17 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
                    const std::string& input_path) {
   // Everything is encoded in memory first: a failure there writes nothing.
+  const Image* images[] = {&report.observed, &report.restored, &report.groundtruth,
+                           &report.residual};
+  std::string encoded[4];
+  parallel_for(4, report.options.threads, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) encoded[i] = as_string(encode_png8(*images[i]));
+  });
   const std::vector<std::pair<std::string, std::string>> contents = {
-      {"observed.png", as_string(encode_png8(report.observed))},
-      {"restored.png", as_string(encode_png8(report.restored))},
-      {"groundtruth.png", as_string(encode_png8(report.groundtruth))},
-      {"residual.png", as_string(encode_png8(report.residual))},
+      {"observed.png", std::move(encoded[0])},
+      {"restored.png", std::move(encoded[1])},
+      {"groundtruth.png", std::move(encoded[2])},
+      {"residual.png", std::move(encoded[3])},
       {"code.txt", format_code_txt({report.code_name, report.gains})},
       {"spectrum.txt",
        format_spectrum_txt(report.gains, report.options.velocity_px_per_slot, report.options.dt)},

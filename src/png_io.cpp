@@ -99,6 +99,12 @@ bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int col
                  png_bytepp rows) {
   if (setjmp(png_jmpbuf(ctx->png))) return false;
   png_set_write_fn(ctx->png, ctx, write_to_memory, flush_nothing);
+
+  // zlib level 3 and the "up" filter alone: the same pixels in files 12%
+  // larger than libpng's defaults (level 6, adaptive filter choice) for a
+  // third of the encoding work (callgrind, camera.png outputs).
+  png_set_compression_level(ctx->png, 3);
+  png_set_filter(ctx->png, 0, PNG_FILTER_UP);
   png_set_IHDR(ctx->png, ctx->info, width, height, 8, color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(ctx->png, ctx->info);

@@ -64,7 +64,7 @@ Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gain
     }
   }
   result.image = Image(n, mirrored.height, mirrored.channels);
-  const RowFFT fft(n);
+  const RowFFT& fft = RowFFT::for_size(n);
   const double inverse_n = 1.0 / n;
   parallel_for(mirrored.channels * mirrored.height, threads, [&](int begin, int end) {
     RowFFT::Workspace workspace(n);

@@ -1,10 +1,12 @@
 // Photon noise (SPEC 3, the paper's Algorithm 1) and its random streams.
 //
-// Reproducibility: every (seed, channel, frame, row) has its own stream, so a
-// row's noise does not depend on which thread draws it or in what order.
+// Reproducibility: every (seed, channel, frame, row) has its own streams, so
+// a row's noise does not depend on which thread draws it or in what order.
 #pragma once
 
 #include <cstdint>
+#include <span>
+#include <vector>
 
 namespace fss {
 
@@ -12,7 +14,9 @@ namespace fss {
 // and three stream coordinates.
 class RandomStream {
  public:
-  RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint64_t frame, std::uint64_t row);
+  // `lane` separates independent streams of the same row (see PoissonRowSampler).
+  RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint64_t frame, std::uint64_t row,
+               std::uint64_t lane = 0);
 
   std::uint64_t next();
   // Uniform on [0, 1), 53 random bits.
@@ -46,5 +50,41 @@ class PoissonSNR {
  private:
   double lambda2_;
 };
+
+// Coordinates of the noise of one row of one elementary exposure.
+struct RowNoiseId {
+  std::uint64_t seed = 0;
+  std::uint64_t channel = 0;
+  std::uint64_t frame = 0;  // slot k (numerical), 0 (analog)
+  std::uint64_t row = 0;
+};
+
+// PoissonSNR over a whole row, the same algorithm as PoissonSNR but drawn in
+// batches so that it vectorizes: pixel x's normal is output x of a
+// Box-Muller batch (both outputs of each pair used) fed by lane 0 of the
+// row's stream; Knuth's uniforms come from lane 1, in pixel order. Holds
+// scratch buffers: one sampler per thread.
+class PoissonRowSampler {
+ public:
+  explicit PoissonRowSampler(double snr);
+  // out[x] += gain * PoissonSNR(e[x]) for every x.
+  void accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
+                  std::span<double> out);
+
+ private:
+  double lambda2_;
+  std::vector<double> lambda_;
+  std::vector<double> u1_;
+  std::vector<double> u2_;
+  std::vector<double> normals_;
+};
+
+// Box-Muller on arrays: z[2j] = sqrt(-2 ln u1[j]) cos(2 pi u2[j]) and
+// z[2j+1] = sqrt(-2 ln u1[j]) sin(2 pi u2[j]), j < pairs; u1 in (0, 1].
+// Vectorized with glibc's vector math library where available.
+void box_muller_batch(const double* u1, const double* u2, double* z, std::size_t pairs);
+
+// round(x) for x > 0 (halves away from zero), 0 for x <= 0; inline-friendly.
+double round_nonnegative(double x);
 
 }  // namespace fss

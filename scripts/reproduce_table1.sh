@@ -45,9 +45,11 @@ for code in "${codes[@]}"; do
      .prediction.snr_level100, .kernel.invertible,
      ($paper | split(" / ")[0]), ($paper | split(" / ")[1] // "")] | @csv' "$r" >> "$csv"
   jq -r --arg code "$code" --arg paper "${paper[$code]}" '
-    def f(x): if x == null then "∞" else (x * 1000 | round / 1000 | tostring) end;
-    def big(x): if x > 1e6 then "\(x | log10 | floor | tostring | "~1e" + .)" else f(x) end;
-    "| \($code) | \(f(.code.normalized_l1)) | \(big(.trials.rmse_mean)) ± \(big(.trials.rmse_sd)) | \(big(.trials.rmse_ci_mean)) ± \(big(.trials.rmse_ci_sd)) | \(if .prediction.finite then f(.prediction.rmse) else "∞ (not invertible)" end) | \(f(.prediction.rmse_noise_free)) | \(f(.prediction.snr_level100)) | \($paper) |"' "$r" >> "$md"
+    def f(x): if x == null then "∞"
+              else (x * 1000 | round) as $n
+                   | "\($n / 1000 | floor).\("00\($n % 1000)" | .[-3:])" end;
+    def big(x): if x != null and x > 1e6 then "~1e\(x | log10 | floor)" else f(x) end;
+    "| \($code) | \(f(.code.normalized_l1)) | \(big(.trials.rmse_mean)) ± \(big(.trials.rmse_sd)) | \(big(.trials.rmse_ci_mean)) ± \(big(.trials.rmse_ci_sd)) | \(if .prediction.finite then f(.prediction.rmse) else "∞ (not invertible)" end) | \(big(.prediction.rmse_noise_free)) | \(f(.prediction.snr_level100)) | \($paper) |"' "$r" >> "$md"
 done
 {
   echo

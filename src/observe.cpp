@@ -5,8 +5,6 @@
 #include <string>
 
 #include "fss/error.h"
-#include "fss/fft.h"
-#include "fss/noise.h"
 #include "fss/parallel.h"
 #include "fss/transfer.h"
 
@@ -34,100 +32,125 @@ RowSpectra row_spectra(const Image& image, int threads) {
   return spectra;
 }
 
+RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode mode,
+                         const ObservationParams& params)
+    : width_(width),
+      gains_(gains.begin(), gains.end()),
+      mode_(mode),
+      snr_(params.snr),
+      fft_(RowFFT::for_size(width)) {
+  if (mode == ShutterMode::kAnalog) {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      if (!(gains_[k] >= 0.0 && gains_[k] <= 1.0)) {
+        throw_usage_error("analog mode needs gains in [0, 1], but gain " + std::to_string(k) +
+                          " is " + std::to_string(gains_[k]));
+      }
+    }
+    filters_.push_back(transfer_function_bins(gains_, params.velocity, params.dt, width));
+    return;
+  }
+  const double s = params.velocity * params.dt;
+  shift_ = std::nearbyint(s) == s && std::abs(s) < 1e9;
+  if (shift_) {
+    step_ = static_cast<long long>(s);
+    filters_.push_back(slot_transfer_function_bins(0, params.velocity, params.dt, width));
+  } else {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      filters_.push_back(gains_[k] == 0.0
+                             ? std::vector<Complex>()
+                             : slot_transfer_function_bins(static_cast<int>(k), params.velocity,
+                                                           params.dt, width));
+    }
+  }
+}
+
+RowObserver::Scratch::Scratch(const RowObserver& observer)
+    : workspace(observer.width_),
+      spectrum(static_cast<std::size_t>(observer.width_ / 2 + 1)),
+      sampler(observer.snr_) {}
+
+void RowObserver::load_row(const double* row, Scratch& scratch) const {
+  std::copy(row, row + width_, scratch.workspace.real().begin());
+  fft_.forward(scratch.workspace);
+  std::copy(scratch.workspace.spectrum().begin(), scratch.workspace.spectrum().end(),
+            scratch.spectrum.begin());
+}
+
+void RowObserver::load_spectrum(const Complex* bins, Scratch& scratch) const {
+  std::copy(bins, bins + width_ / 2 + 1, scratch.spectrum.begin());
+}
+
+std::span<const double> RowObserver::filtered(const std::vector<Complex>& filter,
+                                              Scratch& scratch) const {
+  std::copy(scratch.spectrum.begin(), scratch.spectrum.end(), scratch.workspace.spectrum().begin());
+  multiply_half_spectrum(scratch.workspace.spectrum(), filter, width_);
+  fft_.inverse(scratch.workspace);
+  const double inverse_n = 1.0 / width_;
+  for (double& value : scratch.workspace.real()) value *= inverse_n;
+  return scratch.workspace.real();
+}
+
+void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
+                          std::span<double> out) const {
+  const auto c = static_cast<std::uint64_t>(channel);
+  const auto y = static_cast<std::uint64_t>(row);
+  std::fill(out.begin(), out.end(), 0.0);
+  if (mode_ == ShutterMode::kAnalog) {
+    const std::span<const double> e = filtered(filters_[0], scratch);
+    if (noisy) {
+      scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
+    } else {
+      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
+    }
+    return;
+  }
+  // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
+  auto add_slot = [&](std::size_t k, std::span<const double> e) {
+    const double alpha = gains_[k];
+    if (noisy) {
+      scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
+    } else {
+      for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+    }
+  };
+  if (!shift_) {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      if (gains_[k] != 0.0) add_slot(k, filtered(filters_[k], scratch));
+    }
+    return;
+  }
+  const std::span<const double> e0 = filtered(filters_[0], scratch);
+  scratch.shifted.resize(static_cast<std::size_t>(width_));
+  for (std::size_t k = 0; k < gains_.size(); ++k) {
+    if (gains_[k] == 0.0) continue;
+    // e_k(x) = e_0((x - s k) mod W)
+    long long offset = (step_ * static_cast<long long>(k)) % width_;
+    if (offset < 0) offset += width_;
+    const auto o = static_cast<std::ptrdiff_t>(offset);
+    std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
+    std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
+    add_slot(k, scratch.shifted);
+  }
+}
+
 namespace {
 
-// The elementary exposures e_k = rowconv(u, K_k) of one row, k = 0 .. L-1.
-// When s = v dt is an integer, K_k = K_0 exp(-i xi s k) is exactly a circular
-// shift by s k pixels, so e_k(x) = e_0(x - s k) costs no transform; otherwise
-// each e_k is its own inverse FFT.
-class SlotExposures {
- public:
-  SlotExposures(const RowSpectra& u, std::span<const double> gains, const ObservationParams& p)
-      : width_(u.width), gains_(gains.begin(), gains.end()), fft_(RowFFT::for_size(u.width)) {
-    const double s = p.velocity * p.dt;
-    shift_ = std::nearbyint(s) == s && std::abs(s) < 1e9;
-    if (shift_) {
-      step_ = static_cast<long long>(s);
-      filters_.push_back(slot_transfer_function_bins(0, p.velocity, p.dt, width_));
-    } else {
-      for (std::size_t k = 0; k < gains_.size(); ++k) {
-        filters_.push_back(gains_[k] == 0.0 ? std::vector<Complex>()
-                                            : slot_transfer_function_bins(
-                                                  static_cast<int>(k), p.velocity, p.dt, width_));
-      }
-    }
-  }
-
-  int width() const { return width_; }
-  const RowFFT& fft() const { return fft_; }
-
-  // Calls fn(k, alpha_k, e_k) for every slot with alpha_k != 0, in slot order.
-  template <typename Fn>
-  void for_each(const Complex* row_spectrum, RowFFT::Workspace& workspace,
-                std::vector<double>& shifted, const Fn& fn) const {
-    const int bins = width_ / 2 + 1;
-    if (shift_) {
-      const std::span<const double> e0 = inverse(row_spectrum, bins, filters_[0], workspace);
-      shifted.resize(static_cast<std::size_t>(width_));
-      for (std::size_t k = 0; k < gains_.size(); ++k) {
-        if (gains_[k] == 0.0) continue;
-        // e_k(x) = e_0((x - s k) mod W)
-        long long offset = (step_ * static_cast<long long>(k)) % width_;
-        if (offset < 0) offset += width_;
-        const auto o = static_cast<std::size_t>(offset);
-        std::copy(e0.end() - static_cast<std::ptrdiff_t>(o), e0.end(), shifted.begin());
-        std::copy(e0.begin(), e0.end() - static_cast<std::ptrdiff_t>(o),
-                  shifted.begin() + static_cast<std::ptrdiff_t>(o));
-        fn(k, gains_[k], std::span<const double>(shifted));
-      }
-    } else {
-      for (std::size_t k = 0; k < gains_.size(); ++k) {
-        if (gains_[k] == 0.0) continue;
-        fn(k, gains_[k], inverse(row_spectrum, bins, filters_[k], workspace));
-      }
-    }
-  }
-
- private:
-  std::span<const double> inverse(const Complex* row_spectrum, int bins,
-                                  const std::vector<Complex>& filter,
-                                  RowFFT::Workspace& workspace) const {
-    std::copy(row_spectrum, row_spectrum + bins, workspace.spectrum().begin());
-    multiply_half_spectrum(workspace.spectrum(), filter, width_);
-    fft_.inverse(workspace);
-    const double inverse_n = 1.0 / width_;
-    for (double& value : workspace.real()) value *= inverse_n;
-    return workspace.real();
-  }
-
-  int width_;
-  std::vector<double> gains_;
-  const RowFFT& fft_;
-  bool shift_ = false;
-  long long step_ = 0;
-  std::vector<std::vector<Complex>> filters_;
-};
-
-// For every row r = c * height + y: e = IDFT(U_r * filter), then
-// sink(c, y, e) with e the real row already divided by the row length.
-template <typename Sink>
-void for_each_filtered_row(const RowSpectra& u, const std::vector<Complex>& filter, int threads,
-                           const Sink& sink) {
-  const int bins = u.spectrum_size();
-  const double inverse_n = 1.0 / u.width;
-  const RowFFT& fft = RowFFT::for_size(u.width);
-  parallel_for(u.channels * u.height, threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(u.width);
+// The observation of every row of u, from its stored spectra.
+Image observe_all(const RowSpectra& u, std::span<const double> gains, ShutterMode mode, bool noisy,
+                  const ObservationParams& params) {
+  const RowObserver observer(u.width, gains, mode, params);
+  Image out(u.width, u.height, u.channels);
+  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
+    RowObserver::Scratch scratch(observer);
     for (int r = begin; r < end; ++r) {
       const int c = r / u.height;
       const int y = r % u.height;
-      std::copy(u.row(c, y), u.row(c, y) + bins, workspace.spectrum().begin());
-      multiply_half_spectrum(workspace.spectrum(), filter, u.width);
-      fft.inverse(workspace);
-      for (double& value : workspace.real()) value *= inverse_n;
-      sink(c, y, workspace.real());
+      observer.load_spectrum(u.row(c, y), scratch);
+      observer.observe(noisy, params.seed, c, y, scratch,
+                       std::span<double>(out.row(c, y), static_cast<std::size_t>(u.width)));
     }
   });
+  return out;
 }
 
 }  // namespace
@@ -135,97 +158,38 @@ void for_each_filtered_row(const RowSpectra& u, const std::vector<Complex>& filt
 Image convolve_rows(const RowSpectra& u, std::span<const double> gains,
                     const ObservationParams& params) {
   Image out(u.width, u.height, u.channels);
-  const auto filter = transfer_function_bins(gains, params.velocity, params.dt, u.width);
-  for_each_filtered_row(u, filter, params.threads, [&](int c, int y, std::span<const double> e) {
-    std::copy(e.begin(), e.end(), out.row(c, y));
-  });
-  return out;
-}
-
-Image observe_noise_free(const RowSpectra& u, std::span<const double> gains, ShutterMode mode,
-                         const ObservationParams& params) {
-  if (mode == ShutterMode::kAnalog) {
-    // E[o] = max(rowconv(u, K), 0)
-    Image out = convolve_rows(u, gains, params);
-    for (double& value : out.data) value = std::max(value, 0.0);
-    return out;
-  }
-  Image out(u.width, u.height, u.channels);
-  const SlotExposures slots(u, gains, params);
-  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(u.width);
-    std::vector<double> shifted;
-    for (int r = begin; r < end; ++r) {
-      const int c = r / u.height;
-      const int y = r % u.height;
-      double* o = out.row(c, y);
-      slots.for_each(u.row(c, y), workspace, shifted,
-                     [&](std::size_t, double alpha, std::span<const double> e) {
-                       // E[o](x) = sum_k alpha_k max(e_k(x), 0)
-                       for (std::size_t x = 0; x < e.size(); ++x)
-                         o[x] += alpha * std::max(e[x], 0.0);
-                     });
-    }
-  });
-  return out;
-}
-
-Image observe_analog(const RowSpectra& u, std::span<const double> gains,
-                     const ObservationParams& params) {
-  for (std::size_t k = 0; k < gains.size(); ++k) {
-    if (!(gains[k] >= 0.0 && gains[k] <= 1.0)) {
-      throw_usage_error("analog mode needs gains in [0, 1], but gain " + std::to_string(k) +
-                        " is " + std::to_string(gains[k]));
-    }
-  }
-  Image out(u.width, u.height, u.channels);
-  const auto filter = transfer_function_bins(gains, params.velocity, params.dt, u.width);
   const RowFFT& fft = RowFFT::for_size(u.width);
+  const auto filter = transfer_function_bins(gains, params.velocity, params.dt, u.width);
   const int bins = u.spectrum_size();
   const double inverse_n = 1.0 / u.width;
   parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
     RowFFT::Workspace workspace(u.width);
-    PoissonRowSampler sampler(params.snr);
     for (int r = begin; r < end; ++r) {
       const int c = r / u.height;
       const int y = r % u.height;
       std::copy(u.row(c, y), u.row(c, y) + bins, workspace.spectrum().begin());
       multiply_half_spectrum(workspace.spectrum(), filter, u.width);
       fft.inverse(workspace);
-      for (double& value : workspace.real()) value *= inverse_n;
-      // o(x) = PoissonSNR(e(x)), streams of (channel, frame 0, row)
-      sampler.accumulate(
-          workspace.real(),
-          {params.seed, static_cast<std::uint64_t>(c), 0, static_cast<std::uint64_t>(y)}, 1.0,
-          std::span<double>(out.row(c, y), static_cast<std::size_t>(u.width)));
+      // e = IDFT(DFT(u) K)
+      for (int x = 0; x < u.width; ++x) out.at(c, y, x) = workspace.real()[x] * inverse_n;
     }
   });
   return out;
 }
 
+Image observe_noise_free(const RowSpectra& u, std::span<const double> gains, ShutterMode mode,
+                         const ObservationParams& params) {
+  return observe_all(u, gains, mode, false, params);
+}
+
+Image observe_analog(const RowSpectra& u, std::span<const double> gains,
+                     const ObservationParams& params) {
+  return observe_all(u, gains, ShutterMode::kAnalog, true, params);
+}
+
 Image observe_numerical(const RowSpectra& u, std::span<const double> gains,
                         const ObservationParams& params) {
-  Image out(u.width, u.height, u.channels);
-  const SlotExposures slots(u, gains, params);
-  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(u.width);
-    PoissonRowSampler sampler(params.snr);
-    std::vector<double> shifted;
-    for (int r = begin; r < end; ++r) {
-      const int c = r / u.height;
-      const int y = r % u.height;
-      const std::span<double> o(out.row(c, y), static_cast<std::size_t>(u.width));
-      slots.for_each(
-          u.row(c, y), workspace, shifted,
-          [&](std::size_t k, double alpha, std::span<const double> e) {
-            // o(x) += alpha_k PoissonSNR(e_k(x)), streams of (channel, slot, row)
-            sampler.accumulate(
-                e, {params.seed, static_cast<std::uint64_t>(c), k, static_cast<std::uint64_t>(y)},
-                alpha, o);
-          });
-    }
-  });
-  return out;
+  return observe_all(u, gains, ShutterMode::kNumerical, true, params);
 }
 
 }  // namespace fss

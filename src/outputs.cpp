@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <sstream>
 
 #include "fss/error.h"
+#include "fss/metrics.h"
 #include "fss/parallel.h"
 #include "fss/png_io.h"
 #include "fss/transfer.h"
@@ -114,13 +116,32 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
 }  // namespace
 
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
-                   const std::string& input_path) {
+                   const Image& input, const std::string& input_path) {
   // Everything is encoded in memory first: a failure there writes nothing.
-  const Image* images[] = {&report.observed, &report.restored, &report.groundtruth,
-                           &report.residual};
+  // The ground truth and the residual are encoded straight from the input
+  // and the restoration, row by row.
+  const int offset = report.output_first_column();
+  const int wo = report.restored.width;
+  const ResidualRange range = residual_range(input, offset, report.restored);
+  const std::function<std::vector<std::uint8_t>()> encoders[] = {
+      [&] { return encode_png8(report.observed); },
+      [&] { return encode_png8(report.restored); },
+      [&] {
+        return encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
+          std::copy(input.row(c, y) + offset, input.row(c, y) + offset + wo, row);
+        });
+      },
+      [&] {
+        return encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
+          const double* truth = input.row(c, y) + offset;
+          const double* restored = report.restored.row(c, y);
+          for (int x = 0; x < wo; ++x) row[x] = range.stretch(truth[x] - restored[x]);
+        });
+      },
+  };
   std::string encoded[4];
   parallel_for(4, report.options.threads, [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) encoded[i] = as_string(encode_png8(*images[i]));
+    for (int i = begin; i < end; ++i) encoded[i] = as_string(encoders[i]());
   });
   const std::vector<std::pair<std::string, std::string>> contents = {
       {"observed.png", std::move(encoded[0])},

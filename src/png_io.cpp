@@ -129,7 +129,14 @@ struct WriteStructs {
 
 }  // namespace
 
-Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string& name) {
+std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
+                             std::size_t row_bytes) {
+  // the decoded rows, then the planar doubles
+  return row_bytes * height + width * height * static_cast<std::size_t>(channels) * sizeof(double);
+}
+
+Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string& name,
+                 std::size_t max_bytes) {
   if (size < 8 || png_sig_cmp(bytes, 0, 8) != 0) {
     throw_runtime_error("input '" + name + "' is not a PNG file (bad signature)");
   }
@@ -149,6 +156,16 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   if (header.width == 0 || header.height == 0) {
     throw_runtime_error("PNG '" + name + "' has no pixels");
   }
+  const int out_channels = header.channels >= 3 ? 3 : 1;
+  const std::size_t needed =
+      png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
+  if (max_bytes > 0 && needed > max_bytes) {
+    throw_limit_error("input '" + name + "' is " + std::to_string(header.width) + " x " +
+                      std::to_string(header.height) + " pixels: decoding it needs " +
+                      format_bytes(static_cast<double>(needed)) +
+                      ", more than the memory limit of " +
+                      format_bytes(static_cast<double>(max_bytes)));
+  }
   std::vector<std::uint8_t> pixels(header.rowbytes * header.height);
   std::vector<png_bytep> rows(header.height);
   for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = pixels.data() + y * header.rowbytes;
@@ -157,7 +174,6 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   }
 
   const int in_channels = header.channels;  // 1 or 3 after the transformations
-  const int out_channels = in_channels >= 3 ? 3 : 1;
   Image image(static_cast<int>(header.width), static_cast<int>(header.height), out_channels);
   for (png_uint_32 y = 0; y < header.height; ++y) {
     const std::uint8_t* row = rows[y];
@@ -179,7 +195,7 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   return image;
 }
 
-Image read_png(const std::filesystem::path& path) {
+Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
   const std::string name = path.string();
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -193,31 +209,41 @@ Image read_png(const std::filesystem::path& path) {
                                   std::istreambuf_iterator<char>());
   if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
   if (bytes.empty()) throw_runtime_error("input '" + name + "' is empty, expected a PNG file");
-  return decode_png(bytes.data(), bytes.size(), name);
+  return decode_png(bytes.data(), bytes.size(), name, max_bytes);
 }
 
 std::vector<std::uint8_t> encode_png8(const Image& image) {
-  if (image.channels != 1 && image.channels != 3) {
-    throw_usage_error("PNG encoding needs 1 or 3 channels, got " + std::to_string(image.channels));
+  return encode_png8(image.width, image.height, image.channels, [&](int c, int y, double* row) {
+    std::copy(image.row(c, y), image.row(c, y) + image.width, row);
+  });
+}
+
+std::vector<std::uint8_t> encode_png8(
+    int width, int height, int channels,
+    const std::function<void(int c, int y, double* row)>& fill_row) {
+  if (channels != 1 && channels != 3) {
+    throw_usage_error("PNG encoding needs 1 or 3 channels, got " + std::to_string(channels));
   }
-  if (image.width <= 0 || image.height <= 0) {
-    throw_usage_error("PNG encoding needs a non-empty image, got " + std::to_string(image.width) +
-                      "x" + std::to_string(image.height));
+  if (width <= 0 || height <= 0) {
+    throw_usage_error("PNG encoding needs a non-empty image, got " + std::to_string(width) + "x" +
+                      std::to_string(height));
   }
-  const int channels = image.channels;
-  std::vector<std::uint8_t> pixels(image.plane_size() * channels);
-  for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < image.width; ++x) {
-      for (int c = 0; c < channels; ++c) {
-        const double v = std::clamp(std::round(image.at(c, y, x)), 0.0, 255.0);
-        pixels[(static_cast<std::size_t>(y) * image.width + x) * channels + c] =
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width) * height * channels);
+  std::vector<double> row(static_cast<std::size_t>(width));
+  for (int y = 0; y < height; ++y) {
+    for (int c = 0; c < channels; ++c) {
+      fill_row(c, y, row.data());
+      std::uint8_t* out = pixels.data() + static_cast<std::size_t>(y) * width * channels + c;
+      for (int x = 0; x < width; ++x) {
+        const double v = std::clamp(std::round(row[x]), 0.0, 255.0);
+        out[static_cast<std::size_t>(x) * channels] =
             static_cast<std::uint8_t>(std::isnan(v) ? 0.0 : v);
       }
     }
   }
-  std::vector<png_bytep> rows(image.height);
-  for (int y = 0; y < image.height; ++y) {
-    rows[y] = pixels.data() + static_cast<std::size_t>(y) * image.width * channels;
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  for (int y = 0; y < height; ++y) {
+    rows[y] = pixels.data() + static_cast<std::size_t>(y) * width * channels;
   }
   std::vector<std::uint8_t> out;
   auto structs = std::make_unique<WriteStructs>();
@@ -228,8 +254,8 @@ std::vector<std::uint8_t> encode_png8(const Image& image) {
   ctx->info = png_create_info_struct(ctx->png);
   if (!ctx->info) throw_runtime_error("PNG encoding: out of memory");
   const int color_type = channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
-  if (!write_image(ctx, static_cast<png_uint_32>(image.width),
-                   static_cast<png_uint_32>(image.height), color_type, rows.data())) {
+  if (!write_image(ctx, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
+                   color_type, rows.data())) {
     throw_runtime_error(std::string("PNG encoding failed: ") + ctx->message);
   }
   return out;

@@ -50,47 +50,90 @@ Image mirror_extend(const Image& crop) {
   return out;
 }
 
-Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
-                             double dt, int threads) {
-  const int n = mirrored.width;
-  Deconvolution result;
-  // r = IDFT(DFT(mirror) / K); bins with K = 0 carry no information and are zeroed.
+namespace {
+// 1 / K on the n-point grid; bins where K = 0 carry no information and are
+// zeroed (counted in *zero_bins).
+std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double velocity,
+                                           double dt, int n, int* zero_bins) {
   std::vector<Complex> inverse = transfer_function_bins(gains, velocity, dt, n);
+  *zero_bins = 0;
   for (Complex& k : inverse) {
     if (k == Complex(0.0)) {
-      ++result.zero_bins;
+      ++*zero_bins;
     } else {
       k = 1.0 / k;
     }
   }
+  return inverse;
+}
+
+// r = IDFT(DFT(row) / K), in place in workspace.real().
+void inverse_filter_row(const RowFFT& fft, const std::vector<Complex>& inverse,
+                        RowFFT::Workspace& workspace) {
+  const int n = fft.size();
+  fft.forward(workspace);
+  multiply_half_spectrum(workspace.spectrum(), inverse, n);
+  fft.inverse(workspace);
+  const double inverse_n = 1.0 / n;
+  for (double& value : workspace.real()) value *= inverse_n;
+}
+}  // namespace
+
+Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
+                             double dt, int threads) {
+  const int n = mirrored.width;
+  Deconvolution result;
+  const std::vector<Complex> inverse =
+      inverse_transfer_bins(gains, velocity, dt, n, &result.zero_bins);
   result.image = Image(n, mirrored.height, mirrored.channels);
   const RowFFT& fft = RowFFT::for_size(n);
-  const double inverse_n = 1.0 / n;
   parallel_for(mirrored.channels * mirrored.height, threads, [&](int begin, int end) {
     RowFFT::Workspace workspace(n);
     for (int r = begin; r < end; ++r) {
       const double* src = mirrored.data.data() + static_cast<std::size_t>(r) * n;
       std::copy(src, src + n, workspace.real().begin());
-      fft.forward(workspace);
-      multiply_half_spectrum(workspace.spectrum(), inverse, n);
-      fft.inverse(workspace);
-      double* dst = result.image.data.data() + static_cast<std::size_t>(r) * n;
-      for (int x = 0; x < n; ++x) dst[x] = workspace.real()[x] * inverse_n;
+      inverse_filter_row(fft, inverse, workspace);
+      std::copy(workspace.real().begin(), workspace.real().end(),
+                result.image.data.data() + static_cast<std::size_t>(r) * n);
     }
   });
   return result;
 }
 
+RowRestorer::RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity,
+                         double dt)
+    : geometry_(geometry),
+      fft_(RowFFT::for_size(geometry.mirror_width)),
+      inverse_(inverse_transfer_bins(gains, velocity, dt, geometry.mirror_width, &zero_bins_)) {}
+
+void RowRestorer::restore(const double* observation, Scratch& scratch, double* restored) const {
+  const int wa = geometry_.observed_width;
+  const double* crop = observation + geometry_.half_blur;  // observed crop [h, h + Wa)
+  double* mirror = scratch.workspace.real().data();
+  std::copy(crop, crop + wa, mirror);
+  std::reverse_copy(crop, crop + wa, mirror + wa);  // column j >= Wa is 2 Wa - 1 - j
+  inverse_filter_row(fft_, inverse_, scratch.workspace);
+  const double* deconvolved = scratch.workspace.real().data() + 2 * geometry_.half_blur;
+  std::copy(deconvolved, deconvolved + geometry_.output_width, restored);
+}
+
 Restoration restore(const Image& observation, const Image& input, const Geometry& geometry,
                     std::span<const double> gains, double velocity, double dt, int threads) {
   const int h = geometry.half_blur;
-  const Image crop = crop_columns(observation, h, geometry.observed_width);
-  Deconvolution deconvolved = inverse_filter(mirror_extend(crop), gains, velocity, dt, threads);
+  const RowRestorer restorer(geometry, gains, velocity, dt);
   Restoration out;
-  out.restored = crop_columns(deconvolved.image, 2 * h, geometry.output_width);
+  out.restored = Image(geometry.output_width, observation.height, observation.channels);
+  parallel_for(observation.channels * observation.height, threads, [&](int begin, int end) {
+    RowRestorer::Scratch scratch(restorer);
+    for (int r = begin; r < end; ++r) {
+      const int c = r / observation.height;
+      const int y = r % observation.height;
+      restorer.restore(observation.row(c, y), scratch, out.restored.row(c, y));
+    }
+  });
   out.observed = crop_columns(observation, 3 * h, geometry.output_width);
   out.groundtruth = crop_columns(input, 3 * h, geometry.output_width);
-  out.zero_bins = deconvolved.zero_bins;
+  out.zero_bins = restorer.zero_bins();
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include "fss/metrics.h"
 #include "fss/observe.h"
 #include "fss/parallel.h"
+#include "fss/restore.h"
 #include "fss/transfer.h"
 
 namespace fss {
@@ -100,15 +101,6 @@ Windows metric_windows(const SimulationOptions& options, const Geometry& g) {
   return w;
 }
 
-Metrics measure(const Restoration& r, const Windows& w) {
-  Metrics m;
-  m.rmse = rmse(r.groundtruth, r.restored, w.rmse_first, w.rmse_end);
-  m.psnr = psnr(m.rmse);
-  m.rmse_ci = rmse_contrast_invariant(r.groundtruth, r.restored, w.ci_first, w.ci_end);
-  m.psnr_ci = psnr(m.rmse_ci);
-  return m;
-}
-
 double window_mean(const Image& image, int first, int end) {
   // mean per channel, then averaged over channels (equal pixel counts)
   double sum = 0.0;
@@ -150,8 +142,19 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   const double v = options.velocity_px_per_slot;
   const double dt = options.dt;
   const std::vector<double>& gains = code.gains;
-  report.geometry = Geometry::compute(input.width, code.length(), v, dt);
-  const Windows windows = metric_windows(options, report.geometry);
+  const Geometry& g = report.geometry = Geometry::compute(input.width, code.length(), v, dt);
+  const Windows windows = metric_windows(options, g);
+  if (options.max_memory_bytes > 0) {
+    const std::size_t needed =
+        estimate_working_memory_bytes(input.width, input.height, input.channels, g, options.trials);
+    if (needed > options.max_memory_bytes) {
+      throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
+                        std::to_string(input.height) + " x " + std::to_string(input.channels) +
+                        " image needs about " + format_bytes(static_cast<double>(needed)) +
+                        " of memory, more than the memory limit of " +
+                        format_bytes(static_cast<double>(options.max_memory_bytes)));
+    }
+  }
   report.rmse_first = windows.rmse_first;
   report.rmse_end = windows.rmse_end;
   report.rmse_ci_first = windows.ci_first;
@@ -169,65 +172,117 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   if (report.observed_divisor == 0.0) {
     report.observed_divisor = dt * gain_max_abs(gains);
     report.warnings.push_back(
-        "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max "
-        "|gain| = " +
+        "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max |gain| = " +
         number(report.observed_divisor) + " instead");
   }
 
-  const RowSpectra spectra = row_spectra(input, options.threads);
+  // Row-streamed pipeline: each row goes input -> DFT -> observation ->
+  // observed crop, mirror, inverse filter -> restored row, so the working
+  // memory beyond the outputs is a few rows per thread.
   ObservationParams params;
   params.velocity = v;
   params.dt = dt;
   params.snr = options.snr;
-  params.threads = options.threads;
-
-  // The noise-free run of the same pipeline: RMSE_0 of the prediction.
-  const Image noise_free_observation = observe_noise_free(spectra, gains, options.mode, params);
-  Restoration noise_free =
-      restore(noise_free_observation, input, report.geometry, gains, v, dt, options.threads);
-  report.zero_bins = noise_free.zero_bins;
+  const RowObserver observer(input.width, gains, options.mode, params);
+  const RowRestorer restorer(g, gains, v, dt);
+  report.zero_bins = restorer.zero_bins();
   if (report.zero_bins > 0) {
     report.warnings.push_back(std::to_string(report.zero_bins) +
                               " frequencies have K = 0 exactly on the deconvolution grid; they "
                               "are left at 0 in the restoration");
   }
-  const double rmse_noise_free =
-      rmse(noise_free.groundtruth, noise_free.restored, windows.rmse_first, windows.rmse_end);
+  const int offset = report.output_first_column();
+  const int rows = input.channels * input.height;
+  // One pass over all rows. `restored` (Wo wide) may be null when only the
+  // squared errors over the RMSE window are wanted (per row, summed in row
+  // order so that the total does not depend on the threads).
+  auto run_pass = [&](bool noisy, std::uint64_t seed, Image* restored, Image* observed,
+                      std::vector<double>* row_errors) {
+    parallel_for(rows, options.threads, [&](int begin, int end) {
+      RowObserver::Scratch observer_scratch(observer);
+      RowRestorer::Scratch restorer_scratch(restorer);
+      std::vector<double> observation(static_cast<std::size_t>(g.width));
+      std::vector<double> own_row(restored ? 0 : static_cast<std::size_t>(g.output_width));
+      for (int r = begin; r < end; ++r) {
+        const int c = r / input.height;
+        const int y = r % input.height;
+        observer.load_row(input.row(c, y), observer_scratch);
+        observer.observe(noisy, seed, c, y, observer_scratch, observation);
+        if (observed) {
+          double* out = observed->row(c, y);
+          for (int x = 0; x < g.output_width; ++x) {
+            out[x] = observation[offset + x] / report.observed_divisor;
+          }
+        }
+        double* out = restored ? restored->row(c, y) : own_row.data();
+        restorer.restore(observation.data(), restorer_scratch, out);
+        if (row_errors) {
+          const double* truth = input.row(c, y) + offset;
+          double sum = 0.0;  // as rmse() sums a row
+          for (int x = windows.rmse_first; x < windows.rmse_end; ++x) {
+            const double d = truth[x] - out[x];
+            sum += d * d;
+          }
+          (*row_errors)[r] = sum;
+        }
+      }
+    });
+  };
+  auto measure = [&](const Image& restored) {
+    Metrics m;
+    m.rmse = rmse(input, offset, restored, windows.rmse_first, windows.rmse_end);
+    m.psnr = psnr(m.rmse);
+    m.rmse_ci = rmse_contrast_invariant(input, offset, restored, windows.ci_first, windows.ci_end);
+    m.psnr_ci = psnr(m.rmse_ci);
+    return m;
+  };
 
-  Restoration first;
-  double sum = 0.0, sum_sq = 0.0, sum_ci = 0.0, sum_ci_sq = 0.0;
-  for (int t = 0; t < options.trials; ++t) {
-    Restoration r;
-    if (options.noise == NoiseModel::kNone) {
-      r = noise_free;
-    } else {
-      params.seed = options.seed + static_cast<std::uint64_t>(t);
-      const Image observation = options.mode == ShutterMode::kAnalog
-                                    ? observe_analog(spectra, gains, params)
-                                    : observe_numerical(spectra, gains, params);
-      r = restore(observation, input, report.geometry, gains, v, dt, options.threads);
+  report.observed = Image(g.output_width, input.height, input.channels);
+  report.restored = Image(g.output_width, input.height, input.channels);
+  double rmse_noise_free = 0.0;
+  if (options.noise == NoiseModel::kNone) {
+    // The noise-free run is every trial: run it once.
+    run_pass(false, 0, &report.restored, &report.observed, nullptr);
+    report.metrics = measure(report.restored);
+    rmse_noise_free = report.metrics.rmse;
+    report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
+    if (options.trial_callback) options.trial_callback(options.trials, options.trials);
+  } else {
+    // RMSE_0 of the prediction: the same pipeline on the expected observation.
+    std::vector<double> row_errors(static_cast<std::size_t>(rows));
+    run_pass(false, 0, nullptr, nullptr, &row_errors);
+    double total = 0.0;
+    for (const double e : row_errors) total += e;
+    rmse_noise_free =
+        std::sqrt(total / (static_cast<double>(windows.rmse_end - windows.rmse_first) *
+                           input.height * input.channels));
+
+    Image later_trial;  // restoration of trials after the first, when there are any
+    double sum = 0.0, sum_sq = 0.0, sum_ci = 0.0, sum_ci_sq = 0.0;
+    for (int t = 0; t < options.trials; ++t) {
+      const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
+      if (t == 1) later_trial = Image(g.output_width, input.height, input.channels);
+      Image& restored = t == 0 ? report.restored : later_trial;
+      run_pass(true, seed, &restored, t == 0 ? &report.observed : nullptr, nullptr);
+      const Metrics m = measure(restored);
+      if (t == 0) report.metrics = m;
+      sum += m.rmse;
+      sum_sq += m.rmse * m.rmse;
+      sum_ci += m.rmse_ci;
+      sum_ci_sq += m.rmse_ci * m.rmse_ci;
+      if (options.trial_callback) options.trial_callback(t + 1, options.trials);
     }
-    const Metrics m = measure(r, windows);
-    sum += m.rmse;
-    sum_sq += m.rmse * m.rmse;
-    sum_ci += m.rmse_ci;
-    sum_ci_sq += m.rmse_ci * m.rmse_ci;
-    if (t == 0) {
-      report.metrics = m;
-      first = std::move(r);
-    }
-    if (options.trial_callback) options.trial_callback(t + 1, options.trials);
+    const int n = options.trials;
+    report.trials = {n, sum / n, sample_sd(sum, sum_sq, n), sum_ci / n,
+                     sample_sd(sum_ci, sum_ci_sq, n)};
   }
-  const int n = options.trials;
-  report.trials = {n, sum / n, sample_sd(sum, sum_sq, n), sum_ci / n,
-                   sample_sd(sum_ci, sum_ci_sq, n)};
 
   // Prediction (SPEC 6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.
   Prediction& p = report.prediction;
   p.finite = report.kernel.invertible;
-  p.window_mean = window_mean(first.groundtruth, windows.rmse_first, windows.rmse_end);
+  p.window_mean = window_mean(input, offset + windows.rmse_first, offset + windows.rmse_end);
   p.q = noise_gain(gains, dt, options.mode);
-  p.m_amplification = p.finite ? mean_inverse_power(gains, v, dt, report.geometry.mirror_width)
+  p.m_amplification = p.finite ? mean_inverse_power(gains, v, dt, g.mirror_width)
                                : std::numeric_limits<double>::infinity();
   p.rmse_noise_free = rmse_noise_free;
   p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
@@ -239,12 +294,31 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     p.sigma = std::numeric_limits<double>::infinity();
     p.rmse = std::numeric_limits<double>::infinity();
   }
-
-  report.observed = scaled(first.observed, 1.0 / report.observed_divisor);
-  report.residual = residual_display(first.groundtruth, first.restored);
-  report.restored = std::move(first.restored);
-  report.groundtruth = std::move(first.groundtruth);
   return report;
+}
+
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry, int trials) {
+  const auto w = static_cast<std::size_t>(width);
+  const auto h = static_cast<std::size_t>(height);
+  const auto c = static_cast<std::size_t>(channels);
+  const auto wo = static_cast<std::size_t>(std::max(geometry.output_width, 0));
+  const auto ci_width =
+      static_cast<std::size_t>(std::max(geometry.output_width - 2 * geometry.blur_length, 0));
+  const std::size_t input = w * h * c * sizeof(double);
+  const std::size_t outputs = (trials > 1 ? 3 : 2) * wo * h * c * sizeof(double);
+  const std::size_t midway = 24 * ci_width * h;
+  // Four 8-bit rasters and their encoded copies, at most.
+  const std::size_t encoding = 8 * wo * h * c;
+  return input + outputs + std::max(midway, encoding);
+}
+
+Image groundtruth_image(const Image& input, const SimulationReport& report) {
+  return crop_columns(input, report.output_first_column(), report.geometry.output_width);
+}
+
+Image residual_image(const Image& input, const SimulationReport& report) {
+  return residual_display(groundtruth_image(input, report), report.restored);
 }
 
 std::string SimulationReport::FullReport() const {

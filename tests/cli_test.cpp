@@ -258,6 +258,54 @@ TEST_F(CliRuns, ThreadCountGivesIdenticalFiles) {
   EXPECT_THAT(one.out, StartsWith("RMSE: "));
 }
 
+TEST_F(CliRuns, OneAndFourThreadsGiveIdenticalFilesOnEveryPath) {
+  // RGB, a non-integer velocity (one transform per slot rather than shifts),
+  // both modes and two trials: every path of the pipeline split over threads.
+  const fs::path input = dir_ / "rgb.png";
+  write_png(input, test::make_test_image(500, 37, 3, 8));
+  for (const std::string mode : {"numerical", "analog"}) {
+    const std::string code = mode == "analog" ? "raskar" : "mip";
+    auto run = [&](const std::string& threads) {
+      const fs::path outdir = dir_ / (mode + threads);
+      const CommandResult r = run_fssim("--input " + quote(input) + " --code " + code + " --mode " +
+                                        mode + " --velocity 0.7 --trials 2 --seed 11 --threads " +
+                                        threads + " --outdir " + quote(outdir));
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      return r;
+    };
+    const CommandResult one = run("1");
+    const CommandResult four = run("4");
+    expect_identical_directories(dir_ / (mode + "1"), dir_ / (mode + "4"));
+    EXPECT_EQ(report_lines(one.out), report_lines(four.out)) << mode;
+  }
+}
+
+TEST_F(CliRuns, MemoryLimitRefusesBeforeWritingAnything) {
+  const fs::path outdir = dir_ / "out";
+  const CommandResult small =
+      run_fssim("--input " + camera() + " --max-memory 1M --outdir " + quote(outdir));
+  EXPECT_EQ(small.exit_code, 1);
+  const std::vector<std::string> lines = lines_of(small.err);
+  ASSERT_EQ(lines.size(), 1u) << small.err;
+  EXPECT_THAT(lines[0], StartsWith("fssim: error: "));
+  EXPECT_THAT(lines[0], HasSubstr("--max-memory"));
+  EXPECT_THAT(lines[0], HasSubstr("1.0 MiB"));
+  EXPECT_FALSE(fs::exists(outdir));
+  // Enough to decode camera.png (2.3 MiB) but not to run on it (about 16 MiB).
+  const CommandResult decode_only =
+      run_fssim("--input " + camera() + " --max-memory 4M --outdir " + quote(outdir));
+  EXPECT_EQ(decode_only.exit_code, 1);
+  EXPECT_THAT(decode_only.err, HasSubstr("needs about"));
+  EXPECT_FALSE(fs::exists(outdir));
+  const CommandResult unlimited =
+      run_fssim("--input " + camera() + " --max-memory 0 --noise none --outdir " + quote(outdir));
+  EXPECT_EQ(unlimited.exit_code, 0) << unlimited.err;
+  const CommandResult bad =
+      run_fssim("--input " + camera() + " --max-memory 12X --outdir " + quote(outdir));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.err, HasSubstr("--max-memory"));
+}
+
 // ---------------------------------------------------------------------------
 // (d), (e) Usage errors: exit 2, one line on stderr, no outputs.
 

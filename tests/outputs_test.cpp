@@ -40,13 +40,19 @@ std::vector<std::string> sorted(std::vector<std::string> names) {
   return names;
 }
 
+// The input of the small real run below.
+const Image& small_input() {
+  static const Image image = test::make_test_image(64, 8, 1, 5);
+  return image;
+}
+
 // A small real run: 64 x 8 gray, a 4-slot code, so B = 4 and Wo = 52.
 SimulationReport small_report(const std::vector<double>& gains = {1.0, 0.0, 1.0, 1.0},
                               std::uint64_t seed = 3) {
   SimulationOptions options;
   options.seed = seed;
   options.threads = 1;
-  return Simulate(options, test::make_test_image(64, 8, 1, 5), ShutterCode{"short", gains});
+  return Simulate(options, small_input(), ShutterCode{"short", gains});
 }
 
 std::string png_bytes(const Image& image) {
@@ -60,8 +66,8 @@ std::vector<std::pair<std::string, std::string>> expected_files(const Simulation
   return {
       {"observed.png", png_bytes(report.observed)},
       {"restored.png", png_bytes(report.restored)},
-      {"groundtruth.png", png_bytes(report.groundtruth)},
-      {"residual.png", png_bytes(report.residual)},
+      {"groundtruth.png", png_bytes(groundtruth_image(small_input(), report))},
+      {"residual.png", png_bytes(residual_image(small_input(), report))},
       {"code.txt", format_code_txt({report.code_name, report.gains})},
       {"spectrum.txt",
        format_spectrum_txt(report.gains, report.options.velocity_px_per_slot, report.options.dt)},
@@ -248,7 +254,7 @@ SimulationReport* WriteOutputs::report_ = nullptr;
 
 TEST_F(WriteOutputs, WritesExactlyTheListedFilesIntoANewDirectory) {
   const fs::path outdir = dir_ / "nested/out";
-  write_outputs(outdir, report(), "input.png");
+  write_outputs(outdir, report(), small_input(), "input.png");
   EXPECT_EQ(test::list_directory(outdir), sorted(output_file_names()));
   expect_complete_outputs(outdir, "input.png");
   // No staging leftovers next to the directory either.
@@ -260,14 +266,14 @@ TEST_F(WriteOutputs, WritesExactlyTheListedFilesIntoANewDirectory) {
 }
 
 TEST_F(WriteOutputs, WritesIntoAnExistingEmptyDirectory) {
-  write_outputs(dir_.path(), report(), "input.png");
+  write_outputs(dir_.path(), report(), small_input(), "input.png");
   EXPECT_EQ(test::list_directory(dir_.path()), sorted(output_file_names()));
 }
 
 TEST_F(WriteOutputs, OutdirThatIsARegularFileIsRefused) {
   const fs::path file = dir_ / "not-a-directory";
   test::write_file(file, "precious content\n");
-  const auto error = error_of([&] { write_outputs(file, report(), "input.png"); });
+  const auto error = error_of([&] { write_outputs(file, report(), small_input(), "input.png"); });
   ASSERT_TRUE(error.has_value());
   EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
   EXPECT_THAT(error->what(), HasSubstr(file.string()));
@@ -285,7 +291,8 @@ TEST_F(WriteOutputs, RefusesToOverwriteTheInput) {
       {dir_.path() / ".", (dir_ / "observed.png").string()},
   };
   for (const auto& [outdir, input_path] : spellings) {
-    const auto error = error_of([&] { write_outputs(outdir, report(), input_path); });
+    const auto error =
+        error_of([&] { write_outputs(outdir, report(), small_input(), input_path); });
     ASSERT_TRUE(error.has_value()) << outdir << " / " << input_path;
     EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
     EXPECT_THAT(error->what(), HasSubstr(input_path));
@@ -298,7 +305,7 @@ TEST_F(WriteOutputs, InputWithAnOutputNameElsewhereIsFine) {
   // An input called observed.png in another directory is not in the way.
   test::write_file(dir_ / "observed.png", "input");
   const fs::path outdir = dir_ / "out";
-  write_outputs(outdir, report(), (dir_ / "observed.png").string());
+  write_outputs(outdir, report(), small_input(), (dir_ / "observed.png").string());
   EXPECT_EQ(test::read_file(dir_ / "observed.png"), "input");
   EXPECT_EQ(test::list_directory(outdir), sorted(output_file_names()));
 }
@@ -306,7 +313,7 @@ TEST_F(WriteOutputs, InputWithAnOutputNameElsewhereIsFine) {
 TEST_F(WriteOutputs, ReplacesPreviousOutputsOnSuccess) {
   for (const std::string& name : output_file_names()) test::write_file(dir_ / name, "old " + name);
   test::write_file(dir_ / "unrelated.txt", "keep me");
-  write_outputs(dir_.path(), report(), "input.png");
+  write_outputs(dir_.path(), report(), small_input(), "input.png");
   expect_complete_outputs(dir_.path(), "input.png");
   EXPECT_EQ(test::read_file(dir_ / "unrelated.txt"), "keep me");
   std::vector<std::string> expected = output_file_names();
@@ -321,7 +328,8 @@ TEST_F(WriteOutputs, KeepsPreviousOutputsOnFailure) {
     if (name != "report.json") test::write_file(dir_ / name, "old " + name);
   }
   fs::create_directory(dir_ / "report.json");
-  const auto error = error_of([&] { write_outputs(dir_.path(), report(), "input.png"); });
+  const auto error =
+      error_of([&] { write_outputs(dir_.path(), report(), small_input(), "input.png"); });
   ASSERT_TRUE(error.has_value());
   EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
   for (const std::string& name : output_file_names()) {
@@ -333,8 +341,9 @@ TEST_F(WriteOutputs, KeepsPreviousOutputsOnFailure) {
 
 TEST_F(WriteOutputs, KeepsPreviousOutputsWhenTheInputIsInTheWay) {
   for (const std::string& name : output_file_names()) test::write_file(dir_ / name, "old " + name);
-  const auto error =
-      error_of([&] { write_outputs(dir_.path(), report(), (dir_ / "restored.png").string()); });
+  const auto error = error_of([&] {
+    write_outputs(dir_.path(), report(), small_input(), (dir_ / "restored.png").string());
+  });
   ASSERT_TRUE(error.has_value());
   for (const std::string& name : output_file_names()) {
     EXPECT_EQ(test::read_file(dir_ / name), "old " + name) << name;

@@ -566,3 +566,32 @@ TEST(DecodePngErrors, MessageNamesTheGivenName) {
 
 }  // namespace
 }  // namespace fss
+
+namespace fss {
+namespace {
+
+TEST(PngLimit, RefusedFromTheHeaderAboveTheLimit) {
+  const Image image = test::make_test_image(40, 30, 3, 1);
+  const std::vector<std::uint8_t> bytes = encode_png8(image);
+  const std::size_t needed = png_decode_bytes(40, 30, 3, 40 * 3);
+  EXPECT_EQ(needed, 40u * 30u * 3u + 40u * 30u * 3u * sizeof(double));
+  try {
+    decode_png(bytes.data(), bytes.size(), "small.png", needed - 1);
+    FAIL() << "decoding above the limit was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kLimit);
+    EXPECT_NE(std::string(e.what()).find("small.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("40 x 30"), std::string::npos) << e.what();
+  }
+  const Image decoded = decode_png(bytes.data(), bytes.size(), "small.png", needed);
+  EXPECT_EQ(decoded.width, 40);
+}
+
+TEST(FormatBytes, BinaryUnits) {
+  EXPECT_EQ(format_bytes(512), "512 bytes");
+  EXPECT_EQ(format_bytes(1024.0 * 1024.0), "1.0 MiB");
+  EXPECT_EQ(format_bytes(1.5 * 1024.0 * 1024.0 * 1024.0), "1.5 GiB");
+}
+
+}  // namespace
+}  // namespace fss

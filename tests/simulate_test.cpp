@@ -171,21 +171,25 @@ TEST_F(CameraRaskar, GeometryAndWindows) {
   EXPECT_EQ(r.observed_divisor, 26.0);
   EXPECT_TRUE(r.kernel.invertible);
   EXPECT_TRUE(r.warnings.empty());
-  for (const Image* image : {&r.observed, &r.restored, &r.groundtruth, &r.residual}) {
+  const Image groundtruth = groundtruth_image(*camera_, r);
+  const Image residual = residual_image(*camera_, r);
+  for (const Image* image : {&r.observed, &r.restored, &groundtruth, &residual}) {
     EXPECT_EQ(image->width, 356);
     EXPECT_EQ(image->height, 512);
     EXPECT_EQ(image->channels, 1);
   }
+  EXPECT_EQ(r.output_first_column(), 78);
   // The ground truth is input columns 78 .. 433.
   for (int y = 0; y < 512; y += 37) {
-    for (int x = 0; x < 356; ++x) ASSERT_EQ(r.groundtruth.at(0, y, x), camera_->at(0, y, x + 78));
+    for (int x = 0; x < 356; ++x) ASSERT_EQ(groundtruth.at(0, y, x), camera_->at(0, y, x + 78));
   }
 }
 
 TEST_F(CameraRaskar, MetricsAreMeasuredOnTheDocumentedWindows) {
   const SimulationReport& r = *report_;
-  EXPECT_DOUBLE_EQ(r.metrics.rmse, rmse(r.groundtruth, r.restored, 156, 200));
-  EXPECT_DOUBLE_EQ(r.metrics.rmse_ci, rmse_contrast_invariant(r.groundtruth, r.restored, 52, 304));
+  const Image groundtruth = groundtruth_image(*camera_, r);
+  EXPECT_DOUBLE_EQ(r.metrics.rmse, rmse(groundtruth, r.restored, 156, 200));
+  EXPECT_DOUBLE_EQ(r.metrics.rmse_ci, rmse_contrast_invariant(groundtruth, r.restored, 52, 304));
 }
 
 TEST_F(CameraRaskar, NoiseFreePredictionIsTheMeasuredError) {
@@ -307,13 +311,15 @@ TEST(Simulate, ImageNoMarginCanRescueSaysTheWidthNeeded) {
 TEST(Simulate, NarrowImageRunsWithASmallerMargin) {
   SimulationOptions options = noise_free();
   options.rmse_margin_columns = 10;
-  const SimulationReport r = Simulate(options, test::make_test_image(400, 8, 1), code("raskar"));
+  const Image input = test::make_test_image(400, 8, 1);
+  const SimulationReport r = Simulate(options, input, code("raskar"));
   const int wo = 400 - 3 * 52;
   EXPECT_EQ(r.geometry.output_width, wo);
   EXPECT_EQ(r.rmse_first, 10);
   EXPECT_EQ(r.rmse_end, wo - 10);
-  EXPECT_DOUBLE_EQ(r.metrics.rmse, rmse(r.groundtruth, r.restored, 10, wo - 10));
-  EXPECT_NE(r.metrics.rmse, rmse(r.groundtruth, r.restored, 156, 200));
+  const Image groundtruth = groundtruth_image(input, r);
+  EXPECT_DOUBLE_EQ(r.metrics.rmse, rmse(groundtruth, r.restored, 10, wo - 10));
+  EXPECT_NE(r.metrics.rmse, rmse(groundtruth, r.restored, 156, 200));
 }
 
 TEST(Simulate, ZeroMarginUsesTheWholeOutput) {
@@ -332,7 +338,9 @@ TEST(Simulate, RgbImageGivesThreeChannelOutputs) {
   ASSERT_EQ(astronaut.channels, 3);
   const SimulationReport r = Simulate(noise_free(), astronaut, code("raskar"));
   EXPECT_EQ(r.channels, 3);
-  for (const Image* image : {&r.observed, &r.restored, &r.groundtruth, &r.residual}) {
+  const Image groundtruth = groundtruth_image(astronaut, r);
+  const Image residual = residual_image(astronaut, r);
+  for (const Image* image : {&r.observed, &r.restored, &groundtruth, &residual}) {
     EXPECT_EQ(image->width, 356);
     EXPECT_EQ(image->height, 512);
     EXPECT_EQ(image->channels, 3);
@@ -379,8 +387,7 @@ TEST(Simulate, ThreadCountDoesNotChangeTheResults) {
   EXPECT_EQ(one.prediction.rmse, two.prediction.rmse);
   expect_same_image(one.observed, two.observed, "observed");
   expect_same_image(one.restored, two.restored, "restored");
-  expect_same_image(one.groundtruth, two.groundtruth, "groundtruth");
-  expect_same_image(one.residual, two.residual, "residual");
+  expect_same_image(residual_image(input, one), residual_image(input, two), "residual");
 }
 
 TEST(Simulate, SeedsDecideTheNoise) {
@@ -418,6 +425,38 @@ TEST(Simulate, TrialsUseConsecutiveSeeds) {
   EXPECT_NEAR(both.trials.rmse_mean, 0.5 * (r5 + r6), 1e-12);
   EXPECT_NEAR(both.trials.rmse_sd, std::abs(r5 - r6) / std::sqrt(2.0), 1e-9);
   EXPECT_EQ(calls, (std::vector<std::pair<int, int>>{{1, 2}, {2, 2}}));
+}
+
+}  // namespace
+}  // namespace fss
+
+namespace fss {
+namespace {
+
+TEST(MemoryLimit, EstimateCoversTheBuffersAndTheLimitIsEnforced) {
+  const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);
+  const std::size_t estimate = estimate_working_memory_bytes(512, 512, 1, g, 1);
+  // At least the input and the two Wo-wide outputs in double precision.
+  EXPECT_GE(estimate, (512u * 512u + 2u * 356u * 512u) * sizeof(double));
+  // A second restoration buffer for more than one trial; three channels triple
+  // the planes (the RMSE_CI scratch is for one channel at a time).
+  EXPECT_GT(estimate_working_memory_bytes(512, 512, 1, g, 2), estimate);
+  EXPECT_GE(estimate_working_memory_bytes(512, 512, 3, g, 1),
+            3u * (512u * 512u + 2u * 356u * 512u) * sizeof(double));
+
+  SimulationOptions options;
+  options.noise = NoiseModel::kNone;
+  options.max_memory_bytes = estimate - 1;
+  const Image input = test::make_test_image(512, 512, 1, 2);
+  try {
+    Simulate(options, input, *builtin_code("raskar"));
+    FAIL() << "a run over the memory limit was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kLimit);
+    EXPECT_NE(std::string(e.what()).find("memory limit"), std::string::npos) << e.what();
+  }
+  options.max_memory_bytes = estimate;
+  EXPECT_NO_THROW(Simulate(options, input, *builtin_code("raskar")));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@ namespace fss {
 enum class ErrorKind {
   kUsage,    // a parameter or a combination of parameters is not acceptable
   kRuntime,  // a file could not be read or written, or its content is bad
+  kLimit,    // the run would need more memory than the limit it was given
 };
 
 class Error : public std::runtime_error {
@@ -24,5 +25,9 @@ class Error : public std::runtime_error {
 
 [[noreturn]] void throw_usage_error(const std::string& message);
 [[noreturn]] void throw_runtime_error(const std::string& message);
+[[noreturn]] void throw_limit_error(const std::string& message);
+
+// "1.5 GiB", "800.0 MiB", "12.0 KiB" (binary units, as --max-memory reads them).
+std::string format_bytes(double bytes);
 
 }  // namespace fss

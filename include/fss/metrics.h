@@ -11,6 +11,9 @@ namespace fss {
 
 // sqrt(mean (a - b)^2) over columns [first, end), all rows, channels pooled.
 double rmse(const Image& a, const Image& b, int first, int end);
+// Same with a wider `a` whose column x + a_offset faces b's column x (a can
+// be the input and b the Wo-wide restoration: no crop is copied).
+double rmse(const Image& a, int a_offset, const Image& b, int first, int end);
 
 // 10 log10(255^2 / rmse^2).
 double psnr(double rmse_value);
@@ -26,8 +29,25 @@ double psnr(double rmse_value);
 // order gives 1.00532, inside the spread of random orders (about +/- 6e-4).
 std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 
-// RMSE of the midway-equalized columns [first, end) of a and b.
+// RMSE of the midway-equalized columns [first, end) of a and b. Ranks are
+// sorted as 8-byte keys (the value's order-preserving bits, their low bits
+// replaced by the column-major index, radix-sorted), so the scratch is at
+// most 24 bytes a pixel of one channel. Equal values are ranked by index exactly; values closer
+// than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are ranked by index too,
+// which moves their midway values by no more than that.
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end);
+double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end);
+
+// The range of a - b (a's column x + a_offset facing b's column x) and the
+// affine map of the residual display: (d - min) / (max - min) * 255, every
+// pixel including the first; dividing first makes both ends exact. A
+// constant residual maps to 0.
+struct ResidualRange {
+  double min = 0.0;
+  double max = 0.0;
+  double stretch(double d) const { return max > min ? (d - min) / (max - min) * 255.0 : 0.0; }
+};
+ResidualRange residual_range(const Image& a, int a_offset, const Image& b);
 
 // a - b mapped affinely so that its minimum goes to 0 and its maximum to 255,
 // all channels jointly (all 0 when a - b is constant).

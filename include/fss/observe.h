@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "fss/code.h"
+#include "fss/fft.h"
 #include "fss/image.h"
+#include "fss/noise.h"
 
 namespace fss {
 
@@ -32,6 +34,59 @@ struct ObservationParams {
   double snr = 100.0;     // SNR of a level-100 landscape seen through one slot
   std::uint64_t seed = 0;
   int threads = 0;
+};
+
+// The observation of one row at a time, from the row's DFT: the building
+// block of the image-level functions below and of Simulate's row-streamed
+// pipeline. In numerical mode the elementary exposures are streamed into the
+// output row; when s = v dt is an integer they are exact circular shifts of
+// each other (K_k = K_0 exp(-i xi s k)) and cost no transform.
+class RowObserver {
+ public:
+  // Throws a usage fss::Error in analog mode for a gain outside [0, 1].
+  RowObserver(int width, std::span<const double> gains, ShutterMode mode,
+              const ObservationParams& params);
+
+  // Buffers of one worker thread.
+  class Scratch {
+   public:
+    explicit Scratch(const RowObserver& observer);
+
+   private:
+    friend class RowObserver;
+    RowFFT::Workspace workspace;
+    std::vector<std::complex<double>> spectrum;
+    std::vector<double> shifted;
+    PoissonRowSampler sampler;
+  };
+
+  int width() const { return width_; }
+
+  // Loads the row to observe into the scratch: a real row (width values),
+  // transformed here, or its DFT (width / 2 + 1 bins) when already known.
+  void load_row(const double* row, Scratch& scratch) const;
+  void load_spectrum(const std::complex<double>* bins, Scratch& scratch) const;
+
+  // out (width values) = the observation of the row last loaded into
+  // `scratch`: noisy (PoissonSNR, streams of (seed, channel, slot k or 0,
+  // row)) or, when `noisy` is false, its expectation (SPEC 2, 3).
+  void observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
+               std::span<double> out) const;
+
+ private:
+  // e = IDFT(spectrum * filter) / width into scratch.workspace.real().
+  std::span<const double> filtered(const std::vector<std::complex<double>>& filter,
+                                   Scratch& scratch) const;
+
+  int width_;
+  std::vector<double> gains_;
+  ShutterMode mode_;
+  double snr_;
+  const RowFFT& fft_;
+  bool shift_ = false;  // numerical mode with an integer v dt
+  long long step_ = 0;  // v dt when shift_
+  // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
+  std::vector<std::vector<std::complex<double>>> filters_;
 };
 
 // e = rowconv(u, K) = IDFT(DFT(u) K), row by row, circular: the ideal

@@ -23,11 +23,12 @@ nlohmann::json report_json(const SimulationReport& report, const std::string& in
 std::vector<std::string> output_file_names();
 
 // Writes observed.png, restored.png, groundtruth.png, residual.png, code.txt,
-// spectrum.txt and report.json into `outdir` (created if missing). Refuses,
-// before writing anything, to replace `input_path` or to write into a path
-// that is not a directory. Throws a runtime fss::Error on failure, after
-// removing whatever it staged.
+// spectrum.txt and report.json into `outdir` (created if missing); `input` is
+// the image the report was made from (for the ground truth and the residual,
+// encoded from it row by row). Refuses, before writing anything, to replace
+// `input_path` or to write into a path that is not a directory. Throws a
+// runtime fss::Error on failure, after removing whatever it staged.
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
-                   const std::string& input_path);
+                   const Image& input, const std::string& input_path);
 
 }  // namespace fss

@@ -1,8 +1,11 @@
 // Crops, mirror extension and inverse filtering (SPEC 4). Conventions: image.h.
 #pragma once
 
+#include <complex>
 #include <span>
+#include <vector>
 
+#include "fss/fft.h"
 #include "fss/image.h"
 
 namespace fss {
@@ -29,6 +32,34 @@ struct Deconvolution {
 // Plain inverse filter, K evaluated on the mirror's own width.
 Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
                              double dt, int threads);
+
+// Restoration of one row at a time, the building block of restore() and of
+// Simulate's row-streamed pipeline: observed crop [h, h + Wa), mirror
+// extension to 2 Wa, inverse filter, output columns [2h, 2h + Wo).
+class RowRestorer {
+ public:
+  RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity, double dt);
+
+  // Buffers of one worker thread.
+  class Scratch {
+   public:
+    explicit Scratch(const RowRestorer& restorer) : workspace(restorer.geometry_.mirror_width) {}
+
+   private:
+    friend class RowRestorer;
+    RowFFT::Workspace workspace;
+  };
+
+  // restored[0 .. Wo) from observation[0 .. W).
+  void restore(const double* observation, Scratch& scratch, double* restored) const;
+  int zero_bins() const { return zero_bins_; }
+
+ private:
+  Geometry geometry_;
+  const RowFFT& fft_;
+  std::vector<std::complex<double>> inverse_;  // 1 / K on the 2 Wa grid, 0 where K = 0
+  int zero_bins_ = 0;
+};
 
 // The three aligned outputs, Wo wide: restored = deconvolved column c + 2h,
 // observed = observation column c + 3h, ground truth = input column c + 3h.

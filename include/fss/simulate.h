@@ -34,6 +34,9 @@ struct SimulationOptions {
   // headline metrics are those of the first.
   int trials = 1;
   int threads = 0;  // 0: all hardware threads; never changes the results
+  // Refuse, before allocating, a run whose estimated peak memory
+  // (estimate_working_memory_bytes) exceeds this; 0 means no limit.
+  std::size_t max_memory_bytes = 0;
   // Called after each trial with (done, total); may be empty.
   std::function<void(int, int)> trial_callback;
 
@@ -80,11 +83,15 @@ struct SimulationReport {
   Prediction prediction;
   std::vector<std::string> warnings;
 
-  // Wo x H outputs, on the 0..255 scale (not rounded).
+  // Wo x H outputs of the first trial, on the 0..255 scale (not rounded),
+  // aligned with input columns [output_first_column(), + Wo). The ground
+  // truth and the residual display are derived from the input on demand
+  // (groundtruth_image, residual_image) rather than kept: for a large image
+  // each of them would be as big as the input.
   Image observed;  // divided by observed_divisor
   Image restored;
-  Image groundtruth;
-  Image residual;  // stretched to [0, 255]
+
+  int output_first_column() const { return 3 * geometry.half_blur; }
 
   // Human-readable summary of everything above but the images.
   std::string FullReport() const;
@@ -95,5 +102,20 @@ struct SimulationReport {
 // an all-zero code, an image too narrow for the RMSE window).
 SimulationReport Simulate(const SimulationOptions& options, const Image& input,
                           const ShutterCode& code);
+
+// Estimated peak memory of Simulate plus write_outputs, in bytes, the input
+// image included: the input, the observed and restored outputs (one more
+// restoration buffer when trials > 1), and the larger of the RMSE_CI scratch
+// (24 bytes a pixel of one channel's window) and the PNG encoding buffers.
+// Rows in flight are a few kilobytes a thread and are not counted.
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry, int trials);
+
+// The ground truth aligned with report.restored: input columns
+// [output_first_column(), output_first_column() + Wo).
+Image groundtruth_image(const Image& input, const SimulationReport& report);
+
+// groundtruth - restored, stretched affinely to [0, 255] (metrics.h).
+Image residual_image(const Image& input, const SimulationReport& report);
 
 }  // namespace fss

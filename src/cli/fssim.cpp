@@ -54,6 +54,40 @@ CLI::Validator at_least(long long minimum) {
       ">=" + std::to_string(minimum));
 }
 
+// Half of the physical memory, the default --max-memory.
+std::size_t default_memory_limit() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page_size = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return 0;
+  return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size) / 2;
+}
+
+// "800M", "1.5G", "2048K", "123456" (bytes); K, M, G, T are powers of 1024.
+const CLI::Validator kMemorySize(
+    [](std::string& text) -> std::string {
+      std::size_t used = 0;
+      double value = 0.0;
+      try {
+        value = std::stod(text, &used);
+      } catch (...) {
+        used = 0;
+      }
+      std::string suffix = text.substr(used);
+      double scale = 1.0;
+      if (suffix == "K" || suffix == "k") scale = 1024.0;
+      if (suffix == "M" || suffix == "m") scale = 1024.0 * 1024.0;
+      if (suffix == "G" || suffix == "g") scale = 1024.0 * 1024.0 * 1024.0;
+      if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+      const bool suffix_ok = suffix.empty() || scale > 1.0;
+      if (used == 0 || !suffix_ok || !std::isfinite(value) || value <= 0.0 ||
+          value * scale >= 1e18) {
+        return "value " + text + " is not a memory size (e.g. 800M, 1.5G, 0 for no limit)";
+      }
+      text = std::to_string(static_cast<unsigned long long>(value * scale));
+      return {};
+    },
+    "SIZE");
+
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
 
 }  // namespace
@@ -111,6 +145,10 @@ int main(int argc, char** argv) {
                  "worker threads, 0 = all cores (results do not depend on it)")
       ->check(at_least(0))
       ->capture_default_str();
+  std::string max_memory_text;
+  app.add_option("--max-memory", max_memory_text,
+                 "refuse runs needing more memory than SIZE (e.g. 800M, 2G; 0: no limit; default: "
+                 "half of physical memory)");
   app.add_option("-o,--outdir", outdir, "output directory, created if missing")
       ->capture_default_str();
 
@@ -122,12 +160,24 @@ int main(int argc, char** argv) {
     std::cerr << "fssim: error: " << message << " (see fssim --help)\n";
     return kExitUsage;
   }
+  options.max_memory_bytes = default_memory_limit();
+  if (!max_memory_text.empty()) {
+    std::string text = max_memory_text;
+    if (text != "0") {
+      const std::string problem = kMemorySize(text);
+      if (!problem.empty()) {
+        std::cerr << "fssim: error: --max-memory: " << problem << " (see fssim --help)\n";
+        return kExitUsage;
+      }
+    }
+    options.max_memory_bytes = static_cast<std::size_t>(std::stoull(text));
+  }
   options.mode = *fss::shutter_mode_from_string(mode_text);
   options.noise = *fss::noise_model_from_string(noise_text);
 
   try {
     const fss::ShutterCode code = fss::load_code(code_name);
-    const fss::Image image = fss::read_png(input);
+    const fss::Image image = fss::read_png(input, options.max_memory_bytes);
     const bool show_progress = options.trials > 1 && ::isatty(STDERR_FILENO);
     if (show_progress) {
       options.trial_callback = [](int done, int total) {
@@ -138,7 +188,7 @@ int main(int argc, char** argv) {
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
     for (const auto& warning : report.warnings) std::cerr << "fssim: warning: " << warning << "\n";
-    fss::write_outputs(outdir, report, input);
+    fss::write_outputs(outdir, report, image, input);
 
     print_metric("RMSE", report.metrics.rmse);
     print_metric("PSNR", report.metrics.psnr);
@@ -166,7 +216,9 @@ int main(int argc, char** argv) {
     std::printf("Outputs: %s\n", outdir.c_str());
     return 0;
   } catch (const fss::Error& e) {
-    std::cerr << "fssim: error: " << e.what() << "\n";
+    std::cerr << "fssim: error: " << e.what()
+              << (e.kind() == fss::ErrorKind::kLimit ? " (raise it with --max-memory)" : "")
+              << "\n";
     return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
   } catch (const std::bad_alloc&) {
     std::cerr << "fssim: error: out of memory\n";

@@ -43,6 +43,8 @@ nlohmann::json report_json(const SimulationReport& r, const std::string& input_p
                      {"code_length", r.gains.size()},
                      {"mode", to_string(r.options.mode)},
                      {"velocity", r.options.velocity_px_per_slot},
+                     {"restore_velocity", r.options.restore_velocity_px_per_slot.value_or(
+                                              r.options.velocity_px_per_slot)},
                      {"dt", r.options.dt},
                      {"snr", r.options.snr},
                      {"seed", r.options.seed},

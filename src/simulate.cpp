@@ -40,8 +40,13 @@ bool SimulationOptions::IsValid(std::string* error) const {
     return fail("velocity_px_per_slot = " + number(velocity_px_per_slot) +
                 ": must be a finite number");
   }
-  if (!(std::isfinite(dt) && dt > 0.0))
+  if (restore_velocity_px_per_slot && !std::isfinite(*restore_velocity_px_per_slot)) {
+    return fail("restore_velocity_px_per_slot = " + number(*restore_velocity_px_per_slot) +
+                ": must be a finite number");
+  }
+  if (!(std::isfinite(dt) && dt > 0.0)) {
     return fail("dt = " + number(dt) + ": must be finite and > 0");
+  }
   if (!(std::isfinite(snr) && snr > 0.0)) {
     return fail("snr = " + number(snr) + ": must be finite and > 0");
   }
@@ -140,9 +145,12 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   report.channels = input.channels;
 
   const double v = options.velocity_px_per_slot;
+  // v_r: the velocity of the kernel the restoration inverts.
+  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
   const double dt = options.dt;
   const std::vector<double>& gains = code.gains;
-  const Geometry& g = report.geometry = Geometry::compute(input.width, code.length(), v, dt);
+  const Geometry& g = report.geometry =
+      Geometry::compute(input.width, code.length(), std::max(std::abs(v), std::abs(v_r)), dt);
   const Windows windows = metric_windows(options, g);
   if (options.max_memory_bytes > 0) {
     const std::size_t needed =
@@ -160,10 +168,10 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   report.rmse_ci_first = windows.ci_first;
   report.rmse_ci_end = windows.ci_end;
 
-  report.kernel = analyze_kernel(gains, v, dt);
+  report.kernel = analyze_kernel(gains, v_r, dt);
   if (!report.kernel.invertible) {
     report.warnings.push_back("code '" + code.name + "' is not invertible at velocity " +
-                              number(v) + ": min |K| = " + number(report.kernel.min_abs) +
+                              number(v_r) + ": min |K| = " + number(report.kernel.min_abs) +
                               " at xi = " + number(report.kernel.min_abs_xi) +
                               "; the restoration amplifies noise without bound and no finite "
                               "error prediction exists");
@@ -184,7 +192,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   params.dt = dt;
   params.snr = options.snr;
   const RowObserver observer(input.width, gains, options.mode, params);
-  const RowRestorer restorer(g, gains, v, dt);
+  const RowRestorer restorer(g, gains, v_r, dt);
   report.zero_bins = restorer.zero_bins();
   if (report.zero_bins > 0) {
     report.warnings.push_back(std::to_string(report.zero_bins) +
@@ -282,7 +290,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   p.finite = report.kernel.invertible;
   p.window_mean = window_mean(input, offset + windows.rmse_first, offset + windows.rmse_end);
   p.q = noise_gain(gains, dt, options.mode);
-  p.m_amplification = p.finite ? mean_inverse_power(gains, v, dt, g.mirror_width)
+  p.m_amplification = p.finite ? mean_inverse_power(gains, v_r, dt, g.mirror_width)
                                : std::numeric_limits<double>::infinity();
   p.rmse_noise_free = rmse_noise_free;
   p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
@@ -330,9 +338,12 @@ std::string SimulationReport::FullReport() const {
       << ", sum = " << number(gain_sum(gains))
       << ", normalized L1 = " << number(normalized_l1(gains)) << ")\n";
   out << "  mode             " << to_string(options.mode) << ", velocity "
-      << number(options.velocity_px_per_slot) << ", dt " << number(options.dt) << ", snr "
-      << number(options.snr) << ", noise " << to_string(options.noise) << ", seed " << options.seed
-      << "\n";
+      << number(options.velocity_px_per_slot)
+      << (options.restore_velocity_px_per_slot
+              ? " (restored as " + number(*options.restore_velocity_px_per_slot) + ")"
+              : std::string())
+      << ", dt " << number(options.dt) << ", snr " << number(options.snr) << ", noise "
+      << to_string(options.noise) << ", seed " << options.seed << "\n";
   out << "  geometry         B = " << geometry.blur_length << ", observed crop "
       << geometry.observed_width << ", deconvolution grid " << geometry.mirror_width << ", output "
       << geometry.output_width << "\n";

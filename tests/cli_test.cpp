@@ -280,6 +280,28 @@ TEST_F(CliRuns, OneAndFourThreadsGiveIdenticalFilesOnEveryPath) {
   }
 }
 
+TEST_F(CliRuns, RestoreVelocityEqualToTheTrueOneIsANormalRun) {
+  const fs::path input = small_input();
+  const CommandResult normal = run_fssim("--input " + quote(input) + " --velocity 0.9 --seed 4" +
+                                         " --outdir " + quote(dir_ / "normal"));
+  const CommandResult same =
+      run_fssim("--input " + quote(input) + " --velocity 0.9 --restore-velocity 0.9 --seed 4" +
+                " --outdir " + quote(dir_ / "same"));
+  ASSERT_EQ(normal.exit_code, 0) << normal.err;
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  for (const char* name : {"observed.png", "restored.png", "groundtruth.png", "residual.png"}) {
+    EXPECT_EQ(test::read_file(dir_ / "normal" / name), test::read_file(dir_ / "same" / name))
+        << name;
+  }
+  EXPECT_EQ(lines_of(normal.out)[0], lines_of(same.out)[0]);
+  EXPECT_THAT(same.out, HasSubstr("Restore velocity: 0.9 (true velocity 0.9)"));
+  const CommandResult wrong =
+      run_fssim("--input " + quote(input) + " --velocity 0.9 --restore-velocity 1 --seed 4" +
+                " --outdir " + quote(dir_ / "wrong"));
+  ASSERT_EQ(wrong.exit_code, 0) << wrong.err;
+  EXPECT_NE(lines_of(normal.out)[0], lines_of(wrong.out)[0]);
+}
+
 TEST_F(CliRuns, MemoryLimitRefusesBeforeWritingAnything) {
   const fs::path outdir = dir_ / "out";
   const CommandResult small =
@@ -371,6 +393,8 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"NoiseUnknown", "--input {input} --noise foo", "--noise"},
         UsageCase{"TrialsZero", "--input {input} --trials 0", "--trials"},
         UsageCase{"ThreadsNegative", "--input {input} --threads -1", "--threads"},
+        UsageCase{"RestoreVelocityNan", "--input {input} --restore-velocity nan",
+                  "--restore-velocity"},
         UsageCase{"MarginNegative", "--input {input} --rmse-margin -1", "--rmse-margin"},
         UsageCase{"UnknownCodeName", "--input {input} --code nosuchcode", "nosuchcode"}),
     [](const ::testing::TestParamInfo<UsageCase>& info) { return info.param.name; });

@@ -461,3 +461,52 @@ TEST(MemoryLimit, EstimateCoversTheBuffersAndTheLimitIsEnforced) {
 
 }  // namespace
 }  // namespace fss
+
+namespace fss {
+namespace {
+
+TEST(RestoreVelocity, TheTrueVelocityIsExactlyANormalRun) {
+  const Image input = test::make_test_image(520, 16, 1, 12);
+  SimulationOptions options;
+  options.velocity_px_per_slot = 0.8;
+  options.seed = 3;
+  const SimulationReport normal = Simulate(options, input, *builtin_code("random"));
+  options.restore_velocity_px_per_slot = 0.8;
+  const SimulationReport same = Simulate(options, input, *builtin_code("random"));
+  EXPECT_EQ(normal.restored.data, same.restored.data);
+  EXPECT_EQ(normal.observed.data, same.observed.data);
+  EXPECT_EQ(normal.metrics.rmse, same.metrics.rmse);
+  EXPECT_EQ(normal.prediction.rmse, same.prediction.rmse);
+}
+
+TEST(RestoreVelocity, AWrongVelocityCostsAccuracyAndKeepsTheObservation) {
+  const Image input = test::make_test_image(600, 16, 1, 12);
+  SimulationOptions options;
+  options.noise = NoiseModel::kNone;
+  options.rmse_margin_columns = 60;
+  const SimulationReport right = Simulate(options, input, *builtin_code("sinc"));
+  options.restore_velocity_px_per_slot = 1.1;
+  const SimulationReport wrong = Simulate(options, input, *builtin_code("sinc"));
+  // B = ceil(1.1 * 52) = 58 covers the faster of the two velocities.
+  EXPECT_EQ(wrong.geometry.blur_length, 58);
+  // The observation is the true one: same values where both crops overlap.
+  const int shift = wrong.output_first_column() - right.output_first_column();
+  ASSERT_GT(shift, 0);
+  for (int x = 0; x < wrong.observed.width; ++x) {
+    ASSERT_EQ(wrong.observed.at(0, 5, x), right.observed.at(0, 5, x + shift)) << x;
+  }
+  // Deconvolving with the wrong kernel leaves a much larger noise-free error.
+  EXPECT_GT(wrong.metrics.rmse, 3.0 * right.metrics.rmse);
+  EXPECT_EQ(wrong.prediction.rmse_noise_free, wrong.metrics.rmse);
+}
+
+TEST(RestoreVelocity, NonFiniteIsRejectedByIsValid) {
+  SimulationOptions options;
+  options.restore_velocity_px_per_slot = std::nan("");
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("restore_velocity_px_per_slot"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace fss

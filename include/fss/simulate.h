@@ -24,8 +24,13 @@ std::optional<NoiseModel> noise_model_from_string(std::string_view text);
 struct SimulationOptions {
   ShutterMode mode = ShutterMode::kNumerical;
   double velocity_px_per_slot = 1.0;  // any real; the sign is the direction along rows
-  double dt = 1.0;                    // time slot length, > 0
-  double snr = 100.0;                 // > 0
+  // Velocity assumed by the restoration, to measure the cost of a wrong
+  // velocity estimate; empty means the true velocity. The blur length B
+  // covers both velocities, so a restore velocity equal to the true one is
+  // exactly a normal run.
+  std::optional<double> restore_velocity_px_per_slot;
+  double dt = 1.0;     // time slot length, > 0
+  double snr = 100.0;  // > 0
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
   // Columns left out at each side of the output for the RMSE; -1 means 3 B.
@@ -74,6 +79,8 @@ struct SimulationReport {
   int rmse_ci_first = 0;  // RMSE_CI window
   int rmse_ci_end = 0;
 
+  // The kernel that is inverted: the code at the restore velocity (the true
+  // velocity unless options.restore_velocity_px_per_slot is set).
   KernelAnalysis kernel;
   double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) = 0
   int zero_bins = 0;              // deconvolution bins with K = 0, left at 0

@@ -122,6 +122,12 @@ int main(int argc, char** argv) {
                  "velocity in pixels per time slot, signed (direction along rows)")
       ->check(kFinite)
       ->capture_default_str();
+  double restore_velocity = 0.0;
+  CLI::Option* restore_velocity_option =
+      app.add_option("--restore-velocity", restore_velocity,
+                     "velocity assumed by the restoration (default: the true --velocity), to "
+                     "measure the cost of a wrong velocity estimate")
+          ->check(kFinite);
   app.add_option("--dt", options.dt, "time slot length, > 0")
       ->check(kFinite & kPositive)
       ->capture_default_str();
@@ -172,6 +178,7 @@ int main(int argc, char** argv) {
     }
     options.max_memory_bytes = static_cast<std::size_t>(std::stoull(text));
   }
+  if (restore_velocity_option->count() > 0) options.restore_velocity_px_per_slot = restore_velocity;
   options.mode = *fss::shutter_mode_from_string(mode_text);
   options.noise = *fss::noise_model_from_string(noise_text);
 
@@ -205,6 +212,10 @@ int main(int argc, char** argv) {
       std::printf("Trials: %d, RMSE mean %f sd %f, RMSE_CI mean %f sd %f\n", report.trials.n,
                   report.trials.rmse_mean, report.trials.rmse_sd, report.trials.rmse_ci_mean,
                   report.trials.rmse_ci_sd);
+    }
+    if (options.restore_velocity_px_per_slot) {
+      std::printf("Restore velocity: %g (true velocity %g)\n",
+                  *options.restore_velocity_px_per_slot, options.velocity_px_per_slot);
     }
     std::printf("Seed: %llu\n", static_cast<unsigned long long>(options.seed));
     std::printf(

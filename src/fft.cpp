@@ -29,7 +29,7 @@ T* fftw_alloc(std::size_t count) {
 RowFFT::Workspace::Workspace(int n)
     : n_(n), real_(fftw_alloc<double>(static_cast<std::size_t>(n))), spectrum_(nullptr) {
   try {
-    spectrum_ = fftw_alloc<std::complex<double>>(static_cast<std::size_t>(n / 2 + 1));
+    spectrum_ = fftw_alloc<std::complex<double>>(static_cast<std::size_t>(n) / 2 + 1);
   } catch (...) {
     fftw_free(real_);
     throw;
@@ -84,7 +84,7 @@ void RowFFT::inverse(Workspace& workspace) const {
 
 void multiply_half_spectrum(std::span<std::complex<double>> spectrum,
                             std::span<const std::complex<double>> filter, int n) {
-  const std::size_t bins = static_cast<std::size_t>(n / 2 + 1);
+  const std::size_t bins = static_cast<std::size_t>(n) / 2 + 1;
   const bool has_nyquist = n % 2 == 0;
   const std::size_t full = has_nyquist ? bins - 1 : bins;
   // Plain (a + ib)(c + id): std::complex's operator* adds NaN/inf recovery

@@ -181,7 +181,7 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
   const std::string suffix = ".fssim-tmp-" + std::to_string(::getpid());
   try {
     for (const auto& [name, bytes] : contents) {
-      StagedFile file{outdir / ("." + name + suffix), outdir / name};
+      StagedFile file{outdir / ("." + name).append(suffix), outdir / name};
       staged.push_back(file);
       write_file(file.temporary, bytes);
     }

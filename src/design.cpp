@@ -62,7 +62,7 @@ std::vector<double> normalized_to_unit_max(std::vector<double> gains) {
 // 1 / sinc_h(theta) = (theta / 2) / sin(theta / 2), finite for |theta| < 2 pi.
 double inverse_sinc_h(double theta) { return 1.0 / sinc_h(theta); }
 
-// Splitmix-free, portable uniform double in [0, 1) from a 64-bit generator
+// Portable uniform double in [0, 1) from a 64-bit generator
 // (std::uniform_real_distribution's output is library-specific).
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
@@ -529,7 +529,7 @@ LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double
     memory_y.clear();
     memory_rho.clear();
   };
-  std::vector<bool> free(n);
+  std::vector<bool> is_free(n);
   int stalls = 0;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
     // Stationarity: x = P(x - g).
@@ -537,13 +537,13 @@ LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double
     project(trial);
     double projected_gradient = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      free[i] = !((x[i] <= lower && g[i] > 0.0) || (x[i] >= upper && g[i] < 0.0));
+      is_free[i] = !((x[i] <= lower && g[i] > 0.0) || (x[i] >= upper && g[i] < 0.0));
       projected_gradient = std::max(projected_gradient, std::abs(x[i] - trial[i]));
     }
     if (projected_gradient < 1e-10) break;
 
     // Two-loop recursion on the free part of the gradient.
-    for (std::size_t i = 0; i < n; ++i) direction[i] = free[i] ? g[i] : 0.0;
+    for (std::size_t i = 0; i < n; ++i) direction[i] = is_free[i] ? g[i] : 0.0;
     std::vector<double> alphas(memory_s.size());
     for (std::size_t m = memory_s.size(); m-- > 0;) {
       alphas[m] = memory_rho[m] * dot(memory_s[m], direction);
@@ -561,7 +561,7 @@ LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double
     double slope = 0.0;
     double largest = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      direction[i] = free[i] ? -direction[i] : 0.0;
+      direction[i] = is_free[i] ? -direction[i] : 0.0;
       slope += direction[i] * g[i];
       largest = std::max(largest, std::abs(direction[i]));
     }
@@ -570,7 +570,7 @@ LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double
       forget();
       largest = 0.0;
       for (std::size_t i = 0; i < n; ++i) {
-        direction[i] = free[i] ? -g[i] : 0.0;
+        direction[i] = is_free[i] ? -g[i] : 0.0;
         largest = std::max(largest, std::abs(direction[i]));
       }
       if (largest == 0.0) break;

@@ -8,51 +8,22 @@
 #include <iostream>
 #include <string>
 
+#include "cli_common.h"
+#include "code_commands.h"
 #include "fss/code.h"
 #include "fss/error.h"
 #include "fss/outputs.h"
 #include "fss/png_io.h"
 #include "fss/simulate.h"
+#include "sweep_command.h"
 
 namespace {
 
-constexpr int kExitRuntime = 1;
-constexpr int kExitUsage = 2;
-
-// CLI11 validator for finite numbers (CLI11 accepts "nan" and "inf").
-const CLI::Validator kFinite(
-    [](std::string& text) -> std::string {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-        return "value " + text + " is not a finite number";
-      }
-      return {};
-    },
-    "FINITE", "finite");
-
-const CLI::Validator kPositive(
-    [](std::string& text) -> std::string {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
-        return "value " + text + " must be > 0";
-      }
-      return {};
-    },
-    "POSITIVE", "positive");
-
-// Integer option of at least `minimum`, with a short message (CLI11's own
-// range checks print the largest double in full).
-CLI::Validator at_least(long long minimum) {
-  return CLI::Validator(
-      [minimum](std::string& text) -> std::string {
-        long long value = 0;
-        if (!CLI::detail::lexical_cast(text, value) || value < minimum) {
-          return "value " + text + " must be an integer >= " + std::to_string(minimum);
-        }
-        return {};
-      },
-      ">=" + std::to_string(minimum));
-}
+using fssim::at_least;
+using fssim::kExitRuntime;
+using fssim::kExitUsage;
+using fssim::kFinite;
+using fssim::kPositive;
 
 // Half of the physical memory, the default --max-memory.
 std::size_t default_memory_limit() {
@@ -108,9 +79,10 @@ int main(int argc, char** argv) {
   std::string outdir = "out";
   fss::SimulationOptions options;
 
+  // Required unless a subcommand is given (checked after parsing).
   app.add_option("-i,--input", input,
-                 "input PNG image (8/16-bit gray, RGB, palette; alpha ignored)")
-      ->required();
+                 "input PNG image (8/16-bit gray, RGB, palette; alpha ignored); required "
+                 "without a subcommand");
   app.add_option("-c,--code", code_name,
                  "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
       ->capture_default_str();
@@ -158,12 +130,32 @@ int main(int argc, char** argv) {
   app.add_option("-o,--outdir", outdir, "output directory, created if missing")
       ->capture_default_str();
 
+  // Subcommands: code design and sweeps (src/cli/code_commands.cpp, sweep_command.cpp).
+  app.require_subcommand(0, 1);
+  const fssim::CodeCommands code_commands(app);
+  const fssim::SweepCommand sweep_command(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
     std::string message = e.what();
-    std::cerr << "fssim: error: " << message << " (see fssim --help)\n";
+    std::cerr << "fssim: error: " << message << " (see " << fssim::help_hint(app) << ")\n";
+    return kExitUsage;
+  }
+  if (!app.get_subcommands().empty()) {
+    if (const std::string option = fssim::first_given_option(app); !option.empty()) {
+      std::cerr << "fssim: error: " << option << " is an option of the simulation, not of '"
+                << app.get_subcommands().front()->get_name()
+                << "'; put the subcommand's options after its name (see " << fssim::help_hint(app)
+                << ")\n";
+      return kExitUsage;
+    }
+    return code_commands.parsed() ? code_commands.Run() : sweep_command.Run();
+  }
+  if (app.count("--input") == 0) {
+    std::cerr << "fssim: error: --input is required (or a subcommand: code, sweep; see fssim "
+                 "--help)\n";
     return kExitUsage;
   }
   options.max_memory_bytes = default_memory_limit();

@@ -1,0 +1,101 @@
+#include "cli_common.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <new>
+
+#include "fss/error.h"
+
+namespace fssim {
+
+CLI::Validator at_least(long long minimum) {
+  return CLI::Validator(
+      [minimum](std::string& text) -> std::string {
+        long long value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || value < minimum) {
+          return "value " + text + " must be an integer >= " + std::to_string(minimum);
+        }
+        return {};
+      },
+      ">=" + std::to_string(minimum));
+}
+
+std::string help_hint(const CLI::App& app) {
+  std::string command = app.get_name();
+  const CLI::App* current = &app;
+  while (current != nullptr) {
+    const CLI::App* next = nullptr;
+    for (const CLI::App* sub : current->get_subcommands()) {
+      next = sub;
+      command += " " + sub->get_name();
+      break;
+    }
+    current = next;
+  }
+  return command + " --help";
+}
+
+std::string first_given_option(const CLI::App& app) {
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->count() == 0) continue;
+    const std::string name = option->get_name();
+    if (name == "--help" || name == "--version") continue;
+    return name;
+  }
+  return {};
+}
+
+int run_reporting_errors(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const fss::Error& e) {
+    std::cerr << "fssim: error: " << e.what() << "\n";
+    return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "fssim: error: out of memory\n";
+    return kExitRuntime;
+  } catch (const std::exception& e) {
+    std::cerr << "fssim: error: " << e.what() << "\n";
+    return kExitRuntime;
+  }
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    fss::throw_runtime_error("cannot write '" + path.string() + "': it is a directory");
+  }
+  std::filesystem::path temporary = path;
+  temporary += ".fssim-tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    if (!file) {
+      fss::throw_runtime_error("cannot write '" + path.string() + "': " + std::strerror(errno));
+    }
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    file.close();
+    if (!file) {
+      std::filesystem::remove(temporary, ec);
+      fss::throw_runtime_error("cannot write '" + path.string() + "'");
+    }
+  }
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    fss::throw_runtime_error("cannot write '" + path.string() + "': " + ec.message());
+  }
+}
+
+std::string format_number(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%g", value);
+  return buffer;
+}
+
+}  // namespace fssim

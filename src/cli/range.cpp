@@ -1,0 +1,60 @@
+#include "range.h"
+
+#include <charconv>
+#include <cmath>
+#include <string_view>
+
+#include "fss/error.h"
+
+namespace fssim {
+
+namespace {
+
+// A finite number filling all of `text`, or NaN.
+double parse_number(std::string_view text) {
+  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
+      !std::isfinite(value)) {
+    return std::nan("");
+  }
+  return value;
+}
+
+}  // namespace
+
+std::vector<double> parse_range(const std::string& text, const std::string& option) {
+  const std::string where = option + " '" + text + "'";
+  const auto first = text.find(':');
+  if (first == std::string::npos) {
+    const double value = parse_number(text);
+    if (std::isnan(value)) {
+      fss::throw_usage_error(where + ": expected a finite number or start:stop:step");
+    }
+    return {value};
+  }
+  const auto second = text.find(':', first + 1);
+  if (second == std::string::npos || text.find(':', second + 1) != std::string::npos) {
+    fss::throw_usage_error(where + ": a range has three parts, start:stop:step");
+  }
+  const std::string_view view(text);
+  const double start = parse_number(view.substr(0, first));
+  const double stop = parse_number(view.substr(first + 1, second - first - 1));
+  const double step = parse_number(view.substr(second + 1));
+  if (std::isnan(start) || std::isnan(stop) || std::isnan(step)) {
+    fss::throw_usage_error(where + ": start, stop and step must be finite numbers");
+  }
+  if (!(step > 0.0)) fss::throw_usage_error(where + ": step must be > 0");
+  if (stop < start) fss::throw_usage_error(where + ": stop must not be below start");
+  const double count = std::floor((stop - start) / step + 0.5) + 1.0;
+  if (!(count <= kMaxRangePoints)) {
+    fss::throw_usage_error(where + ": more than " + std::to_string(kMaxRangePoints) +
+                           " values; use a larger step");
+  }
+  std::vector<double> values;
+  for (int i = 0; i < static_cast<int>(count); ++i) values.push_back(start + i * step);
+  return values;
+}
+
+}  // namespace fssim

@@ -450,13 +450,13 @@ std::vector<std::uint8_t> plot_spectrum_png(const std::vector<double>& gains,
                                                     : number("%.4g", kernel.min_abs_xi);
   const std::string note =
       kernel.invertible ? "minimum |K| = " + number("%.4g", kernel.min_abs) + " at ξ = " + where
-                        : "NOT INVERTIBLE: |K| vanishes at ξ = " + where +
-                              " (min |K| = " + number("%.2g", kernel.min_abs) + ")";
+                        : "NOT INVERTIBLE: |K| = 0 at ξ = " + where + " (min |K| " +
+                              number("%.2g", kernel.min_abs) + ")";
 
   return render_plot(options, [&](const Canvas& canvas) {
     draw_title(canvas, title);
-    canvas.text(canvas.width() / 2.0, 44.0, 0.5, kLabelSize, kernel.invertible ? kInk : kWarning,
-                note);
+    canvas.text((kLeft + canvas.width() - kRight) / 2.0, 44.0, 0.5, kLabelSize,
+                kernel.invertible ? kInk : kWarning, note);
     canvas.viewport(kLeft, kRight, 88.0, kBottom);
     plwind(-M_PI, M_PI, 0.0, top);
     draw_frequency_grid(0.0, top);

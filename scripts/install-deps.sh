@@ -1,12 +1,22 @@
 #!/usr/bin/env bash
 # Installs the Debian packages fssim needs to build, test and benchmark.
+# Usage: scripts/install-deps.sh [--browser]
+#   --browser  also installs chromium, for the test that renders report.html
+#              in a headless browser (CI passes it; without it that test skips).
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libpng-dev libfftw3-dev libcli11-dev nlohmann-json3-dev
+  libplplot-dev plplot-driver-cairo fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev
   jq time
 )
+for argument in "$@"; do
+  case "$argument" in
+    --browser) packages+=(chromium) ;;
+    *) echo "install-deps: unknown argument '$argument' (expected --browser)" >&2; exit 2 ;;
+  esac
+done
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo[@]}" apt-get update -qq

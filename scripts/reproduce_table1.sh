@@ -4,8 +4,11 @@
 # Usage: scripts/reproduce_table1.sh [IMAGE] [TRIALS]
 #   IMAGE   default data/camera.png        TRIALS  default 20
 # Writes results/table1.md and results/table1.csv (and each code's outputs of
-# the first trial under results/table1/<code>/). Needs a built fssim
-# (FSSIM=path to override, default build/fssim) and jq.
+# the first trial, with its plots and report.html, under results/table1/<code>/),
+# the figure sheets results/sheet_<code>.png (observed | restored | residual of
+# the first trial, as the paper's Figures 9-14) and results/spectra_overlay.png
+# (|K| of the five invertible codes on one plot, as Figures 2-7). Needs a built
+# fssim (FSSIM=path to override, default build/fssim) and jq.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 image=${1:-data/camera.png}
@@ -36,8 +39,9 @@ for code in "${codes[@]}"; do
   out=results/table1/$code
   echo "reproduce_table1: $code ($trials trials)" >&2
   "$fssim" --input "$image" --code "$code" --mode numerical --velocity 1 --snr 100 \
-    --trials "$trials" --seed 0 --outdir "$out" >/dev/null 2>"$out.stderr" || { cat "$out.stderr" >&2; exit 1; }
+    --trials "$trials" --seed 0 --sheet --report --outdir "$out" >/dev/null 2>"$out.stderr" || { cat "$out.stderr" >&2; exit 1; }
   rm -f "$out.stderr"
+  cp "$out/sheet.png" "results/sheet_$code.png.tmp" && mv "results/sheet_$code.png.tmp" "results/sheet_$code.png"
   r=$out/report.json
   jq -r --arg code "$code" --arg paper "${paper[$code]}" '
     [$code, .code.normalized_l1, .trials.rmse_mean, .trials.rmse_sd, .trials.rmse_ci_mean, .trials.rmse_ci_sd,
@@ -59,4 +63,6 @@ done
 } >> "$md"
 mv "$csv" results/table1.csv
 mv "$md" results/table1.md
-echo "reproduce_table1: wrote results/table1.md and results/table1.csv" >&2
+"$fssim" spectra --velocity 1 --dt 1 --output results/spectra_overlay.png \
+  snapshot raskar random mip sinc >/dev/null
+echo "reproduce_table1: wrote results/table1.md, results/table1.csv, results/sheet_<code>.png and results/spectra_overlay.png" >&2

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -12,8 +13,10 @@
 #include <sstream>
 
 #include "fss/error.h"
+#include "fss/html_report.h"
 #include "fss/metrics.h"
 #include "fss/parallel.h"
+#include "fss/plot.h"
 #include "fss/png_io.h"
 #include "fss/transfer.h"
 
@@ -89,9 +92,29 @@ nlohmann::json report_json(const SimulationReport& r, const std::string& input_p
   return j;
 }
 
-std::vector<std::string> output_file_names() {
-  return {"observed.png", "restored.png", "groundtruth.png", "residual.png",
-          "code.txt",     "spectrum.txt", "report.json"};
+std::vector<std::string> output_file_names(const OutputOptions& options) {
+  std::vector<std::string> names = {"observed.png", "restored.png", "groundtruth.png",
+                                    "residual.png", "code.txt",     "spectrum.txt",
+                                    "report.json"};
+  if (options.plots) {
+    names.push_back("code.png");
+    names.push_back("spectrum.png");
+  }
+  if (options.sheet) names.push_back("sheet.png");
+  if (options.html_report) names.push_back("report.html");
+  return names;
+}
+
+std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Image& input) {
+  char parameters[160];
+  std::snprintf(parameters, sizeof parameters,
+                "%s, v = %g, dt = %g, snr = %g: RMSE %.4g, RMSE_CI %.4g",
+                to_string(r.options.mode).c_str(), r.options.velocity_px_per_slot, r.options.dt,
+                r.options.snr, r.metrics.rmse, r.metrics.rmse_ci);
+  const Image residual = residual_image(input, r);
+  return figure_sheet_png(
+      {{&r.observed, "observed"}, {&r.restored, "restored"}, {&residual, "residual (stretched)"}},
+      r.code_name + " — " + parameters);
 }
 
 namespace {
@@ -118,43 +141,59 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
 }  // namespace
 
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
-                   const Image& input, const std::string& input_path) {
+                   const Image& input, const std::string& input_path,
+                   const OutputOptions& options) {
   // Everything is encoded in memory first: a failure there writes nothing.
   // The ground truth and the residual are encoded straight from the input
   // and the restoration, row by row.
+  const double velocity = report.options.velocity_px_per_slot, dt = report.options.dt;
+  const std::vector<std::string> names = output_file_names(options);
   const int offset = report.output_first_column();
   const int wo = report.restored.width;
   const ResidualRange range = residual_range(input, offset, report.restored);
-  const std::function<std::vector<std::uint8_t>()> encoders[] = {
-      [&] { return encode_png8(report.observed); },
-      [&] { return encode_png8(report.restored); },
-      [&] {
-        return encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
-          std::copy(input.row(c, y) + offset, input.row(c, y) + offset + wo, row);
-        });
-      },
-      [&] {
-        return encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
-          const double* truth = input.row(c, y) + offset;
-          const double* restored = report.restored.row(c, y);
-          for (int x = 0; x < wo; ++x) row[x] = range.stretch(truth[x] - restored[x]);
-        });
-      },
+  // How to make each file of `names`.
+  const std::vector<std::pair<std::string, std::function<std::string()>>> makers = {
+      {"observed.png", [&] { return as_string(encode_png8(report.observed)); }},
+      {"restored.png", [&] { return as_string(encode_png8(report.restored)); }},
+      {"groundtruth.png",
+       [&] {
+         return as_string(
+             encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
+               std::copy(input.row(c, y) + offset, input.row(c, y) + offset + wo, row);
+             }));
+       }},
+      {"residual.png",
+       [&] {
+         return as_string(
+             encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
+               const double* truth = input.row(c, y) + offset;
+               const double* restored = report.restored.row(c, y);
+               for (int x = 0; x < wo; ++x) row[x] = range.stretch(truth[x] - restored[x]);
+             }));
+       }},
+      {"code.txt",
+       [&] {
+         return format_code_txt({report.code_name, report.gains});
+       }},
+      {"spectrum.txt", [&] { return format_spectrum_txt(report.gains, velocity, dt); }},
+      {"report.json", [&] { return report_json(report, input_path).dump(2) + "\n"; }},
+      {"code.png", [&] { return as_string(plot_code_png(report.gains, report.code_name)); }},
+      {"spectrum.png",
+       [&] {
+         return as_string(
+             plot_spectrum_png(report.gains, report.code_name, velocity, dt, report.kernel));
+       }},
+      {"sheet.png", [&] { return as_string(figure_sheet_png(report, input)); }},
+      {"report.html", [&] { return html_report(report, input_path, names); }},
   };
-  std::string encoded[4];
-  parallel_for(4, report.options.threads, [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) encoded[i] = as_string(encoders[i]());
+  std::vector<std::pair<std::string, std::string>> contents(names.size());
+  parallel_for(static_cast<int>(names.size()), report.options.threads, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const auto maker = std::find_if(makers.begin(), makers.end(),
+                                      [&](const auto& m) { return m.first == names[i]; });
+      contents[i] = {names[i], maker->second()};
+    }
   });
-  const std::vector<std::pair<std::string, std::string>> contents = {
-      {"observed.png", std::move(encoded[0])},
-      {"restored.png", std::move(encoded[1])},
-      {"groundtruth.png", std::move(encoded[2])},
-      {"residual.png", std::move(encoded[3])},
-      {"code.txt", format_code_txt({report.code_name, report.gains})},
-      {"spectrum.txt",
-       format_spectrum_txt(report.gains, report.options.velocity_px_per_slot, report.options.dt)},
-      {"report.json", report_json(report, input_path).dump(2) + "\n"},
-  };
 
   std::error_code ec;
   if (std::filesystem::exists(outdir, ec) && !std::filesystem::is_directory(outdir, ec)) {
@@ -198,6 +237,31 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
         std::filesystem::remove(staged[j].temporary, ec);
       throw_runtime_error(message);
     }
+  }
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw_runtime_error("cannot write '" + path.string() + "': it is a directory");
+  }
+  std::filesystem::path temporary = path;
+  std::string name = path.filename().string();
+  name.insert(0, 1, '.');
+  name += ".fssim-tmp-" + std::to_string(::getpid());
+  temporary.replace_filename(name);
+  try {
+    write_file(temporary, bytes);
+  } catch (...) {
+    std::filesystem::remove(temporary, ec);
+    throw;
+  }
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) {
+    const std::string message =
+        "cannot move '" + temporary.string() + "' to '" + path.string() + "': " + ec.message();
+    std::filesystem::remove(temporary, ec);
+    throw_runtime_error(message);
   }
 }
 

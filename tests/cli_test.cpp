@@ -524,5 +524,81 @@ TEST_F(CliRuns, AccumulationWarnsAndPredictsNothing) {
   EXPECT_EQ(test::list_directory(dir_ / "out"), sorted_output_names());
 }
 
+// ---------------------------------------------------------------------------
+// (l) Pictures: plots, sheet, report page, and the spectra subcommand.
+
+TEST_F(CliRuns, NoPlotsLeavesThePlotsOut) {
+  const fs::path input = small_input();
+  const CommandResult r =
+      run_fssim("--input " + quote(input) + " --no-plots --outdir " + quote(dir_ / "out"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::vector<std::string> expected = output_file_names({false, false, false});
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(test::list_directory(dir_ / "out"), expected);
+}
+
+TEST_F(CliRuns, ReportAndSheetAreWrittenWithTheOtherOutputs) {
+  const fs::path input = small_input();
+  const CommandResult r =
+      run_fssim("--input " + quote(input) + " --report --sheet --outdir " + quote(dir_ / "out"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_THAT(r.out, StartsWith("RMSE: "));
+  std::vector<std::string> expected = output_file_names({true, true, true});
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(test::list_directory(dir_ / "out"), expected);
+  const std::string page = test::read_file(dir_ / "out/report.html");
+  for (const std::string& name : expected) {
+    EXPECT_THAT(page, HasSubstr("href=\"" + name + "\"")) << name;
+  }
+  const Image sheet = read_png(dir_ / "out/sheet.png");
+  const Image observed = read_png(dir_ / "out/observed.png");
+  EXPECT_EQ(sheet.height, observed.height + 60);  // header 52, margin 8
+  EXPECT_EQ(sheet.width, 3 * observed.width + 32);
+}
+
+TEST(CliSpectra, WritesTheOverlayPlot) {
+  test::TempDir dir;
+  const CommandResult r =
+      run_fssim("spectra --output " + quote(dir / "overlay.png") + " snapshot raskar mip");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  const std::vector<std::string> lines = lines_of(r.out);
+  ASSERT_EQ(lines.size(), 4u) << r.out;
+  EXPECT_THAT(lines[0], StartsWith("snapshot: min |K| "));
+  EXPECT_THAT(lines[1], StartsWith("raskar: min |K| "));
+  EXPECT_EQ(lines[3], "Plot: " + (dir / "overlay.png").string());
+  const Image plot = read_png(dir / "overlay.png");
+  EXPECT_EQ(plot.width, 800);
+  EXPECT_EQ(plot.height, 420);
+  EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{"overlay.png"});
+
+  const CommandResult sized = run_fssim(
+      "spectra --linear --width 500 --height 300 --velocity 0.5 "
+      "--output " +
+      quote(dir / "small.png") + " accumulation");
+  ASSERT_EQ(sized.exit_code, 0) << sized.err;
+  EXPECT_THAT(sized.out, HasSubstr("(not invertible)"));
+  EXPECT_EQ(read_png(dir / "small.png").width, 500);
+}
+
+TEST(CliSpectra, UsageErrors) {
+  test::TempDir dir;
+  const std::string output = " --output " + quote(dir / "x.png");
+  for (const std::string& arguments : std::vector<std::string>{
+           "spectra" + output, "spectra raskar", "spectra --width 10" + output + " raskar",
+           "spectra --dt 0" + output + " raskar", "spectra" + output + " nosuchcode"}) {
+    const CommandResult r = run_fssim(arguments);
+    EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.err;
+    expect_one_error_line(r);
+    EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{}) << arguments;
+  }
+  const CommandResult nine = run_fssim("spectra" + output +
+                                       " raskar raskar raskar raskar raskar raskar raskar raskar "
+                                       "raskar");
+  EXPECT_EQ(nine.exit_code, 2);
+  EXPECT_THAT(nine.err, HasSubstr("1 to 8 codes"));
+}
+
 }  // namespace
 }  // namespace fss

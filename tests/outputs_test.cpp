@@ -1,5 +1,6 @@
-// Tests of the output files of a run (outputs.h): spectrum.txt, report.json
-// and the all-or-nothing writing of the output directory.
+// Tests of the output files of a run (outputs.h): spectrum.txt, report.json,
+// the optional plots, sheet and page, and the all-or-nothing writing of the
+// output directory.
 #include "fss/outputs.h"
 
 #include <gmock/gmock.h>
@@ -17,6 +18,8 @@
 
 #include "fss/code.h"
 #include "fss/error.h"
+#include "fss/html_report.h"
+#include "fss/plot.h"
 #include "fss/png_io.h"
 #include "fss/transfer.h"
 #include "test_util.h"
@@ -55,10 +58,11 @@ SimulationReport small_report(const std::vector<double>& gains = {1.0, 0.0, 1.0,
   return Simulate(options, small_input(), ShutterCode{"short", gains});
 }
 
-std::string png_bytes(const Image& image) {
-  const std::vector<std::uint8_t> bytes = encode_png8(image);
+std::string as_string(const std::vector<std::uint8_t>& bytes) {
   return {bytes.begin(), bytes.end()};
 }
+
+std::string png_bytes(const Image& image) { return as_string(encode_png8(image)); }
 
 // The expected content of each output file of `report`.
 std::vector<std::pair<std::string, std::string>> expected_files(const SimulationReport& report,
@@ -71,6 +75,10 @@ std::vector<std::pair<std::string, std::string>> expected_files(const Simulation
       {"code.txt", format_code_txt({report.code_name, report.gains})},
       {"spectrum.txt",
        format_spectrum_txt(report.gains, report.options.velocity_px_per_slot, report.options.dt)},
+      {"code.png", as_string(plot_code_png(report.gains, report.code_name))},
+      {"spectrum.png", as_string(plot_spectrum_png(report.gains, report.code_name,
+                                                   report.options.velocity_px_per_slot,
+                                                   report.options.dt, report.kernel))},
   };
 }
 
@@ -221,10 +229,64 @@ TEST(ReportJson, InfiniteValuesAreNull) {
 // ---------------------------------------------------------------------------
 // write_outputs
 
-TEST(OutputFileNames, AreTheSevenDocumentedFiles) {
+TEST(OutputFileNames, AreTheNineDocumentedFilesByDefault) {
   EXPECT_EQ(sorted(output_file_names()),
             sorted({"observed.png", "restored.png", "groundtruth.png", "residual.png", "code.txt",
-                    "spectrum.txt", "report.json"}));
+                    "spectrum.txt", "report.json", "code.png", "spectrum.png"}));
+}
+
+TEST(OutputFileNames, FollowTheOptions) {
+  const std::vector<std::string> base = {"observed.png", "restored.png", "groundtruth.png",
+                                         "residual.png", "code.txt",     "spectrum.txt",
+                                         "report.json"};
+  EXPECT_EQ(sorted(output_file_names({false, false, false})), sorted(base));
+  std::vector<std::string> all = base;
+  for (const char* name : {"code.png", "spectrum.png", "sheet.png", "report.html"}) {
+    all.push_back(name);
+  }
+  EXPECT_EQ(sorted(output_file_names({true, true, true})), sorted(all));
+  std::vector<std::string> page_only = base;
+  page_only.push_back("report.html");
+  EXPECT_EQ(sorted(output_file_names({false, false, true})), sorted(page_only));
+}
+
+TEST(FigureSheetOfARun, ObservedRestoredAndResidualSideBySide) {
+  const SimulationReport report = small_report();
+  const std::vector<std::uint8_t> png = figure_sheet_png(report, small_input());
+  const Image sheet = decode_png(png.data(), png.size(), "sheet");
+  ASSERT_EQ(sheet.width, kSheetMargin + 3 * (52 + kSheetMargin));
+  ASSERT_EQ(sheet.height, kSheetHeaderHeight + 8 + kSheetMargin);
+  ASSERT_EQ(sheet.channels, 1);
+  const Image residual = residual_image(small_input(), report);
+  const Image* panels[] = {&report.observed, &report.restored, &residual};
+  for (int i = 0; i < 3; ++i) {
+    const int left = kSheetMargin + i * (52 + kSheetMargin);
+    for (int y = 0; y < 8; ++y) {
+      for (int x = 0; x < 52; ++x) {
+        ASSERT_EQ(sheet.at(0, kSheetHeaderHeight + y, left + x),
+                  std::clamp(std::round(panels[i]->at(0, y, x)), 0.0, 255.0))
+            << "panel " << i << " x " << x << " y " << y;
+      }
+    }
+  }
+}
+
+TEST(WriteFileAtomically, WritesReplacesAndLeavesNoTemporary) {
+  test::TempDir dir;
+  write_file_atomically(dir / "a.png", "first");
+  EXPECT_EQ(test::read_file(dir / "a.png"), "first");
+  write_file_atomically(dir / "a.png", "second");
+  EXPECT_EQ(test::read_file(dir / "a.png"), "second");
+  EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{"a.png"});
+  fs::create_directory(dir / "d.png");
+  const auto error = error_of([&] { write_file_atomically(dir / "d.png", "x"); });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+  EXPECT_THAT(error->what(), HasSubstr("d.png"));
+  const auto missing = error_of([&] { write_file_atomically(dir / "no/such/dir/x.png", "x"); });
+  ASSERT_TRUE(missing.has_value());
+  EXPECT_THAT(missing->what(), HasSubstr("x.png"));
+  EXPECT_EQ(test::list_directory(dir.path()), (std::vector<std::string>{"a.png", "d.png"}));
 }
 
 class WriteOutputs : public ::testing::Test {
@@ -263,6 +325,32 @@ TEST_F(WriteOutputs, WritesExactlyTheListedFilesIntoANewDirectory) {
   EXPECT_EQ(observed.width, 52);
   EXPECT_EQ(observed.height, 8);
   EXPECT_EQ(observed.channels, 1);
+}
+
+TEST_F(WriteOutputs, PlotsAreValidPngsOfTheDocumentedSize) {
+  write_outputs(dir_.path(), report(), small_input(), "input.png");
+  for (const char* name : {"code.png", "spectrum.png"}) {
+    const Image plot = read_png(dir_ / name);
+    EXPECT_EQ(plot.width, kPlotWidth) << name;
+    EXPECT_EQ(plot.height, kPlotHeight) << name;
+    EXPECT_EQ(plot.channels, 3) << name;
+  }
+}
+
+TEST_F(WriteOutputs, OptionsChooseTheOptionalFiles) {
+  const OutputOptions none{false, false, false};
+  write_outputs(dir_ / "none", report(), small_input(), "input.png", none);
+  EXPECT_EQ(test::list_directory(dir_ / "none"), sorted(output_file_names(none)));
+  EXPECT_FALSE(fs::exists(dir_ / "none/code.png"));
+
+  const OutputOptions all{true, true, true};
+  write_outputs(dir_ / "all", report(), small_input(), "some/input.png", all);
+  EXPECT_EQ(test::list_directory(dir_ / "all"), sorted(output_file_names(all)));
+  expect_complete_outputs(dir_ / "all", "some/input.png");
+  EXPECT_TRUE(test::read_file(dir_ / "all/report.html") ==
+              html_report(report(), "some/input.png", output_file_names(all)));
+  EXPECT_TRUE(test::read_file(dir_ / "all/sheet.png") ==
+              as_string(figure_sheet_png(report(), small_input())));
 }
 
 TEST_F(WriteOutputs, WritesIntoAnExistingEmptyDirectory) {

@@ -2,6 +2,7 @@
 // once every one of them has been written, so a failed run leaves nothing.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -19,16 +20,35 @@ std::string format_spectrum_txt(const std::vector<double>& gains, double velocit
 // report.json content; `input_path` is recorded as given.
 nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);
 
+// Optional outputs of a run.
+struct OutputOptions {
+  bool plots = true;         // code.png and spectrum.png (plot.h)
+  bool sheet = false;        // sheet.png: observed | restored | residual
+  bool html_report = false;  // report.html (html_report.h)
+};
+
 // Names of the files write_outputs creates.
-std::vector<std::string> output_file_names();
+std::vector<std::string> output_file_names(const OutputOptions& options = {});
+
+// sheet.png: the observed, restored and residual images side by side under a
+// title naming the code, the parameters and the measured errors; `input` is
+// the image the report was made from.
+std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& report, const Image& input);
 
 // Writes observed.png, restored.png, groundtruth.png, residual.png, code.txt,
-// spectrum.txt and report.json into `outdir` (created if missing); `input` is
-// the image the report was made from (for the ground truth and the residual,
-// encoded from it row by row). Refuses, before writing anything, to replace
-// `input_path` or to write into a path that is not a directory. Throws a
-// runtime fss::Error on failure, after removing whatever it staged.
+// spectrum.txt and report.json into `outdir` (created if missing), and the
+// files `options` asks for; `input` is the image the report was made from
+// (the ground truth and the residual are encoded from it row by row).
+// Refuses, before writing anything, to replace `input_path` or to write into
+// a path that is not a directory. Throws a runtime fss::Error on failure,
+// after removing whatever it staged.
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
-                   const Image& input, const std::string& input_path);
+                   const Image& input, const std::string& input_path,
+                   const OutputOptions& options = {});
+
+// Writes `bytes` to `path` through a temporary file in the same directory
+// renamed into place, so `path` is either untouched or complete. Throws a
+// runtime fss::Error naming the file on failure.
+void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 
 }  // namespace fss

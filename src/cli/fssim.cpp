@@ -7,12 +7,15 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "code_commands.h"
 #include "fss/code.h"
 #include "fss/error.h"
+#include "fss/kernel.h"
 #include "fss/outputs.h"
+#include "fss/plot.h"
 #include "fss/png_io.h"
 #include "fss/simulate.h"
 #include "sweep_command.h"
@@ -60,6 +63,31 @@ const CLI::Validator kMemorySize(
     "SIZE");
 
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
+
+// Options of `fssim spectra`: |K| of several codes on one plot.
+struct SpectraCommand {
+  std::vector<std::string> codes;
+  double velocity = 1.0;
+  double dt = 1.0;
+  bool linear = false;
+  std::string output;
+  fss::PlotOptions plot{800, 420, ""};
+};
+
+int run_spectra(const SpectraCommand& command) {
+  std::vector<fss::ShutterCode> codes;
+  for (const std::string& name : command.codes) codes.push_back(fss::load_code(name));
+  const std::vector<std::uint8_t> png = fss::plot_spectra_overlay_png(
+      codes, command.velocity, command.dt, !command.linear, command.plot);
+  fss::write_file_atomically(command.output, std::string(png.begin(), png.end()));
+  for (const fss::ShutterCode& code : codes) {
+    const fss::KernelAnalysis k = fss::analyze_kernel(code.gains, command.velocity, command.dt);
+    std::printf("%s: min |K| %g at xi %g%s\n", code.name.c_str(), k.min_abs, k.min_abs_xi,
+                k.invertible ? "" : " (not invertible)");
+  }
+  std::printf("Plot: %s\n", command.output.c_str());
+  return 0;
+}
 
 }  // namespace
 
@@ -129,6 +157,37 @@ int main(int argc, char** argv) {
                  "half of physical memory)");
   app.add_option("-o,--outdir", outdir, "output directory, created if missing")
       ->capture_default_str();
+  fss::OutputOptions output_options;
+  bool no_plots = false;
+  app.add_flag("--no-plots", no_plots, "do not draw code.png and spectrum.png");
+  app.add_flag("--sheet", output_options.sheet,
+               "also write sheet.png: observed | restored | residual side by side");
+  app.add_flag("--report", output_options.html_report,
+               "also write report.html: parameters, metrics, images and plots on one page");
+
+  SpectraCommand spectra;
+  CLI::App* spectra_app =
+      app.add_subcommand("spectra",
+                         "plot |K| of several codes on one picture (no simulation): fssim spectra "
+                         "--output FILE CODE...");
+  spectra_app->add_option("codes", spectra.codes, "built-in code names or code files (1 to 8)")
+      ->required();
+  spectra_app->add_option("-o,--output", spectra.output, "PNG file to write")->required();
+  spectra_app->add_option("-v,--velocity", spectra.velocity, "velocity in pixels per time slot")
+      ->check(kFinite)
+      ->capture_default_str();
+  spectra_app->add_option("--dt", spectra.dt, "time slot length, > 0")
+      ->check(kFinite & kPositive)
+      ->capture_default_str();
+  spectra_app->add_flag("--linear", spectra.linear, "linear |K| axis (default: logarithmic)");
+  spectra_app->add_option("--width", spectra.plot.width, "plot width in pixels")
+      ->check(CLI::Range(fss::kPlotMinSide, fss::kPlotMaxSide))
+      ->capture_default_str();
+  spectra_app->add_option("--height", spectra.plot.height, "plot height in pixels")
+      ->check(CLI::Range(fss::kPlotMinSide, fss::kPlotMaxSide))
+      ->capture_default_str();
+  spectra_app->add_option("--title", spectra.plot.title,
+                          "plot title (default: made from the data)");
 
   // Subcommands: code design and sweeps (src/cli/code_commands.cpp, sweep_command.cpp).
   app.require_subcommand(0, 1);
@@ -151,11 +210,19 @@ int main(int argc, char** argv) {
                 << ")\n";
       return kExitUsage;
     }
+    if (spectra_app->parsed()) {
+      try {
+        return run_spectra(spectra);
+      } catch (const fss::Error& e) {
+        std::cerr << "fssim: error: " << e.what() << "\n";
+        return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
+      }
+    }
     return code_commands.parsed() ? code_commands.Run() : sweep_command.Run();
   }
   if (app.count("--input") == 0) {
-    std::cerr << "fssim: error: --input is required (or a subcommand: code, sweep; see fssim "
-                 "--help)\n";
+    std::cerr << "fssim: error: --input is required (or a subcommand: code, sweep, spectra; see "
+                 "fssim --help)\n";
     return kExitUsage;
   }
   options.max_memory_bytes = default_memory_limit();
@@ -171,6 +238,7 @@ int main(int argc, char** argv) {
     options.max_memory_bytes = static_cast<std::size_t>(std::stoull(text));
   }
   if (restore_velocity_option->count() > 0) options.restore_velocity_px_per_slot = restore_velocity;
+  output_options.plots = !no_plots;
   options.mode = *fss::shutter_mode_from_string(mode_text);
   options.noise = *fss::noise_model_from_string(noise_text);
 
@@ -187,7 +255,7 @@ int main(int argc, char** argv) {
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
     for (const auto& warning : report.warnings) std::cerr << "fssim: warning: " << warning << "\n";
-    fss::write_outputs(outdir, report, image, input);
+    fss::write_outputs(outdir, report, image, input, output_options);
 
     print_metric("RMSE", report.metrics.rmse);
     print_metric("PSNR", report.metrics.psnr);

@@ -24,9 +24,14 @@ std::vector<std::string> output_file_names();
 
 // Writes observed.png, restored.png, groundtruth.png, residual.png, code.txt,
 // spectrum.txt and report.json into `outdir` (created if missing). Refuses,
-// before writing anything, to replace `input_path` or to write into a path
-// that is not a directory. Throws a runtime fss::Error on failure, after
-// removing whatever it staged.
+// before writing anything, to replace `input_path` or any of `other_inputs`
+// (such as the code file) or to write into a path that is not a directory.
+// Each file is first written under a new hidden name in `outdir` and renamed
+// into place only once all are complete. Throws a runtime fss::Error on
+// failure (a usage one for an empty `outdir`), after removing whatever it
+// staged: existing files are never touched then.
+void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
+                   const std::string& input_path, const std::vector<std::string>& other_inputs);
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
                    const std::string& input_path);
 

@@ -3,10 +3,19 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <iostream>
+#include <limits>
+#include <new>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "fss/code.h"
 #include "fss/error.h"
@@ -19,6 +28,33 @@ namespace {
 constexpr int kExitRuntime = 1;
 constexpr int kExitUsage = 2;
 
+// Range of --dt and --snr: far enough from the limits of double precision
+// that K, lambda2 = snr^2 / 100 and their products stay finite and nonzero.
+constexpr double kSmallestScale = 1e-100;
+constexpr double kLargestScale = 1e100;
+
+// The message on one line: control characters (a newline in a file name, an
+// escape sequence in a value) are written as \xNN.
+std::string one_line(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4];
+      out += kHex[byte & 0xf];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+void print_error(std::string_view message) {
+  std::cerr << "fssim: error: " << one_line(message) << std::endl;
+}
+
 // CLI11 validator for finite numbers (CLI11 accepts "nan" and "inf").
 const CLI::Validator kFinite(
     [](std::string& text) -> std::string {
@@ -30,35 +66,90 @@ const CLI::Validator kFinite(
     },
     "FINITE", "finite");
 
-const CLI::Validator kPositive(
+// A number > 0 within [kSmallestScale, kLargestScale].
+const CLI::Validator kPositiveScale(
     [](std::string& text) -> std::string {
       double value = 0.0;
       if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
         return "value " + text + " must be > 0";
       }
+      if (!(value >= kSmallestScale && value <= kLargestScale)) {
+        return "value " + text + " is out of range: it must lie in [1e-100, 1e100]";
+      }
       return {};
     },
     "POSITIVE", "positive");
 
-// Integer option of at least `minimum`, with a short message (CLI11's own
+// Integer option in [minimum, maximum], with a short message (CLI11's own
 // range checks print the largest double in full).
-CLI::Validator at_least(long long minimum) {
+CLI::Validator integer_in(long long minimum, long long maximum) {
   return CLI::Validator(
-      [minimum](std::string& text) -> std::string {
+      [minimum, maximum](std::string& text) -> std::string {
         long long value = 0;
-        if (!CLI::detail::lexical_cast(text, value) || value < minimum) {
-          return "value " + text + " must be an integer >= " + std::to_string(minimum);
+        if (!CLI::detail::lexical_cast(text, value) || value < minimum || value > maximum) {
+          return "value " + text + " must be an integer in [" + std::to_string(minimum) + ", " +
+                 std::to_string(maximum) + "]";
         }
         return {};
       },
-      ">=" + std::to_string(minimum));
+      "[" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+}
+
+// --seed: decimal digits of an unsigned 64-bit integer. CLI11 itself wraps
+// "-1" and saturates values above 2^64 - 1 without a word.
+const CLI::Validator kSeed(
+    [](std::string& text) -> std::string {
+      std::uint64_t value = 0;
+      const char* end = text.data() + text.size();
+      const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+      if (text.empty() || ec != std::errc() || ptr != end) {
+        return "value " + text + " must be an integer in [0, " +
+               std::to_string(std::numeric_limits<std::uint64_t>::max()) + "]";
+      }
+      return {};
+    },
+    "UINT64", "seed");
+
+const CLI::Validator kNotEmpty(
+    [](std::string& text) -> std::string {
+      return text.empty() ? std::string("the path must not be empty") : std::string();
+    },
+    "PATH", "not empty");
+
+bool all_finite(const fss::Image& image) {
+  return std::all_of(image.data.begin(), image.data.end(),
+                     [](double value) { return std::isfinite(value); });
+}
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+// NaN or infinity in the results means that the arithmetic left the range of
+// doubles (gains like 1e-320 or 1e308): an error, not a silent NaN.
+void check_finite(const fss::SimulationReport& report) {
+  if (std::isfinite(report.metrics.rmse) && std::isfinite(report.metrics.rmse_ci) &&
+      std::isfinite(report.trials.rmse_mean) && all_finite(report.observed) &&
+      all_finite(report.restored)) {
+    return;
+  }
+  double smallest = 0.0;
+  for (const double g : report.gains) {
+    if (g != 0.0 && (smallest == 0.0 || std::abs(g) < smallest)) smallest = std::abs(g);
+  }
+  fss::throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
+                         number(report.metrics.rmse) + "): the gains of code '" + report.code_name +
+                         "' (|gain| from " + number(smallest) + " to " +
+                         number(fss::gain_max_abs(report.gains)) + "), --dt " +
+                         number(report.options.dt) + " or --snr " + number(report.options.snr) +
+                         " are too extreme");
 }
 
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{
       "fssim: flutter shutter camera simulator (Tendero, IPOL 2012). Simulates the motion-blurred, "
       "photon-noisy observation of an image through a flutter shutter code, restores it by "
@@ -76,7 +167,8 @@ int main(int argc, char** argv) {
 
   app.add_option("-i,--input", input,
                  "input PNG image (8/16-bit gray, RGB, palette; alpha ignored)")
-      ->required();
+      ->required()
+      ->check(kNotEmpty);
   app.add_option("-c,--code", code_name,
                  "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
       ->capture_default_str();
@@ -88,13 +180,16 @@ int main(int argc, char** argv) {
                  "velocity in pixels per time slot, signed (direction along rows)")
       ->check(kFinite)
       ->capture_default_str();
-  app.add_option("--dt", options.dt, "time slot length, > 0")
-      ->check(kFinite & kPositive)
+  app.add_option("--dt", options.dt, "time slot length, > 0 (1e-100 to 1e100)")
+      ->check(kFinite & kPositiveScale)
       ->capture_default_str();
-  app.add_option("--snr", options.snr, "SNR of a level-100 landscape seen through one slot, > 0")
-      ->check(kFinite & kPositive)
+  app.add_option("--snr", options.snr,
+                 "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)")
+      ->check(kFinite & kPositiveScale)
       ->capture_default_str();
-  app.add_option("--seed", options.seed, "seed of the photon noise")->capture_default_str();
+  app.add_option("--seed", options.seed, "seed of the photon noise")
+      ->check(kSeed)
+      ->capture_default_str();
   app.add_option("--noise", noise_text,
                  "poisson, or none for a noise-free run of the same pipeline")
       ->check(CLI::IsMember({"poisson", "none"}))
@@ -102,32 +197,41 @@ int main(int argc, char** argv) {
   app.add_option(
          "--rmse-margin", options.rmse_margin_columns,
          "columns left out at each side of the output for the RMSE (default 3B, B the blur length)")
-      ->check(at_least(0));
+      ->check(integer_in(0, fss::kMaxImageSide));
   app.add_option("--trials", options.trials,
                  "independent noise realizations (seeds seed, seed+1, ...)")
-      ->check(at_least(1))
+      ->check(integer_in(1, std::numeric_limits<int>::max()))
       ->capture_default_str();
   app.add_option("--threads", options.threads,
                  "worker threads, 0 = all cores (results do not depend on it)")
-      ->check(at_least(0))
+      ->check(integer_in(0, std::numeric_limits<int>::max()))
       ->capture_default_str();
   app.add_option("-o,--outdir", outdir, "output directory, created if missing")
+      ->check(kNotEmpty)
       ->capture_default_str();
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::string message = e.what();
-    std::cerr << "fssim: error: " << message << " (see fssim --help)\n";
+    print_error(std::string(e.what()) + " (see fssim --help)");
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    print_error(std::string(e.what()) + " (see fssim --help)");
     return kExitUsage;
   }
   options.mode = *fss::shutter_mode_from_string(mode_text);
   options.noise = *fss::noise_model_from_string(noise_text);
 
+  // What is being done, for a failure that does not say it (out of memory).
+  std::string activity = "reading code '" + code_name + "'";
   try {
     const fss::ShutterCode code = fss::load_code(code_name);
+    activity = "reading input '" + input + "'";
     const fss::Image image = fss::read_png(input);
+    activity = "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
+               std::to_string(image.height) + ", " + std::to_string(image.channels) +
+               (image.channels == 1 ? " channel)" : " channels)");
     const bool show_progress = options.trials > 1 && ::isatty(STDERR_FILENO);
     if (show_progress) {
       options.trial_callback = [](int done, int total) {
@@ -137,8 +241,17 @@ int main(int argc, char** argv) {
       };
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
-    for (const auto& warning : report.warnings) std::cerr << "fssim: warning: " << warning << "\n";
-    fss::write_outputs(outdir, report, input);
+    check_finite(report);
+    for (const auto& warning : report.warnings) {
+      std::cerr << "fssim: warning: " << one_line(warning) << "\n";
+    }
+    activity = "writing the outputs to '" + outdir + "'";
+    std::vector<std::string> code_files;
+    const std::vector<std::string> builtins = fss::builtin_code_names();
+    if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {
+      code_files.push_back(code_name);  // an input too: never overwritten
+    }
+    fss::write_outputs(outdir, report, input, code_files);
 
     print_metric("RMSE", report.metrics.rmse);
     print_metric("PSNR", report.metrics.psnr);
@@ -166,13 +279,31 @@ int main(int argc, char** argv) {
     std::printf("Outputs: %s\n", outdir.c_str());
     return 0;
   } catch (const fss::Error& e) {
-    std::cerr << "fssim: error: " << e.what() << "\n";
+    print_error(e.what());
     return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
   } catch (const std::bad_alloc&) {
-    std::cerr << "fssim: error: out of memory\n";
+    print_error("out of memory while " + activity);
     return kExitRuntime;
   } catch (const std::exception& e) {
-    std::cerr << "fssim: error: " << e.what() << "\n";
+    print_error(std::string(e.what()) + " (while " + activity + ")");
     return kExitRuntime;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Beyond a file size limit (ulimit -f), a write must fail with EFBIG, which
+  // is reported and cleaned up, rather than kill the process mid-write.
+  std::signal(SIGXFSZ, SIG_IGN);
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    print_error("out of memory");
+  } catch (const std::exception& e) {
+    print_error(e.what());
+  } catch (...) {
+    print_error("unexpected failure");
+  }
+  return kExitRuntime;
 }

@@ -6,6 +6,7 @@ packages=(
   libpng-dev libfftw3-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   jq
+  clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
 )
 if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive

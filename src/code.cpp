@@ -32,23 +32,24 @@ bool is_separator(char c) {
          c == ';';
 }
 
-// A token as shown in a message: at most 40 bytes, control bytes as \xNN, so
-// that a binary file gives a short, one-line message.
+// A token as shown in a message: control bytes as \xNN, cut after 40
+// characters, so that a binary file gives a short, one-line message.
 std::string printable_token(std::string_view token) {
   constexpr std::size_t kShown = 40;
   std::string out;
-  for (const char c : token.substr(0, kShown)) {
-    const auto byte = static_cast<unsigned char>(c);
+  std::size_t used = 0;
+  for (; used < token.size() && out.size() < kShown; ++used) {
+    const auto byte = static_cast<unsigned char>(token[used]);
     if (byte < 0x20 || byte == 0x7f) {
       constexpr char kHex[] = "0123456789abcdef";
       out += "\\x";
       out += kHex[byte >> 4];
       out += kHex[byte & 0xf];
     } else {
-      out += c;
+      out += token[used];
     }
   }
-  if (token.size() > kShown) out += "...";
+  if (used < token.size()) out += "...";
   return out;
 }
 }  // namespace

@@ -104,7 +104,7 @@ std::filesystem::path stage(const std::filesystem::path& target, const std::stri
   const std::string prefix =
       std::string(".") + target.filename().string() + ".fssim-" + std::to_string(::getpid()) + "-";
   for (int attempt = 0;; ++attempt) {
-    const std::filesystem::path temporary = dir / (prefix + std::to_string(attempt) + ".tmp");
+    std::filesystem::path temporary = dir / (prefix + std::to_string(attempt) + ".tmp");
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) {
       if (errno == EEXIST && attempt < 100) continue;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -49,6 +50,20 @@ void read_from_memory(png_structp png, png_bytep out, png_size_t length) {
   std::memcpy(out, ctx->bytes + ctx->offset, length);
   ctx->offset += length;
 }
+
+// libpng allocates an ancillary chunk's declared length before reading it,
+// whatever its own chunk limit says: a 100-byte file declaring a 1.9 GB sCAL
+// chunk had 1.9 GB allocated. Its largest real needs are a few rows (at most
+// 65536 pixels of 8 bytes each) and the chunks that matter for pixels (PLTE,
+// tRNS: bytes), so larger requests are refused. libpng then skips an
+// ancillary chunk (a warning) or fails with an error on anything else.
+constexpr png_alloc_size_t kMaxLibpngAllocation = png_alloc_size_t{16} << 20;
+
+png_voidp limited_malloc(png_structp, png_alloc_size_t size) {
+  return size <= kMaxLibpngAllocation ? std::malloc(size) : nullptr;
+}
+
+void plain_free(png_structp, png_voidp pointer) { std::free(pointer); }
 
 void write_to_memory(png_structp png, png_bytep data, png_size_t length) {
   auto* ctx = static_cast<PngContext*>(png_get_io_ptr(png));
@@ -150,7 +165,8 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   PngContext* ctx = &structs->ctx;
   ctx->bytes = bytes;
   ctx->size = size;
-  ctx->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
+  ctx->png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning, nullptr,
+                                      limited_malloc, plain_free);
   if (!ctx->png) throw_runtime_error("cannot read '" + name + "': out of memory");
   ctx->info = png_create_info_struct(ctx->png);
   if (!ctx->info) throw_runtime_error("cannot read '" + name + "': out of memory");

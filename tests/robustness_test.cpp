@@ -468,6 +468,22 @@ TEST_F(Robustness, InterlacedGivesTheSameOutputsAsPlain) {
   }
 }
 
+TEST_F(Robustness, LibpngWarningsAreNotShown) {
+  // An ancillary chunk with a bad CRC is discarded by libpng with a warning,
+  // which its default handler prints to stderr ("libpng warning: ...").
+  Bytes png = encode(picture(PNG_COLOR_TYPE_GRAY, 8));
+  Bytes text = {0, 0, 0, 9, 't', 'E', 'X', 't', 'C', 'o', 'm', 'm', 'e', 'n', 't', 0, 'x'};
+  const std::size_t at = chunk_offset(png, "IDAT");
+  write_be32(&text[0], static_cast<std::uint32_t>(text.size() - 8));
+  text.insert(text.end(), {0xde, 0xad, 0xbe, 0xef});  // not the CRC
+  png.insert(png.begin() + static_cast<long>(at), text.begin(), text.end());
+  const fs::path path = input("warning.png", png);
+  const CommandResult r =
+      test::run_fssim("--input " + quote(path) + " --noise none --outdir " + quote(out_));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+}
+
 // ---------------------------------------------------------------------------
 // Code files.
 

@@ -27,7 +27,7 @@ struct ShutterCode {
 // program's code.txt ("1;" per line) is accepted as is. Throws a runtime
 // fss::Error naming `origin`, the line and the token when the text is empty,
 // holds a non-numeric token, or a NaN, infinite or out-of-range value. Tokens
-// are quoted in messages cut to 40 bytes, control bytes written as \xNN.
+// are quoted in messages cut to about 40 characters, control bytes written as \xNN.
 ShutterCode parse_code_text(std::string_view text, const std::string& origin);
 
 // Names of the built-in codes: snapshot, accumulation, raskar, random, mip, sinc.

@@ -55,30 +55,37 @@ void print_error(std::string_view message) {
   std::cerr << "fssim: error: " << one_line(message) << std::endl;
 }
 
+// The validators are made inside run(), so that even their construction
+// cannot throw outside main's handlers.
+
 // CLI11 validator for finite numbers (CLI11 accepts "nan" and "inf").
-const CLI::Validator kFinite(
-    [](std::string& text) -> std::string {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-        return "value " + text + " is not a finite number";
-      }
-      return {};
-    },
-    "FINITE", "finite");
+CLI::Validator finite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
+          return "value " + text + " is not a finite number";
+        }
+        return {};
+      },
+      "FINITE", "finite");
+}
 
 // A number > 0 within [kSmallestScale, kLargestScale].
-const CLI::Validator kPositiveScale(
-    [](std::string& text) -> std::string {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
-        return "value " + text + " must be > 0";
-      }
-      if (!(value >= kSmallestScale && value <= kLargestScale)) {
-        return "value " + text + " is out of range: it must lie in [1e-100, 1e100]";
-      }
-      return {};
-    },
-    "POSITIVE", "positive");
+CLI::Validator positive_scale() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
+          return "value " + text + " must be > 0";
+        }
+        if (!(value >= kSmallestScale && value <= kLargestScale)) {
+          return "value " + text + " is out of range: it must lie in [1e-100, 1e100]";
+        }
+        return {};
+      },
+      "POSITIVE", "positive");
+}
 
 // Integer option in [minimum, maximum], with a short message (CLI11's own
 // range checks print the largest double in full).
@@ -97,24 +104,28 @@ CLI::Validator integer_in(long long minimum, long long maximum) {
 
 // --seed: decimal digits of an unsigned 64-bit integer. CLI11 itself wraps
 // "-1" and saturates values above 2^64 - 1 without a word.
-const CLI::Validator kSeed(
-    [](std::string& text) -> std::string {
-      std::uint64_t value = 0;
-      const char* end = text.data() + text.size();
-      const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-      if (text.empty() || ec != std::errc() || ptr != end) {
-        return "value " + text + " must be an integer in [0, " +
-               std::to_string(std::numeric_limits<std::uint64_t>::max()) + "]";
-      }
-      return {};
-    },
-    "UINT64", "seed");
+CLI::Validator seed_value() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ec != std::errc() || ptr != end) {
+          return "value " + text + " must be an integer in [0, " +
+                 std::to_string(std::numeric_limits<std::uint64_t>::max()) + "]";
+        }
+        return {};
+      },
+      "UINT64", "seed");
+}
 
-const CLI::Validator kNotEmpty(
-    [](std::string& text) -> std::string {
-      return text.empty() ? std::string("the path must not be empty") : std::string();
-    },
-    "PATH", "not empty");
+CLI::Validator not_empty() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return text.empty() ? std::string("the path must not be empty") : std::string();
+      },
+      "PATH", "not empty");
+}
 
 bool all_finite(const fss::Image& image) {
   return std::all_of(image.data.begin(), image.data.end(),
@@ -168,7 +179,7 @@ int run(int argc, char** argv) {
   app.add_option("-i,--input", input,
                  "input PNG image (8/16-bit gray, RGB, palette; alpha ignored)")
       ->required()
-      ->check(kNotEmpty);
+      ->check(not_empty());
   app.add_option("-c,--code", code_name,
                  "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
       ->capture_default_str();
@@ -178,17 +189,17 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("-v,--velocity", options.velocity_px_per_slot,
                  "velocity in pixels per time slot, signed (direction along rows)")
-      ->check(kFinite)
+      ->check(finite())
       ->capture_default_str();
   app.add_option("--dt", options.dt, "time slot length, > 0 (1e-100 to 1e100)")
-      ->check(kFinite & kPositiveScale)
+      ->check(finite() & positive_scale())
       ->capture_default_str();
   app.add_option("--snr", options.snr,
                  "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)")
-      ->check(kFinite & kPositiveScale)
+      ->check(finite() & positive_scale())
       ->capture_default_str();
   app.add_option("--seed", options.seed, "seed of the photon noise")
-      ->check(kSeed)
+      ->check(seed_value())
       ->capture_default_str();
   app.add_option("--noise", noise_text,
                  "poisson, or none for a noise-free run of the same pipeline")
@@ -207,7 +218,7 @@ int run(int argc, char** argv) {
       ->check(integer_in(0, std::numeric_limits<int>::max()))
       ->capture_default_str();
   app.add_option("-o,--outdir", outdir, "output directory, created if missing")
-      ->check(kNotEmpty)
+      ->check(not_empty())
       ->capture_default_str();
 
   try {

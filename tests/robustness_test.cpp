@@ -698,6 +698,16 @@ TEST_F(Robustness, NonUtf8FileNameRuns) {
   EXPECT_EQ(report["input"]["path"], (in_ / "caf\xef\xbf\xbd.png").string());
 }
 
+TEST_F(Robustness, UnwritableStdoutIsAnError) {
+  // The outputs are written, but the metrics a script reads from stdout are
+  // lost: exit status 1, not 0.
+  const CommandResult r = test::run_command(
+      "{ " + quote(std::string(FSSIM_BINARY_PATH)) + " --input " + quote(good_input_) +
+      " --noise none --outdir " + quote(out_) + " >/dev/full; }");
+  expect_clean_failure(r, 1, {"standard output"});
+  EXPECT_TRUE(fs::exists(out_ / "restored.png"));
+}
+
 TEST_F(Robustness, FailedRunThenGoodRun) {
   // After a failure the directory is as it was, and the next run works.
   expect_failure(with_good_input("--snr 0"), 2, {"--snr"});

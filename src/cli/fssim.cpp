@@ -4,11 +4,13 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <limits>
@@ -288,6 +290,13 @@ int run(int argc, char** argv) {
         3 * report.geometry.half_blur + report.geometry.output_width - 1, report.rmse_first,
         report.rmse_end);
     std::printf("Outputs: %s\n", outdir.c_str());
+    // The outputs are in place; a script reading the metrics must still learn
+    // that they were not printed (a full disk, a closed stdout).
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      print_error(std::string("cannot write the results to standard output: ") +
+                  std::strerror(errno));
+      return kExitRuntime;
+    }
     return 0;
   } catch (const fss::Error& e) {
     print_error(e.what());

@@ -52,7 +52,7 @@ void read_from_memory(png_structp png, png_bytep out, png_size_t length) {
 }
 
 // libpng allocates an ancillary chunk's declared length before reading it,
-// whatever its own chunk limit says: a 100-byte file declaring a 1.9 GB sCAL
+// whatever its own chunk limit says: a 174-byte file declaring a 1.9 GB sCAL
 // chunk had 1.9 GB allocated. Its largest real needs are a few rows (at most
 // 65536 pixels of 8 bytes each) and the chunks that matter for pixels (PLTE,
 // tRNS: bytes), so larger requests are refused. libpng then skips an

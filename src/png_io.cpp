@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <new>
 
 #include "fss/error.h"
 
@@ -65,9 +66,18 @@ png_voidp limited_malloc(png_structp, png_alloc_size_t size) {
 
 void plain_free(png_structp, png_voidp pointer) { std::free(pointer); }
 
+// No C++ exception may cross libpng's C frames: an allocation failure becomes
+// a libpng error, raised once the exception is over (no longjmp out of a
+// catch block).
 void write_to_memory(png_structp png, png_bytep data, png_size_t length) {
   auto* ctx = static_cast<PngContext*>(png_get_io_ptr(png));
-  ctx->sink->insert(ctx->sink->end(), data, data + length);
+  bool out_of_memory = false;
+  try {
+    ctx->sink->insert(ctx->sink->end(), data, data + length);
+  } catch (const std::bad_alloc&) {
+    out_of_memory = true;
+  }
+  if (out_of_memory) png_error(png, "out of memory");
 }
 
 void flush_nothing(png_structp) {}

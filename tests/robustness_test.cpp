@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <new>
 #include <ostream>
 #include <sstream>
 #include <string>
@@ -129,7 +130,13 @@ void on_png_warning(png_structp, png_const_charp) {}
 
 void on_png_write(png_structp png, png_bytep data, png_size_t length) {
   auto* sink = static_cast<PngSink*>(png_get_io_ptr(png));
-  sink->bytes.insert(sink->bytes.end(), data, data + length);
+  bool out_of_memory = false;
+  try {  // no exception may cross libpng's frames
+    sink->bytes.insert(sink->bytes.end(), data, data + length);
+  } catch (const std::bad_alloc&) {
+    out_of_memory = true;
+  }
+  if (out_of_memory) png_error(png, "out of memory");
 }
 
 void on_png_flush(png_structp) {}

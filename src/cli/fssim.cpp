@@ -135,6 +135,7 @@ bool all_finite(const fss::Image& image) {
 }
 
 std::string number(double value) {
+  if (std::isnan(value)) return "nan";  // not "-nan"
   char text[32];
   std::snprintf(text, sizeof text, "%g", value);
   return text;

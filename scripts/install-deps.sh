@@ -10,6 +10,7 @@ packages=(
   libplplot-dev plplot-driver-cairo fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev
   jq time
+  clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
 )
 for argument in "$@"; do
   case "$argument" in

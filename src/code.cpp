@@ -1,6 +1,7 @@
 #include "fss/code.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -8,6 +9,8 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "fss/error.h"
 
@@ -28,12 +31,33 @@ bool is_separator(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f' || c == ',' ||
          c == ';';
 }
+
+// A token as shown in a message: control bytes as \xNN, cut after 40
+// characters, so that a binary file gives a short, one-line message.
+std::string printable_token(std::string_view token) {
+  constexpr std::size_t kShown = 40;
+  std::string out;
+  std::size_t used = 0;
+  for (; used < token.size() && out.size() < kShown; ++used) {
+    const auto byte = static_cast<unsigned char>(token[used]);
+    if (byte < 0x20 || byte == 0x7f) {
+      constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4];
+      out += kHex[byte & 0xf];
+    } else {
+      out += token[used];
+    }
+  }
+  if (used < token.size()) out += "...";
+  return out;
+}
 }  // namespace
 
 ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
   ShutterCode code;
   code.name = origin;
-  int line = 1;
+  std::size_t line = 1;
   std::size_t i = 0;
   while (i < text.size()) {
     const char c = text[i];
@@ -54,13 +78,21 @@ ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
       double value = 0.0;
       const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
       const std::string where = "code file '" + origin + "' line " + std::to_string(line);
+      // (Appended rather than "'" + ...: GCC 12 warns wrongly on that form.)
+      std::string shown = "'";
+      shown += printable_token(token);
+      shown += "'";
+      if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size()) {
+        throw_runtime_error(where + ": gain " + shown +
+                            " is out of the range of double-precision numbers");
+      }
       if (ec != std::errc() || ptr != digits.data() + digits.size()) {
-        throw_runtime_error(where + ": '" + std::string(token) +
-                            "' is not a number (expected gains separated by spaces, commas or "
+        throw_runtime_error(where + ": " + shown +
+                            " is not a number (expected gains separated by spaces, commas or "
                             "semicolons)");
       }
       if (!std::isfinite(value)) {
-        throw_runtime_error(where + ": gain '" + std::string(token) + "' is not a finite number");
+        throw_runtime_error(where + ": gain " + shown + " is not a finite number");
       }
       code.gains.push_back(value);
       i = end;
@@ -93,7 +125,9 @@ ShutterCode load_code(const std::string& name_or_path) {
   if (auto code = builtin_code(name_or_path)) return *code;
   std::error_code ec;
   const std::filesystem::path path(name_or_path);
-  if (!std::filesystem::exists(path, ec)) {
+  const bool exists = std::filesystem::exists(path, ec);
+  if (ec) throw_runtime_error("cannot access code file '" + name_or_path + "': " + ec.message());
+  if (!exists) {
     std::string names;
     for (const auto& n : builtin_code_names()) names += (names.empty() ? "" : ", ") + n;
     throw_usage_error("--code '" + name_or_path + "' is neither a built-in code (" + names +
@@ -106,7 +140,19 @@ ShutterCode load_code(const std::string& name_or_path) {
   if (!file) {
     throw_runtime_error("cannot open code file '" + name_or_path + "': " + std::strerror(errno));
   }
-  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  // Read in blocks and refused past kMaxCodeFileBytes, so that an endless
+  // stream (/dev/zero) or a huge file does not exhaust memory.
+  std::string text;
+  std::vector<char> buffer(std::size_t{1} << 16);
+  while (file.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) ||
+         file.gcount() > 0) {
+    text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
+    if (text.size() > kMaxCodeFileBytes) {
+      throw_runtime_error("code file '" + name_or_path + "' is larger than " +
+                          std::to_string(kMaxCodeFileBytes >> 20) +
+                          " MiB: expected a text file of gains");
+    }
+  }
   if (file.bad()) throw_runtime_error("cannot read code file '" + name_or_path + "'");
   return parse_code_text(text, name_or_path);
 }

@@ -1,7 +1,12 @@
 #include "fss/noise.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "fss/error.h"
 
 namespace fss {
 
@@ -14,6 +19,21 @@ std::uint64_t splitmix64(std::uint64_t& x) {
 }
 
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+// lambda2 = snr^2 / 100, refused unless it is a finite normal number: 0 or
+// infinity would turn every observation into NaN (0 / 0, inf * 0).
+double checked_lambda2(double snr) {
+  const double lambda2 = snr * snr / 100.0;
+  if (!(std::isfinite(lambda2) && lambda2 >= DBL_MIN)) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "snr = %g is out of range: snr^2 / 100 must be a finite, nonzero double "
+                  "(snr between 1.5e-153 and 1.3e155)",
+                  snr);
+    throw_usage_error(text);
+  }
+  return lambda2;
+}
 }  // namespace
 
 RandomStream::RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint64_t frame,
@@ -94,7 +114,7 @@ double round_nonnegative(double x) {
   return x > 0.0 ? big : 0.0;
 }
 
-PoissonSNR::PoissonSNR(double snr) : lambda2_(snr * snr / 100.0) {}
+PoissonSNR::PoissonSNR(double snr) : lambda2_(checked_lambda2(snr)) {}
 
 double PoissonSNR::operator()(double e, RandomStream& stream) const {
   // P / lambda2 with P ~ Poisson(max(e, 0) lambda2)
@@ -105,7 +125,7 @@ double PoissonSNR::operator()(double e, RandomStream& stream) const {
 
 namespace fss {
 
-PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(snr * snr / 100.0) {}
+PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
 void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                                    std::span<double> out) {

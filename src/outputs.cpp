@@ -1,5 +1,6 @@
 #include "fss/outputs.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +12,9 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "fss/error.h"
 #include "fss/html_report.h"
@@ -119,23 +123,64 @@ std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Imag
 
 namespace {
 
-struct StagedFile {
-  std::filesystem::path temporary;
-  std::filesystem::path target;
-};
-
-void write_file(const std::filesystem::path& path, const std::string& bytes) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) {
-    throw_runtime_error("cannot create '" + path.string() + "': " + std::strerror(errno));
+// Creates a new file next to `target`, under a name no other file has
+// (O_EXCL: nothing existing is ever replaced or removed), writes `bytes` into
+// it and returns its path. On failure, removes it and throws a runtime fss::Error.
+std::filesystem::path stage(const std::filesystem::path& target, const std::string& bytes) {
+  const std::filesystem::path dir = target.parent_path();
+  const std::string prefix =
+      std::string(".") + target.filename().string() + ".fssim-" + std::to_string(::getpid()) + "-";
+  for (int attempt = 0;; ++attempt) {
+    std::filesystem::path temporary = dir / (prefix + std::to_string(attempt) + ".tmp");
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      if (errno == EEXIST && attempt < 100) continue;
+      throw_runtime_error("cannot write output '" + target.string() +
+                          "': cannot create a file in '" + dir.string() +
+                          "': " + std::strerror(errno));
+    }
+    const char* data = bytes.data();
+    std::size_t left = bytes.size();
+    int error = 0;
+    while (left > 0) {
+      const ssize_t written = ::write(fd, data, left);
+      if (written < 0 && errno == EINTR) continue;
+      if (written <= 0) {
+        error = written < 0 ? errno : EIO;
+        break;
+      }
+      data += written;
+      left -= static_cast<std::size_t>(written);
+    }
+    if (::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) {
+      ::unlink(temporary.c_str());
+      throw_runtime_error("cannot write output '" + target.string() + "': " + std::strerror(error));
+    }
+    return temporary;
   }
-  file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  file.close();
-  if (!file) throw_runtime_error("cannot write '" + path.string() + "' (disk full?)");
 }
 
 std::string as_string(const std::vector<std::uint8_t>& bytes) {
   return {bytes.begin(), bytes.end()};
+}
+
+// Renames every staged file into place, in order; on a failure, removes the
+// temporary files not yet moved and throws.
+void rename_all(
+    const std::vector<std::pair<std::filesystem::path, std::filesystem::path>>& staged) {
+  std::error_code ec;
+  for (std::size_t i = 0; i < staged.size(); ++i) {
+    std::filesystem::rename(staged[i].first, staged[i].second, ec);
+    if (ec) {
+      const std::string message = "cannot move '" + staged[i].first.string() + "' to '" +
+                                  staged[i].second.string() + "': " + ec.message();
+      for (std::size_t j = i; j < staged.size(); ++j) {
+        std::filesystem::remove(staged[j].first, ec);
+      }
+      throw_runtime_error(message);
+    }
+  }
 }
 
 }  // namespace
@@ -143,6 +188,7 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
                    const Image& input, const std::string& input_path,
                    const OutputOptions& options) {
+  if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   // Everything is encoded in memory first: a failure there writes nothing.
   // The ground truth and the residual are encoded straight from the input
   // and the restoration, row by row.
@@ -176,7 +222,14 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
          return format_code_txt({report.code_name, report.gains});
        }},
       {"spectrum.txt", [&] { return format_spectrum_txt(report.gains, velocity, dt); }},
-      {"report.json", [&] { return report_json(report, input_path).dump(2) + "\n"; }},
+      // Paths are bytes: one that is not UTF-8 is kept in report.json with
+      // U+FFFD in place of its invalid bytes rather than failing the run.
+      {"report.json",
+       [&] {
+         return report_json(report, input_path)
+                    .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+                "\n";
+       }},
       {"code.png", [&] { return as_string(plot_code_png(report.gains, report.code_name)); }},
       {"spectrum.png",
        [&] {
@@ -204,40 +257,37 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
     throw_runtime_error("cannot create output directory '" + outdir.string() +
                         "': " + ec.message());
   }
+  std::vector<std::string> inputs = options.other_inputs;
+  inputs.insert(inputs.begin(), input_path);
   for (const auto& [name, bytes] : contents) {
     const auto target = outdir / name;
-    if (std::filesystem::exists(target, ec) && std::filesystem::exists(input_path, ec) &&
-        std::filesystem::equivalent(target, input_path, ec)) {
-      throw_runtime_error("refusing to overwrite the input '" + input_path + "' with output '" +
-                          target.string() + "': choose another --outdir");
+    for (const std::string& protected_input : inputs) {
+      if (std::filesystem::exists(target, ec) && std::filesystem::exists(protected_input, ec) &&
+          std::filesystem::equivalent(target, protected_input, ec)) {
+        throw_runtime_error("refusing to overwrite the input '" + protected_input +
+                            "' with output '" + target.string() + "': choose another --outdir");
+      }
     }
     if (std::filesystem::is_directory(target, ec)) {
       throw_runtime_error("cannot write output '" + target.string() + "': it is a directory");
     }
   }
 
-  std::vector<StagedFile> staged;
-  const std::string suffix = ".fssim-tmp-" + std::to_string(::getpid());
+  // Stage every file, then rename them into place: a failure before the
+  // renames leaves the directory as it was.
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;  // temporary, target
+  staged.reserve(contents.size());
   try {
     for (const auto& [name, bytes] : contents) {
-      StagedFile file{outdir / ("." + name).append(suffix), outdir / name};
-      staged.push_back(file);
-      write_file(file.temporary, bytes);
+      std::filesystem::path target = outdir / name;
+      std::filesystem::path temporary = stage(target, bytes);
+      staged.emplace_back(std::move(temporary), std::move(target));
     }
   } catch (...) {
-    for (const auto& file : staged) std::filesystem::remove(file.temporary, ec);
+    for (const auto& file : staged) std::filesystem::remove(file.first, ec);
     throw;
   }
-  for (std::size_t i = 0; i < staged.size(); ++i) {
-    std::filesystem::rename(staged[i].temporary, staged[i].target, ec);
-    if (ec) {
-      const std::string message = "cannot move '" + staged[i].temporary.string() + "' to '" +
-                                  staged[i].target.string() + "': " + ec.message();
-      for (std::size_t j = i; j < staged.size(); ++j)
-        std::filesystem::remove(staged[j].temporary, ec);
-      throw_runtime_error(message);
-    }
-  }
+  rename_all(staged);
 }
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
@@ -245,24 +295,8 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
   if (std::filesystem::is_directory(path, ec)) {
     throw_runtime_error("cannot write '" + path.string() + "': it is a directory");
   }
-  std::filesystem::path temporary = path;
-  std::string name = path.filename().string();
-  name.insert(0, 1, '.');
-  name += ".fssim-tmp-" + std::to_string(::getpid());
-  temporary.replace_filename(name);
-  try {
-    write_file(temporary, bytes);
-  } catch (...) {
-    std::filesystem::remove(temporary, ec);
-    throw;
-  }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    const std::string message =
-        "cannot move '" + temporary.string() + "' to '" + path.string() + "': " + ec.message();
-    std::filesystem::remove(temporary, ec);
-    throw_runtime_error(message);
-  }
+  const std::filesystem::path target = path.has_parent_path() ? path : "./" / path;
+  rename_all({{stage(target, bytes), target}});
 }
 
 }  // namespace fss

@@ -30,10 +30,18 @@ void parallel_for(int count, int threads, const std::function<void(int begin, in
       errors[w] = std::current_exception();
     }
   };
+  // A thread that cannot be started (the system's thread or memory limit) is
+  // no error: the calling thread runs its block. The blocks, and so the
+  // results, are the same whichever thread runs them.
   std::vector<std::thread> pool;
-  pool.reserve(static_cast<std::size_t>(workers - 1));
-  for (int w = 1; w < workers; ++w) pool.emplace_back(run_block, w);
+  int started = 1;
+  try {
+    pool.reserve(static_cast<std::size_t>(workers - 1));
+    for (; started < workers; ++started) pool.emplace_back(run_block, started);
+  } catch (const std::exception&) {
+  }
   run_block(0);
+  for (int w = started; w < workers; ++w) run_block(w);
   for (auto& thread : pool) thread.join();
   for (const auto& error : errors) {
     if (error) std::rethrow_exception(error);

@@ -7,10 +7,12 @@
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <new>
 
 #include "fss/error.h"
 
@@ -50,9 +52,32 @@ void read_from_memory(png_structp png, png_bytep out, png_size_t length) {
   ctx->offset += length;
 }
 
+// libpng allocates an ancillary chunk's declared length before reading it,
+// whatever its own chunk limit says: a 174-byte file declaring a 1.9 GB sCAL
+// chunk had 1.9 GB allocated. Its largest real needs are a few rows (at most
+// 65536 pixels of 8 bytes each) and the chunks that matter for pixels (PLTE,
+// tRNS: bytes), so larger requests are refused. libpng then skips an
+// ancillary chunk (a warning) or fails with an error on anything else.
+constexpr png_alloc_size_t kMaxLibpngAllocation = png_alloc_size_t{16} << 20;
+
+png_voidp limited_malloc(png_structp, png_alloc_size_t size) {
+  return size <= kMaxLibpngAllocation ? std::malloc(size) : nullptr;
+}
+
+void plain_free(png_structp, png_voidp pointer) { std::free(pointer); }
+
+// No C++ exception may cross libpng's C frames: an allocation failure becomes
+// a libpng error, raised once the exception is over (no longjmp out of a
+// catch block).
 void write_to_memory(png_structp png, png_bytep data, png_size_t length) {
   auto* ctx = static_cast<PngContext*>(png_get_io_ptr(png));
-  ctx->sink->insert(ctx->sink->end(), data, data + length);
+  bool out_of_memory = false;
+  try {
+    ctx->sink->insert(ctx->sink->end(), data, data + length);
+  } catch (const std::bad_alloc&) {
+    out_of_memory = true;
+  }
+  if (out_of_memory) png_error(png, "out of memory");
 }
 
 void flush_nothing(png_structp) {}
@@ -60,24 +85,29 @@ void flush_nothing(png_structp) {}
 struct PngHeader {
   png_uint_32 width = 0;
   png_uint_32 height = 0;
-  int channels = 0;   // after transformations
-  int bit_depth = 0;  // 8 or 16 after transformations
+  int stored_bits_per_pixel = 0;  // as stored in the file
+  int channels = 0;               // after transformations
+  int bit_depth = 0;              // 8 or 16 after transformations
   std::size_t rowbytes = 0;
 };
 
 // Reads the header and sets the transformations: palette -> RGB, low bit
-// depths -> 8, alpha stripped, 16-bit samples in host order.
+// depths -> 8, alpha stripped. 16-bit samples stay big-endian, as stored.
 bool read_header(PngContext* ctx, PngHeader* header) {
   if (setjmp(png_jmpbuf(ctx->png))) return false;
   png_set_user_limits(ctx->png, kMaxImageSide, kMaxImageSide);
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+  // Let the fuzzer change chunk data without having to fix the checksums.
+  png_set_crc_action(ctx->png, PNG_CRC_QUIET_USE, PNG_CRC_QUIET_USE);
+#endif
   png_set_read_fn(ctx->png, ctx, read_from_memory);
   png_read_info(ctx->png, ctx->info);
   const int color_type = png_get_color_type(ctx->png, ctx->info);
   const int bit_depth = png_get_bit_depth(ctx->png, ctx->info);
+  header->stored_bits_per_pixel = bit_depth * png_get_channels(ctx->png, ctx->info);
   if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(ctx->png);
   if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(ctx->png);
   if (color_type & PNG_COLOR_MASK_ALPHA) png_set_strip_alpha(ctx->png);
-  if (bit_depth == 16) png_set_swap(ctx->png);  // host is little endian on every Debian target
   png_set_interlace_handling(ctx->png);
   png_read_update_info(ctx->png, ctx->info);
   header->width = png_get_image_width(ctx->png, ctx->info);
@@ -127,6 +157,14 @@ struct WriteStructs {
   }
 };
 
+// Deflate turns one compressed byte into at most 1032 bytes (a 258-byte match
+// coded in two 1-bit Huffman codes): a file of `size` bytes cannot hold more.
+constexpr std::uint64_t kMaxDeflateRatio = 1032;
+
+std::string dimensions(const PngHeader& header) {
+  return std::to_string(header.width) + "x" + std::to_string(header.height);
+}
+
 }  // namespace
 
 std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
@@ -144,7 +182,8 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   PngContext* ctx = &structs->ctx;
   ctx->bytes = bytes;
   ctx->size = size;
-  ctx->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
+  ctx->png = png_create_read_struct_2(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning, nullptr,
+                                      limited_malloc, plain_free);
   if (!ctx->png) throw_runtime_error("cannot read '" + name + "': out of memory");
   ctx->info = png_create_info_struct(ctx->png);
   if (!ctx->info) throw_runtime_error("cannot read '" + name + "': out of memory");
@@ -156,6 +195,15 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   if (header.width == 0 || header.height == 0) {
     throw_runtime_error("PNG '" + name + "' has no pixels");
   }
+  // A header declaring more pixels than the file can hold is refused before
+  // anything is allocated for them.
+  const std::uint64_t stored_bytes = static_cast<std::uint64_t>(header.width) * header.height *
+                                     static_cast<std::uint64_t>(header.stored_bits_per_pixel) / 8;
+  if (stored_bytes > kMaxDeflateRatio * (static_cast<std::uint64_t>(size) + 1)) {
+    throw_runtime_error("PNG '" + name + "' declares " + dimensions(header) +
+                        " pixels, more than its " + std::to_string(size) +
+                        " bytes can hold: it is truncated or its header is corrupt");
+  }
   const int out_channels = header.channels >= 3 ? 3 : 1;
   const std::size_t needed =
       png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
@@ -166,33 +214,38 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
                       ", more than the memory limit of " +
                       format_bytes(static_cast<double>(max_bytes)));
   }
-  std::vector<std::uint8_t> pixels(header.rowbytes * header.height);
-  std::vector<png_bytep> rows(header.height);
-  for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = pixels.data() + y * header.rowbytes;
-  if (!read_rows(ctx, rows.data())) {
-    throw_runtime_error("cannot read PNG '" + name + "': " + ctx->message);
-  }
+  try {
+    // Not zero-filled: only the rows libpng actually decodes are touched.
+    const auto pixels =
+        std::make_unique_for_overwrite<std::uint8_t[]>(header.rowbytes * header.height);
+    std::vector<png_bytep> rows(header.height);
+    for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = pixels.get() + y * header.rowbytes;
+    if (!read_rows(ctx, rows.data())) {
+      throw_runtime_error("cannot read PNG '" + name + "': " + ctx->message);
+    }
 
-  const int in_channels = header.channels;  // 1 or 3 after the transformations
-  Image image(static_cast<int>(header.width), static_cast<int>(header.height), out_channels);
-  for (png_uint_32 y = 0; y < header.height; ++y) {
-    const std::uint8_t* row = rows[y];
-    for (png_uint_32 x = 0; x < header.width; ++x) {
-      for (int c = 0; c < out_channels; ++c) {
-        const std::size_t sample = static_cast<std::size_t>(x) * in_channels + c;
-        double value;
-        if (header.bit_depth == 16) {
-          std::uint16_t v16;
-          std::memcpy(&v16, row + 2 * sample, 2);
-          value = v16 / 257.0;
-        } else {
-          value = row[sample];
+    const int in_channels = header.channels;  // 1 to 4 after the transformations
+    Image image(static_cast<int>(header.width), static_cast<int>(header.height), out_channels);
+    for (png_uint_32 y = 0; y < header.height; ++y) {
+      const std::uint8_t* row = rows[y];
+      for (png_uint_32 x = 0; x < header.width; ++x) {
+        for (int c = 0; c < out_channels; ++c) {
+          const std::size_t sample = static_cast<std::size_t>(x) * in_channels + c;
+          double value;
+          if (header.bit_depth == 16) {  // big-endian, whatever the host
+            value = ((row[2 * sample] << 8) | row[2 * sample + 1]) / 257.0;
+          } else {
+            value = row[sample];
+          }
+          image.at(c, static_cast<int>(y), static_cast<int>(x)) = value;
         }
-        image.at(c, static_cast<int>(y), static_cast<int>(x)) = value;
       }
     }
+    return image;
+  } catch (const std::bad_alloc&) {
+    throw_runtime_error("cannot read PNG '" + name + "': not enough memory for its " +
+                        dimensions(header) + " pixels");
   }
-  return image;
 }
 
 Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
@@ -205,10 +258,18 @@ Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
   if (!file) {
     throw_runtime_error("cannot open input '" + name + "': " + std::strerror(errno));
   }
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)),
-                                  std::istreambuf_iterator<char>());
+  // The signature first, so that what is not a PNG is refused after 8 bytes,
+  // even an endless stream such as /dev/zero.
+  std::vector<std::uint8_t> bytes(8);
+  file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<std::size_t>(file.gcount()));
   if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
   if (bytes.empty()) throw_runtime_error("input '" + name + "' is empty, expected a PNG file");
+  if (bytes.size() == 8 && png_sig_cmp(bytes.data(), 0, 8) == 0) {
+    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(file),
+                 std::istreambuf_iterator<char>());
+    if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
+  }
   return decode_png(bytes.data(), bytes.size(), name, max_bytes);
 }
 

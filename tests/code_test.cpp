@@ -177,6 +177,29 @@ TEST(ParseCodeText, BadTokenErrorNamesOriginLineAndToken) {
   }
 }
 
+TEST(ParseCodeText, OutOfRangeValueSaysSo) {
+  for (const std::string token : {"1e999", "-1e400", "+2e308"}) {
+    const std::string message = parse_error_message("1 " + token, "range.txt");
+    EXPECT_TRUE(Contains(message, "'" + token + "'"));
+    EXPECT_TRUE(Contains(message, "out of the range")) << message;
+  }
+}
+
+TEST(ParseCodeText, BinaryTokenIsShownShortOnOneLine) {
+  // A binary file given as a code: the message quotes 40 bytes of the token,
+  // control bytes escaped, rather than 10 kB of terminal escapes.
+  std::string text = "1 0 \x1b[2J\x01";
+  text += std::string(10000, 'Z');
+  const std::string message = parse_error_message(text, "binary.bin");
+  EXPECT_LT(message.size(), 200u) << message;
+  for (const char c : message) {
+    const auto byte = static_cast<unsigned char>(c);
+    EXPECT_TRUE(byte >= 0x20 && byte != 0x7f) << "control byte " << int{byte} << " in message";
+  }
+  EXPECT_TRUE(Contains(message, "'\\x1b[2J\\x01ZZZZ"));
+  EXPECT_TRUE(Contains(message, "ZZZ...'"));
+}
+
 TEST(BuiltinCodes, NamesAreThePapersSix) {
   std::vector<std::string> names = builtin_code_names();
   std::sort(names.begin(), names.end());
@@ -328,6 +351,23 @@ TEST(ShutterMode, RoundTrip) {
 TEST(ShutterMode, RejectsOtherSpellings) {
   for (const char* text : {"Analog", "ANALOG", "Numerical", "analog ", " analog", "", "digital"}) {
     EXPECT_FALSE(shutter_mode_from_string(text).has_value()) << "'" << text << "'";
+  }
+}
+
+TEST(LoadCode, FileLargerThanTheLimitIsRefused) {
+  // Without a limit, /dev/zero or a huge file is read until memory runs out.
+  test::TempDir dir;
+  const auto path = dir / "huge.txt";
+  std::string text;
+  while (text.size() <= kMaxCodeFileBytes) text += "1 0 ";
+  test::write_file(path, text);
+  try {
+    load_code(path.string());
+    FAIL() << "a file of " << text.size() << " bytes was accepted";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.kind(), ErrorKind::kRuntime);
+    EXPECT_TRUE(Contains(error.what(), path.string()));
+    EXPECT_TRUE(Contains(error.what(), "MiB"));
   }
 }
 

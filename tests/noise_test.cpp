@@ -8,7 +8,10 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include "fss/error.h"
 
 namespace fss {
 namespace {
@@ -256,6 +259,34 @@ TEST(PoissonSNR, NegativeOrZeroSignalGivesZero) {
   RandomStream stream(204, 0, 0, 0);
   for (const double e : {0.0, -1e-12, -0.5, -100.0}) {
     for (int i = 0; i < 100; ++i) EXPECT_EQ(noise(e, stream), 0.0) << e;
+  }
+}
+
+// snr^2 / 100 must be a finite normal double: 0 (snr 1e-300) makes every
+// observation 0 / 0, infinity (snr 1e300) inf * 0; both are NaN.
+TEST(PoissonSNR, SnrWhoseLambda2LeavesTheDoublesIsAUsageError) {
+  for (const double snr : {1e300, 1e-300, 1e160, 1e-160, 0.0, -0.0}) {
+    for (int sampler = 0; sampler < 2; ++sampler) {
+      try {
+        if (sampler == 0) {
+          PoissonSNR noise(snr);
+        } else {
+          PoissonRowSampler row_sampler(snr);
+        }
+        ADD_FAILURE() << "snr " << snr << " accepted (sampler " << sampler << ")";
+      } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::kUsage);
+        EXPECT_NE(std::string(error.what()).find("snr"), std::string::npos) << error.what();
+      }
+    }
+  }
+  // The extremes of the accepted range give finite samples.
+  for (const double snr : {1e-150, 1e150}) {
+    PoissonRowSampler sampler(snr);
+    const std::vector<double> e = {0.0, 1.0, 100.0, 255.0};
+    std::vector<double> out(e.size(), 0.0);
+    sampler.accumulate(e, {1, 0, 0, 0}, 1.0, out);
+    for (const double value : out) EXPECT_TRUE(std::isfinite(value)) << "snr " << snr;
   }
 }
 

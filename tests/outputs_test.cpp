@@ -5,6 +5,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -378,7 +379,10 @@ TEST_F(WriteOutputs, RefusesToOverwriteTheInput) {
       {dir_.path(), (dir_.path() / "." / "observed.png").string()},
       {dir_.path() / ".", (dir_ / "observed.png").string()},
   };
-  for (const auto& [outdir, input_path] : spellings) {
+  for (const auto& spelling : spellings) {
+    // Named references: clang 14 cannot capture structured bindings in a lambda.
+    const fs::path& outdir = spelling.first;
+    const std::string& input_path = spelling.second;
     const auto error =
         error_of([&] { write_outputs(outdir, report(), small_input(), input_path); });
     ASSERT_TRUE(error.has_value()) << outdir << " / " << input_path;
@@ -437,6 +441,60 @@ TEST_F(WriteOutputs, KeepsPreviousOutputsWhenTheInputIsInTheWay) {
     EXPECT_EQ(test::read_file(dir_ / name), "old " + name) << name;
   }
   EXPECT_EQ(test::list_directory(dir_.path()), sorted(output_file_names()));
+}
+
+TEST_F(WriteOutputs, RefusesToOverwriteAnotherInputSuchAsTheCodeFile) {
+  const std::string hand_written = "# my code\n1 0 1 1\n";
+  test::write_file(dir_ / "code.txt", hand_written);
+  test::write_file(dir_ / "restored.png", "old restored.png");
+  const std::string code_path = (dir_ / "code.txt").string();
+  const auto error = error_of([&] {
+    OutputOptions options;
+    options.other_inputs = {code_path};
+    write_outputs(dir_.path(), report(), small_input(), "input.png", options);
+  });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+  EXPECT_THAT(error->what(), HasSubstr(code_path));
+  EXPECT_EQ(test::read_file(dir_ / "code.txt"), hand_written);
+  EXPECT_EQ(test::read_file(dir_ / "restored.png"), "old restored.png");
+  EXPECT_EQ(test::list_directory(dir_.path()),
+            (std::vector<std::string>{"code.txt", "restored.png"}));
+}
+
+TEST_F(WriteOutputs, NonUtf8InputPathIsWrittenWithReplacementCharacters) {
+  // A file name is bytes; nlohmann::json refuses to dump invalid UTF-8 unless told.
+  const std::string latin1 = "caf\xe9.png";
+  write_outputs(dir_.path(), report(), small_input(), latin1);
+  const json written = json::parse(test::read_file(dir_ / "report.json"));
+  EXPECT_EQ(written["input"]["path"], "caf\xef\xbf\xbd.png");  // U+FFFD
+  EXPECT_EQ(test::list_directory(dir_.path()), sorted(output_file_names()));
+}
+
+TEST_F(WriteOutputs, StagingNeverReplacesOrRemovesOtherFiles) {
+  // Hidden files named as a staging file of this process might be: staging
+  // must create new files only, even when a write then fails.
+  const std::string pid = std::to_string(::getpid());
+  std::vector<std::string> decoys;
+  for (const std::string& name : output_file_names()) {
+    decoys.push_back("." + name + ".fssim-tmp-" + pid);
+    decoys.push_back("." + name + ".fssim-" + pid + "-0.tmp");
+  }
+  for (const std::string& decoy : decoys) test::write_file(dir_ / decoy, "decoy " + decoy);
+  write_outputs(dir_.path(), report(), small_input(), "input.png");
+  expect_complete_outputs(dir_.path(), "input.png");
+  for (const std::string& decoy : decoys) {
+    EXPECT_EQ(test::read_file(dir_ / decoy), "decoy " + decoy) << decoy;
+  }
+  std::vector<std::string> expected = output_file_names();
+  expected.insert(expected.end(), decoys.begin(), decoys.end());
+  EXPECT_EQ(test::list_directory(dir_.path()), sorted(expected));
+}
+
+TEST_F(WriteOutputs, EmptyOutdirIsAUsageError) {
+  const auto error = error_of([&] { write_outputs("", report(), small_input(), "input.png"); });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
 }
 
 }  // namespace

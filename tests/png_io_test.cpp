@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <png.h>
+#include <sys/resource.h>
 #include <zlib.h>
 
 #include <cmath>
@@ -562,6 +563,41 @@ TEST(DecodePngErrors, MessageNamesTheGivenName) {
   ASSERT_TRUE(error.has_value());
   EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
   EXPECT_THAT(error->what(), HasSubstr("memory-image-name"));
+}
+
+// Peak resident memory of this process so far, in bytes.
+long long peak_resident_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<long long>(usage.ru_maxrss) * 1024;
+}
+
+TEST_F(ReadPngErrors, DeclaredSizeTheFileCannotHoldIsRefusedBeforeAllocating) {
+  // 65536 x 65536 is within kMaxImageSide, but 4 GiB of pixels cannot come
+  // out of a file of a few hundred bytes (deflate expands 1032 times at
+  // most). Before the check, 4 GiB were allocated and zeroed first.
+  const Bytes png = png_with_declared_size(65536, 65536);
+  ASSERT_LT(png.size(), 1000u);
+  const long long before = peak_resident_bytes();
+  const auto error = error_of([&] { decode(png, "declared.png"); });
+  const long long growth = peak_resident_bytes() - before;
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+  EXPECT_THAT(error->what(), HasSubstr("declared.png"));
+  EXPECT_THAT(error->what(), HasSubstr("65536x65536"));
+  EXPECT_LT(growth, 256LL << 20) << "peak memory grew by " << growth << " bytes";
+}
+
+TEST(DecodePng, ADeclaredSizeTheFileCanHoldIsRead) {
+  // The bound refuses nothing real: a constant image, about as compressible
+  // as a PNG gets, is read.
+  const Bytes png = encode_png8(Image(4096, 1024, 1, 77.0));
+  EXPECT_GT(4096.0 * 1024.0 / static_cast<double>(png.size()), 100.0) << "not compressed much";
+  const Image image = decode(png);
+  EXPECT_EQ(image.width, 4096);
+  EXPECT_EQ(image.height, 1024);
+  EXPECT_EQ(image.data.front(), 77.0);
+  EXPECT_EQ(image.data.back(), 77.0);
 }
 
 }  // namespace

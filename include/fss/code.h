@@ -2,6 +2,7 @@
 // and the six codes of the paper, which are embedded in the library.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,14 +26,20 @@ struct ShutterCode {
 // semicolons; '#' starts a comment running to the end of the line. The paper
 // program's code.txt ("1;" per line) is accepted as is. Throws a runtime
 // fss::Error naming `origin`, the line and the token when the text is empty,
-// holds a non-numeric token, or a NaN or infinite value.
+// holds a non-numeric token, or a NaN, infinite or out-of-range value. Tokens
+// are quoted in messages cut to about 40 characters, control bytes written as \xNN.
 ShutterCode parse_code_text(std::string_view text, const std::string& origin);
 
 // Names of the built-in codes: snapshot, accumulation, raskar, random, mip, sinc.
 std::vector<std::string> builtin_code_names();
 std::optional<ShutterCode> builtin_code(std::string_view name);
 
-// A built-in name, or else the path of a code file.
+// Largest code file load_code reads (a code of any usable length is far smaller).
+inline constexpr std::size_t kMaxCodeFileBytes = std::size_t{16} << 20;
+
+// A built-in name, or else the path of a code file. Throws a usage fss::Error
+// when it is neither, a runtime one when the file cannot be read, is larger
+// than kMaxCodeFileBytes or does not parse.
 ShutterCode load_code(const std::string& name_or_path);
 
 // The reference program's code.txt format: one gain per line followed by ';'.

@@ -40,7 +40,9 @@ double poisson_variate(double lambda, RandomStream& stream);
 
 // PoissonSNR(e) = P / lambda2, P ~ Poisson(max(e, 0) * lambda2),
 // lambda2 = snr^2 / 100: a constant level 100 seen through one unit time
-// slot then has signal-to-noise ratio `snr`.
+// slot then has signal-to-noise ratio `snr`. PoissonSNR and PoissonRowSampler
+// throw a usage fss::Error unless lambda2 is a finite normal double (snr in
+// about [1.5e-153, 1.3e155]): outside, every observation would be NaN.
 class PoissonSNR {
  public:
   explicit PoissonSNR(double snr);

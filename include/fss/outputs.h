@@ -25,6 +25,8 @@ struct OutputOptions {
   bool plots = true;         // code.png and spectrum.png (plot.h)
   bool sheet = false;        // sheet.png: observed | restored | residual
   bool html_report = false;  // report.html (html_report.h)
+  // Files besides the input image that must never be overwritten (the code file).
+  std::vector<std::string> other_inputs;
 };
 
 // Names of the files write_outputs creates.
@@ -39,9 +41,12 @@ std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& report, const
 // spectrum.txt and report.json into `outdir` (created if missing), and the
 // files `options` asks for; `input` is the image the report was made from
 // (the ground truth and the residual are encoded from it row by row).
-// Refuses, before writing anything, to replace `input_path` or to write into
-// a path that is not a directory. Throws a runtime fss::Error on failure,
-// after removing whatever it staged.
+// Refuses, before writing anything, to replace `input_path` or any of
+// `options.other_inputs` (such as the code file) or to write into a path that
+// is not a directory. Each file is first written under a new hidden name in
+// `outdir` and renamed into place only once all are complete. Throws a
+// runtime fss::Error on failure (a usage one for an empty `outdir`), after
+// removing whatever it staged: existing files are never touched then.
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
                    const Image& input, const std::string& input_path,
                    const OutputOptions& options = {});

@@ -11,7 +11,8 @@ int resolve_thread_count(int threads);
 
 // Calls body(begin, end) on contiguous blocks covering [0, count), on up to
 // `threads` threads (see resolve_thread_count). The first exception thrown by
-// a block is rethrown in the caller after all threads have finished.
+// a block is rethrown in the caller after all threads have finished. Blocks
+// whose thread cannot be started run on the calling thread.
 void parallel_for(int count, int threads, const std::function<void(int begin, int end)>& body);
 
 }  // namespace fss

@@ -3,10 +3,20 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <exception>
 #include <iostream>
+#include <limits>
+#include <new>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli_common.h"
@@ -22,11 +32,139 @@
 
 namespace {
 
-using fssim::at_least;
-using fssim::kExitRuntime;
-using fssim::kExitUsage;
-using fssim::kFinite;
-using fssim::kPositive;
+constexpr int kExitRuntime = 1;
+constexpr int kExitUsage = 2;
+
+// Range of --dt and --snr: far enough from the limits of double precision
+// that K, lambda2 = snr^2 / 100 and their products stay finite and nonzero.
+constexpr double kSmallestScale = 1e-100;
+constexpr double kLargestScale = 1e100;
+
+// The message on one line: control characters (a newline in a file name, an
+// escape sequence in a value) are written as \xNN.
+std::string one_line(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4];
+      out += kHex[byte & 0xf];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+void print_error(std::string_view message) {
+  std::cerr << "fssim: error: " << one_line(message) << std::endl;
+}
+
+// The validators are made inside run(), so that even their construction
+// cannot throw outside main's handlers.
+
+// CLI11 validator for finite numbers (CLI11 accepts "nan" and "inf").
+CLI::Validator finite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
+          return "value " + text + " is not a finite number";
+        }
+        return {};
+      },
+      "FINITE", "finite");
+}
+
+// A number > 0 within [kSmallestScale, kLargestScale].
+CLI::Validator positive_scale() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
+          return "value " + text + " must be > 0";
+        }
+        if (!(value >= kSmallestScale && value <= kLargestScale)) {
+          return "value " + text + " is out of range: it must lie in [1e-100, 1e100]";
+        }
+        return {};
+      },
+      "POSITIVE", "positive");
+}
+
+// Integer option in [minimum, maximum], with a short message (CLI11's own
+// range checks print the largest double in full).
+CLI::Validator integer_in(long long minimum, long long maximum) {
+  return CLI::Validator(
+      [minimum, maximum](std::string& text) -> std::string {
+        long long value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || value < minimum || value > maximum) {
+          return "value " + text + " must be an integer in [" + std::to_string(minimum) + ", " +
+                 std::to_string(maximum) + "]";
+        }
+        return {};
+      },
+      "[" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+}
+
+// --seed: decimal digits of an unsigned 64-bit integer. CLI11 itself wraps
+// "-1" and saturates values above 2^64 - 1 without a word.
+CLI::Validator seed_value() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t value = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+        if (text.empty() || ec != std::errc() || ptr != end) {
+          return "value " + text + " must be an integer in [0, " +
+                 std::to_string(std::numeric_limits<std::uint64_t>::max()) + "]";
+        }
+        return {};
+      },
+      "UINT64", "seed");
+}
+
+CLI::Validator not_empty() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return text.empty() ? std::string("the path must not be empty") : std::string();
+      },
+      "PATH", "not empty");
+}
+
+bool all_finite(const fss::Image& image) {
+  return std::all_of(image.data.begin(), image.data.end(),
+                     [](double value) { return std::isfinite(value); });
+}
+
+std::string number(double value) {
+  if (std::isnan(value)) return "nan";  // not "-nan"
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+// NaN or infinity in the results means that the arithmetic left the range of
+// doubles (gains like 1e-320 or 1e308): an error, not a silent NaN.
+void check_finite(const fss::SimulationReport& report) {
+  if (std::isfinite(report.metrics.rmse) && std::isfinite(report.metrics.rmse_ci) &&
+      std::isfinite(report.trials.rmse_mean) && all_finite(report.observed) &&
+      all_finite(report.restored)) {
+    return;
+  }
+  double smallest = 0.0;
+  for (const double g : report.gains) {
+    if (g != 0.0 && (smallest == 0.0 || std::abs(g) < smallest)) smallest = std::abs(g);
+  }
+  fss::throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
+                         number(report.metrics.rmse) + "): the gains of code '" + report.code_name +
+                         "' (|gain| from " + number(smallest) + " to " +
+                         number(fss::gain_max_abs(report.gains)) + "), --dt " +
+                         number(report.options.dt) + " or --snr " + number(report.options.snr) +
+                         " are too extreme");
+}
 
 // Half of the physical memory, the default --max-memory.
 std::size_t default_memory_limit() {
@@ -36,33 +174,33 @@ std::size_t default_memory_limit() {
   return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size) / 2;
 }
 
-// "800M", "1.5G", "2048K", "123456" (bytes); K, M, G, T are powers of 1024.
-const CLI::Validator kMemorySize(
-    [](std::string& text) -> std::string {
-      std::size_t used = 0;
-      double value = 0.0;
-      try {
-        value = std::stod(text, &used);
-      } catch (...) {
-        used = 0;
-      }
-      std::string suffix = text.substr(used);
-      double scale = 1.0;
-      if (suffix == "K" || suffix == "k") scale = 1024.0;
-      if (suffix == "M" || suffix == "m") scale = 1024.0 * 1024.0;
-      if (suffix == "G" || suffix == "g") scale = 1024.0 * 1024.0 * 1024.0;
-      if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
-      const bool suffix_ok = suffix.empty() || scale > 1.0;
-      if (used == 0 || !suffix_ok || !std::isfinite(value) || value <= 0.0 ||
-          value * scale >= 1e18) {
-        return "value " + text + " is not a memory size (e.g. 800M, 1.5G, 0 for no limit)";
-      }
-      text = std::to_string(static_cast<unsigned long long>(value * scale));
-      return {};
-    },
-    "SIZE");
-
-void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
+// --max-memory: "800M", "1.5G", "2048K", "123456" (bytes), "0" (no limit);
+// K, M, G, T are powers of 1024. Empty on success, with `bytes` set.
+std::string parse_memory_size(const std::string& text, std::size_t* bytes) {
+  if (text == "0") {
+    *bytes = 0;
+    return {};
+  }
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  const std::string suffix = used == 0 ? std::string() : text.substr(used);
+  double scale = 1.0;
+  if (suffix == "K" || suffix == "k") scale = 1024.0;
+  if (suffix == "M" || suffix == "m") scale = 1024.0 * 1024.0;
+  if (suffix == "G" || suffix == "g") scale = 1024.0 * 1024.0 * 1024.0;
+  if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  const bool suffix_ok = suffix.empty() || scale > 1.0;
+  if (used == 0 || !suffix_ok || !std::isfinite(value) || value <= 0.0 || value * scale >= 1e18) {
+    return "value " + text + " is not a memory size (e.g. 800M, 1.5G, 0 for no limit)";
+  }
+  *bytes = static_cast<std::size_t>(value * scale);
+  return {};
+}
 
 // Options of `fssim spectra`: |K| of several codes on one plot.
 struct SpectraCommand {
@@ -89,9 +227,9 @@ int run_spectra(const SpectraCommand& command) {
   return 0;
 }
 
-}  // namespace
+void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{
       "fssim: flutter shutter camera simulator (Tendero, IPOL 2012). Simulates the motion-blurred, "
       "photon-noisy observation of an image through a flutter shutter code, restores it by "
@@ -107,10 +245,11 @@ int main(int argc, char** argv) {
   std::string outdir = "out";
   fss::SimulationOptions options;
 
-  // Required unless a subcommand is given (checked after parsing).
+  // Required unless a subcommand runs instead (checked after parsing).
   app.add_option("-i,--input", input,
                  "input PNG image (8/16-bit gray, RGB, palette; alpha ignored); required "
-                 "without a subcommand");
+                 "without a subcommand")
+      ->check(not_empty());
   app.add_option("-c,--code", code_name,
                  "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
       ->capture_default_str();
@@ -120,21 +259,24 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("-v,--velocity", options.velocity_px_per_slot,
                  "velocity in pixels per time slot, signed (direction along rows)")
-      ->check(kFinite)
+      ->check(finite())
       ->capture_default_str();
   double restore_velocity = 0.0;
   CLI::Option* restore_velocity_option =
       app.add_option("--restore-velocity", restore_velocity,
                      "velocity assumed by the restoration (default: the true --velocity), to "
                      "measure the cost of a wrong velocity estimate")
-          ->check(kFinite);
-  app.add_option("--dt", options.dt, "time slot length, > 0")
-      ->check(kFinite & kPositive)
+          ->check(finite());
+  app.add_option("--dt", options.dt, "time slot length, > 0 (1e-100 to 1e100)")
+      ->check(finite() & positive_scale())
       ->capture_default_str();
-  app.add_option("--snr", options.snr, "SNR of a level-100 landscape seen through one slot, > 0")
-      ->check(kFinite & kPositive)
+  app.add_option("--snr", options.snr,
+                 "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)")
+      ->check(finite() & positive_scale())
       ->capture_default_str();
-  app.add_option("--seed", options.seed, "seed of the photon noise")->capture_default_str();
+  app.add_option("--seed", options.seed, "seed of the photon noise")
+      ->check(seed_value())
+      ->capture_default_str();
   app.add_option("--noise", noise_text,
                  "poisson, or none for a noise-free run of the same pipeline")
       ->check(CLI::IsMember({"poisson", "none"}))
@@ -142,20 +284,21 @@ int main(int argc, char** argv) {
   app.add_option(
          "--rmse-margin", options.rmse_margin_columns,
          "columns left out at each side of the output for the RMSE (default 3B, B the blur length)")
-      ->check(at_least(0));
+      ->check(integer_in(0, fss::kMaxImageSide));
   app.add_option("--trials", options.trials,
                  "independent noise realizations (seeds seed, seed+1, ...)")
-      ->check(at_least(1))
+      ->check(integer_in(1, std::numeric_limits<int>::max()))
       ->capture_default_str();
   app.add_option("--threads", options.threads,
                  "worker threads, 0 = all cores (results do not depend on it)")
-      ->check(at_least(0))
+      ->check(integer_in(0, std::numeric_limits<int>::max()))
       ->capture_default_str();
   std::string max_memory_text;
   app.add_option("--max-memory", max_memory_text,
                  "refuse runs needing more memory than SIZE (e.g. 800M, 2G; 0: no limit; default: "
                  "half of physical memory)");
   app.add_option("-o,--outdir", outdir, "output directory, created if missing")
+      ->check(not_empty())
       ->capture_default_str();
   fss::OutputOptions output_options;
   bool no_plots = false;
@@ -174,10 +317,10 @@ int main(int argc, char** argv) {
       ->required();
   spectra_app->add_option("-o,--output", spectra.output, "PNG file to write")->required();
   spectra_app->add_option("-v,--velocity", spectra.velocity, "velocity in pixels per time slot")
-      ->check(kFinite)
+      ->check(finite())
       ->capture_default_str();
   spectra_app->add_option("--dt", spectra.dt, "time slot length, > 0")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive_scale())
       ->capture_default_str();
   spectra_app->add_flag("--linear", spectra.linear, "linear |K| axis (default: logarithmic)");
   spectra_app->add_option("--width", spectra.plot.width, "plot width in pixels")
@@ -198,53 +341,56 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::string message = e.what();
-    std::cerr << "fssim: error: " << message << " (see " << fssim::help_hint(app) << ")\n";
+    print_error(std::string(e.what()) + " (see " + fssim::help_hint(app) + ")");
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    print_error(std::string(e.what()) + " (see fssim --help)");
     return kExitUsage;
   }
   if (!app.get_subcommands().empty()) {
     if (const std::string option = fssim::first_given_option(app); !option.empty()) {
-      std::cerr << "fssim: error: " << option << " is an option of the simulation, not of '"
-                << app.get_subcommands().front()->get_name()
-                << "'; put the subcommand's options after its name (see " << fssim::help_hint(app)
-                << ")\n";
+      print_error(option + " is an option of the simulation, not of '" +
+                  app.get_subcommands().front()->get_name() +
+                  "'; put the subcommand's options after its name (see " + fssim::help_hint(app) +
+                  ")");
       return kExitUsage;
     }
     if (spectra_app->parsed()) {
       try {
         return run_spectra(spectra);
       } catch (const fss::Error& e) {
-        std::cerr << "fssim: error: " << e.what() << "\n";
+        print_error(e.what());
         return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
       }
     }
     return code_commands.parsed() ? code_commands.Run() : sweep_command.Run();
   }
   if (app.count("--input") == 0) {
-    std::cerr << "fssim: error: --input is required (or a subcommand: code, sweep, spectra; see "
-                 "fssim --help)\n";
+    print_error("--input is required (or a subcommand: code, sweep, spectra; see fssim --help)");
     return kExitUsage;
   }
   options.max_memory_bytes = default_memory_limit();
   if (!max_memory_text.empty()) {
-    std::string text = max_memory_text;
-    if (text != "0") {
-      const std::string problem = kMemorySize(text);
-      if (!problem.empty()) {
-        std::cerr << "fssim: error: --max-memory: " << problem << " (see fssim --help)\n";
-        return kExitUsage;
-      }
+    const std::string problem = parse_memory_size(max_memory_text, &options.max_memory_bytes);
+    if (!problem.empty()) {
+      print_error("--max-memory: " + problem + " (see fssim --help)");
+      return kExitUsage;
     }
-    options.max_memory_bytes = static_cast<std::size_t>(std::stoull(text));
   }
   if (restore_velocity_option->count() > 0) options.restore_velocity_px_per_slot = restore_velocity;
   output_options.plots = !no_plots;
   options.mode = *fss::shutter_mode_from_string(mode_text);
   options.noise = *fss::noise_model_from_string(noise_text);
 
+  // What is being done, for a failure that does not say it (out of memory).
+  std::string activity = "reading code '" + code_name + "'";
   try {
     const fss::ShutterCode code = fss::load_code(code_name);
+    activity = "reading input '" + input + "'";
     const fss::Image image = fss::read_png(input, options.max_memory_bytes);
+    activity = "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
+               std::to_string(image.height) + ", " + std::to_string(image.channels) +
+               (image.channels == 1 ? " channel)" : " channels)");
     const bool show_progress = options.trials > 1 && ::isatty(STDERR_FILENO);
     if (show_progress) {
       options.trial_callback = [](int done, int total) {
@@ -254,7 +400,15 @@ int main(int argc, char** argv) {
       };
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
-    for (const auto& warning : report.warnings) std::cerr << "fssim: warning: " << warning << "\n";
+    check_finite(report);
+    for (const auto& warning : report.warnings) {
+      std::cerr << "fssim: warning: " << one_line(warning) << "\n";
+    }
+    activity = "writing the outputs to '" + outdir + "'";
+    const std::vector<std::string> builtins = fss::builtin_code_names();
+    if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {
+      output_options.other_inputs.push_back(code_name);  // an input too: never overwritten
+    }
     fss::write_outputs(outdir, report, image, input, output_options);
 
     print_metric("RMSE", report.metrics.rmse);
@@ -285,17 +439,41 @@ int main(int argc, char** argv) {
         3 * report.geometry.half_blur + report.geometry.output_width - 1, report.rmse_first,
         report.rmse_end);
     std::printf("Outputs: %s\n", outdir.c_str());
+    // The outputs are in place; a script reading the metrics must still learn
+    // that they were not printed (a full disk, a closed stdout).
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      print_error(std::string("cannot write the results to standard output: ") +
+                  std::strerror(errno));
+      return kExitRuntime;
+    }
     return 0;
   } catch (const fss::Error& e) {
-    std::cerr << "fssim: error: " << e.what()
-              << (e.kind() == fss::ErrorKind::kLimit ? " (raise it with --max-memory)" : "")
-              << "\n";
+    print_error(std::string(e.what()) +
+                (e.kind() == fss::ErrorKind::kLimit ? " (raise it with --max-memory)" : ""));
     return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
   } catch (const std::bad_alloc&) {
-    std::cerr << "fssim: error: out of memory\n";
+    print_error("out of memory while " + activity);
     return kExitRuntime;
   } catch (const std::exception& e) {
-    std::cerr << "fssim: error: " << e.what() << "\n";
+    print_error(std::string(e.what()) + " (while " + activity + ")");
     return kExitRuntime;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Beyond a file size limit (ulimit -f), a write must fail with EFBIG, which
+  // is reported and cleaned up, rather than kill the process mid-write.
+  std::signal(SIGXFSZ, SIG_IGN);
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    print_error("out of memory");
+  } catch (const std::exception& e) {
+    print_error(e.what());
+  } catch (...) {
+    print_error("unexpected failure");
+  }
+  return kExitRuntime;
 }

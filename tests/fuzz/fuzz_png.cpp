@@ -1,0 +1,54 @@
+// libFuzzer target: fss::decode_png on arbitrary bytes. An fss::Error is the
+// expected end for most inputs; any other exception escaping, a crash, a
+// sanitizer report, a leak, or a decoded image that breaks the conventions of
+// image.h is a bug. In this build (FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION)
+// the reader ignores CRCs, so that mutated headers get past them.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "fss/error.h"
+#include "fss/image.h"
+#include "fss/png_io.h"
+
+namespace {
+
+std::uint32_t be32(const std::uint8_t* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+         std::uint32_t{p[3]};
+}
+
+// A file may rightly hold an image of gigabytes of pixels (a deflate stream
+// expands up to 1032 times); how much memory to allow is not this target's
+// question. It skips inputs whose IHDR declares more than 2^24 pixels unless
+// the file is too small to hold them, so that their refusal is still fuzzed.
+bool legitimately_huge(const std::uint8_t* data, std::size_t size) {
+  if (size < 8 + 8 + 13) return false;
+  const std::uint8_t* ihdr = data + 16;  // after the signature, length and type
+  const std::uint64_t pixels = std::uint64_t{be32(ihdr)} * be32(ihdr + 4);
+  const int depth = ihdr[8];
+  const int color_type = ihdr[9];
+  const int samples = color_type == 2 ? 3 : color_type == 4 ? 2 : color_type == 6 ? 4 : 1;
+  const std::uint64_t stored_bytes = pixels * static_cast<std::uint64_t>(depth * samples) / 8;
+  return pixels > (std::uint64_t{1} << 24) && stored_bytes <= 1032 * (std::uint64_t{size} + 1);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (legitimately_huge(data, size)) return 0;
+  try {
+    const fss::Image image = fss::decode_png(data, size, "fuzz.png");
+    const bool valid_size =
+        image.width >= 1 && image.height >= 1 && image.width <= fss::kMaxImageSide &&
+        image.height <= fss::kMaxImageSide && (image.channels == 1 || image.channels == 3) &&
+        image.data.size() == image.plane_size() * image.channels;
+    if (!valid_size) __builtin_trap();
+    for (const double value : image.data) {
+      if (!(value >= 0.0 && value <= 255.0)) __builtin_trap();
+    }
+  } catch (const fss::Error&) {
+    // A damaged or hostile file, refused with a message: the expected end.
+  }
+  return 0;
+}

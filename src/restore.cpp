@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "fss/error.h"
@@ -11,14 +12,22 @@
 
 namespace fss {
 
+namespace {
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+}  // namespace
+
 Geometry Geometry::compute(int width, int code_length, double velocity, double dt) {
   if (code_length < 1) throw_usage_error("the code must have at least one gain");
   // B = max(L, ceil(|v| dt L))
   const double motion = std::ceil(std::abs(velocity) * dt * code_length);
   if (!(motion < static_cast<double>(width))) {
-    throw_usage_error("the blur of velocity " + std::to_string(velocity) + " over " +
-                      std::to_string(code_length) + " slots of dt " + std::to_string(dt) +
-                      " spans " + std::to_string(motion) + " pixels, more than the image width " +
+    throw_usage_error("the blur of velocity " + number(velocity) + " over " +
+                      std::to_string(code_length) + " slots of dt " + number(dt) + " spans " +
+                      number(motion) + " pixels, more than the image width " +
                       std::to_string(width));
   }
   Geometry g;
@@ -29,9 +38,12 @@ Geometry Geometry::compute(int width, int code_length, double velocity, double d
   g.mirror_width = 2 * g.observed_width;
   g.output_width = width - 3 * g.blur_length;
   if (g.output_width < 1) {
-    throw_usage_error("image width " + std::to_string(width) +
-                      " is too narrow for blur length B = " + std::to_string(g.blur_length) +
-                      ": the outputs need a width above 3B = " + std::to_string(3 * g.blur_length));
+    throw_usage_error(
+        "image width " + std::to_string(width) +
+        " is too narrow for blur length B = " + std::to_string(g.blur_length) +
+        ": any output needs a width of at least 3B + 1 = " + std::to_string(3 * g.blur_length + 1) +
+        ", the measurement windows at least 5B + 1 = " + std::to_string(5 * g.blur_length + 1) +
+        " (9B + 1 = " + std::to_string(9 * g.blur_length + 1) + " with the default RMSE margin)");
   }
   return g;
 }

@@ -50,6 +50,18 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (!(std::isfinite(snr) && snr > 0.0)) {
     return fail("snr = " + number(snr) + ": must be finite and > 0");
   }
+  // Far enough from the limits of double precision that K, lambda2 = snr^2 / 100
+  // and their products stay finite and nonzero.
+  if (!(dt >= kMinScale && dt <= kMaxScale)) {
+    return fail("dt = " + number(dt) + ": must lie in [1e-100, 1e100]");
+  }
+  if (!(snr >= kMinScale && snr <= kMaxScale)) {
+    return fail("snr = " + number(snr) + ": must lie in [1e-100, 1e100]");
+  }
+  if (rmse_margin_columns > kMaxMarginColumns) {
+    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
+                ": must be at most " + std::to_string(kMaxMarginColumns));
+  }
   if (rmse_margin_columns < -1) {
     return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
                 ": must be >= 0 (or -1 for the default 3B)");
@@ -96,7 +108,7 @@ Windows metric_windows(const SimulationOptions& options, const Geometry& g) {
         std::to_string(5 * b + 1) + " (5B + 1), which no --rmse-margin can change");
   }
   if (w.rmse_first >= w.rmse_end) {
-    const int needed = 3 * b + 2 * margin + 1;
+    const long long needed = 3LL * b + 2LL * margin + 1;
     throw_usage_error("image width " + std::to_string(g.width) +
                       " is too narrow for the RMSE window: blur length B = " + std::to_string(b) +
                       " and margin " + std::to_string(margin) + " need a width of at least " +
@@ -283,6 +295,26 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     const int n = options.trials;
     report.trials = {n, sum / n, sample_sd(sum, sum_sq, n), sum_ci / n,
                      sample_sd(sum_ci, sum_ci_sq, n)};
+  }
+
+  // Extreme gains (1e-320, 1e308) can leave the range of doubles: an error,
+  // never a silent NaN.
+  const auto all_finite = [](const Image& image) {
+    return std::all_of(image.data.begin(), image.data.end(),
+                       [](double value) { return std::isfinite(value); });
+  };
+  if (!(std::isfinite(report.metrics.rmse) && std::isfinite(report.metrics.rmse_ci) &&
+        std::isfinite(report.trials.rmse_mean) && all_finite(report.observed) &&
+        all_finite(report.restored))) {
+    double smallest = 0.0;
+    for (const double gain : gains) {
+      if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
+    }
+    throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
+                      number(report.metrics.rmse) + "): the gains of code '" + code.name +
+                      "' (|gain| from " + number(smallest) + " to " + number(gain_max_abs(gains)) +
+                      "), dt " + number(dt) + " or snr " + number(options.snr) +
+                      " are too extreme");
   }
 
   // Prediction (SPEC 6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.

@@ -510,3 +510,60 @@ TEST(RestoreVelocity, NonFiniteIsRejectedByIsValid) {
 
 }  // namespace
 }  // namespace fss
+
+namespace fss {
+namespace {
+
+TEST(IsValid, BoundsDtSnrAndTheMargin) {
+  auto message = [](const SimulationOptions& options) {
+    std::string error;
+    EXPECT_FALSE(options.IsValid(&error));
+    return error;
+  };
+  SimulationOptions options;
+  options.dt = 1e-200;
+  EXPECT_NE(message(options).find("dt = 1e-200"), std::string::npos);
+  options = SimulationOptions();
+  options.snr = 1e200;
+  EXPECT_NE(message(options).find("snr = 1e+200"), std::string::npos);
+  options = SimulationOptions();
+  options.rmse_margin_columns = std::numeric_limits<int>::max();
+  EXPECT_NE(message(options).find("rmse_margin_columns"), std::string::npos);
+  options = SimulationOptions();
+  options.rmse_margin_columns = kMaxMarginColumns;
+  EXPECT_TRUE(options.IsValid(nullptr));
+}
+
+TEST(Simulate, ResultsOutsideDoublePrecisionAreAnErrorNotANaN) {
+  // Gains this small make K underflow: the restoration divides by 0.
+  const ShutterCode tiny{"tiny", std::vector<double>(52, 1e-320)};
+  try {
+    Simulate(SimulationOptions(), test::make_test_image(480, 4, 1), tiny);
+    FAIL() << "a NaN result was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kUsage);
+    EXPECT_NE(std::string(e.what()).find("range of double-precision"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Geometry, MessagesAreShortAndGiveTheWidthsNeeded) {
+  try {
+    Geometry::compute(512, 200, 1.0, 1.0);
+    FAIL();
+  } catch (const Error& e) {
+    const std::string text = e.what();
+    EXPECT_NE(text.find("3B + 1 = 601"), std::string::npos) << text;
+    EXPECT_NE(text.find("9B + 1 = 1801"), std::string::npos) << text;
+  }
+  try {
+    Geometry::compute(512, 52, 1e300, 1.0);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_LT(std::string(e.what()).size(), 200u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1e+300"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace fss

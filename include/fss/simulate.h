@@ -21,6 +21,11 @@ enum class NoiseModel { kPoisson, kNone };
 std::string to_string(NoiseModel noise);
 std::optional<NoiseModel> noise_model_from_string(std::string_view text);
 
+// Bounds of SimulationOptions::dt and ::snr, and of the RMSE margin.
+inline constexpr double kMinScale = 1e-100;
+inline constexpr double kMaxScale = 1e100;
+inline constexpr int kMaxMarginColumns = 1 << 16;
+
 struct SimulationOptions {
   ShutterMode mode = ShutterMode::kNumerical;
   double velocity_px_per_slot = 1.0;  // any real; the sign is the direction along rows
@@ -29,8 +34,8 @@ struct SimulationOptions {
   // covers both velocities, so a restore velocity equal to the true one is
   // exactly a normal run.
   std::optional<double> restore_velocity_px_per_slot;
-  double dt = 1.0;     // time slot length, > 0
-  double snr = 100.0;  // > 0
+  double dt = 1.0;     // time slot length, in [kMinScale, kMaxScale]
+  double snr = 100.0;  // in [kMinScale, kMaxScale]
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
   // Columns left out at each side of the output for the RMSE; -1 means 3 B.

@@ -134,38 +134,6 @@ CLI::Validator not_empty() {
       "PATH", "not empty");
 }
 
-bool all_finite(const fss::Image& image) {
-  return std::all_of(image.data.begin(), image.data.end(),
-                     [](double value) { return std::isfinite(value); });
-}
-
-std::string number(double value) {
-  if (std::isnan(value)) return "nan";  // not "-nan"
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
-// NaN or infinity in the results means that the arithmetic left the range of
-// doubles (gains like 1e-320 or 1e308): an error, not a silent NaN.
-void check_finite(const fss::SimulationReport& report) {
-  if (std::isfinite(report.metrics.rmse) && std::isfinite(report.metrics.rmse_ci) &&
-      std::isfinite(report.trials.rmse_mean) && all_finite(report.observed) &&
-      all_finite(report.restored)) {
-    return;
-  }
-  double smallest = 0.0;
-  for (const double g : report.gains) {
-    if (g != 0.0 && (smallest == 0.0 || std::abs(g) < smallest)) smallest = std::abs(g);
-  }
-  fss::throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
-                         number(report.metrics.rmse) + "): the gains of code '" + report.code_name +
-                         "' (|gain| from " + number(smallest) + " to " +
-                         number(fss::gain_max_abs(report.gains)) + "), --dt " +
-                         number(report.options.dt) + " or --snr " + number(report.options.snr) +
-                         " are too extreme");
-}
-
 // Half of the physical memory, the default --max-memory.
 std::size_t default_memory_limit() {
   const long pages = ::sysconf(_SC_PHYS_PAGES);
@@ -400,7 +368,6 @@ int run(int argc, char** argv) {
       };
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
-    check_finite(report);
     for (const auto& warning : report.warnings) {
       std::cerr << "fssim: warning: " << one_line(warning) << "\n";
     }

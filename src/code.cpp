@@ -39,15 +39,7 @@ std::string printable_token(std::string_view token) {
   std::string out;
   std::size_t used = 0;
   for (; used < token.size() && out.size() < kShown; ++used) {
-    const auto byte = static_cast<unsigned char>(token[used]);
-    if (byte < 0x20 || byte == 0x7f) {
-      constexpr char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[byte >> 4];
-      out += kHex[byte & 0xf];
-    } else {
-      out += token[used];
-    }
+    out += escape_control_characters(token.substr(used, 1));
   }
   if (used < token.size()) out += "...";
   return out;

@@ -12,22 +12,14 @@
 
 namespace fss {
 
-namespace {
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-}  // namespace
-
 Geometry Geometry::compute(int width, int code_length, double velocity, double dt) {
   if (code_length < 1) throw_usage_error("the code must have at least one gain");
   // B = max(L, ceil(|v| dt L))
   const double motion = std::ceil(std::abs(velocity) * dt * code_length);
   if (!(motion < static_cast<double>(width))) {
-    throw_usage_error("the blur of velocity " + number(velocity) + " over " +
-                      std::to_string(code_length) + " slots of dt " + number(dt) + " spans " +
-                      number(motion) + " pixels, more than the image width " +
+    throw_usage_error("the blur of velocity " + format_number(velocity) + " over " +
+                      std::to_string(code_length) + " slots of dt " + format_number(dt) +
+                      " spans " + format_number(motion) + " pixels, more than the image width " +
                       std::to_string(width));
   }
   Geometry g;

@@ -23,40 +23,32 @@ std::optional<NoiseModel> noise_model_from_string(std::string_view text) {
   return std::nullopt;
 }
 
-namespace {
-std::string number(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%g", value);
-  return buffer;
-}
-}  // namespace
-
 bool SimulationOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;
     return false;
   };
   if (!std::isfinite(velocity_px_per_slot)) {
-    return fail("velocity_px_per_slot = " + number(velocity_px_per_slot) +
+    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
                 ": must be a finite number");
   }
   if (restore_velocity_px_per_slot && !std::isfinite(*restore_velocity_px_per_slot)) {
-    return fail("restore_velocity_px_per_slot = " + number(*restore_velocity_px_per_slot) +
+    return fail("restore_velocity_px_per_slot = " + format_number(*restore_velocity_px_per_slot) +
                 ": must be a finite number");
   }
   if (!(std::isfinite(dt) && dt > 0.0)) {
-    return fail("dt = " + number(dt) + ": must be finite and > 0");
+    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
   }
   if (!(std::isfinite(snr) && snr > 0.0)) {
-    return fail("snr = " + number(snr) + ": must be finite and > 0");
+    return fail("snr = " + format_number(snr) + ": must be finite and > 0");
   }
   // Far enough from the limits of double precision that K, lambda2 = snr^2 / 100
   // and their products stay finite and nonzero.
   if (!(dt >= kMinScale && dt <= kMaxScale)) {
-    return fail("dt = " + number(dt) + ": must lie in [1e-100, 1e100]");
+    return fail("dt = " + format_number(dt) + ": must lie in [1e-100, 1e100]");
   }
   if (!(snr >= kMinScale && snr <= kMaxScale)) {
-    return fail("snr = " + number(snr) + ": must lie in [1e-100, 1e100]");
+    return fail("snr = " + format_number(snr) + ": must lie in [1e-100, 1e100]");
   }
   if (rmse_margin_columns > kMaxMarginColumns) {
     return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
@@ -84,7 +76,7 @@ void check_code(const SimulationOptions& options, const ShutterCode& code) {
       const double g = code.gains[k];
       if (!(g >= 0.0 && g <= 1.0)) {
         throw_usage_error("code '" + code.name + "' cannot be used in analog mode: gain " +
-                          std::to_string(k) + " is " + number(g) +
+                          std::to_string(k) + " is " + format_number(g) +
                           ", analog gains must lie in [0, 1] (use --mode numerical)");
       }
     }
@@ -183,8 +175,9 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   report.kernel = analyze_kernel(gains, v_r, dt);
   if (!report.kernel.invertible) {
     report.warnings.push_back("code '" + code.name + "' is not invertible at velocity " +
-                              number(v_r) + ": min |K| = " + number(report.kernel.min_abs) +
-                              " at xi = " + number(report.kernel.min_abs_xi) +
+                              format_number(v_r) +
+                              ": min |K| = " + format_number(report.kernel.min_abs) +
+                              " at xi = " + format_number(report.kernel.min_abs_xi) +
                               "; the restoration amplifies noise without bound and no finite "
                               "error prediction exists");
   }
@@ -193,7 +186,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     report.observed_divisor = dt * gain_max_abs(gains);
     report.warnings.push_back(
         "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max |gain| = " +
-        number(report.observed_divisor) + " instead");
+        format_number(report.observed_divisor) + " instead");
   }
 
   // Row-streamed pipeline: each row goes input -> DFT -> observation ->
@@ -311,10 +304,10 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
       if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
     }
     throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
-                      number(report.metrics.rmse) + "): the gains of code '" + code.name +
-                      "' (|gain| from " + number(smallest) + " to " + number(gain_max_abs(gains)) +
-                      "), dt " + number(dt) + " or snr " + number(options.snr) +
-                      " are too extreme");
+                      format_number(report.metrics.rmse) + "): the gains of code '" + code.name +
+                      "' (|gain| from " + format_number(smallest) + " to " +
+                      format_number(gain_max_abs(gains)) + "), dt " + format_number(dt) +
+                      " or snr " + format_number(options.snr) + " are too extreme");
   }
 
   // Prediction (SPEC 6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.
@@ -367,34 +360,37 @@ std::string SimulationReport::FullReport() const {
   out << "  input            " << width << " x " << height << ", " << channels
       << (channels == 1 ? " channel\n" : " channels\n");
   out << "  code             " << code_name << " (L = " << gains.size()
-      << ", sum = " << number(gain_sum(gains))
-      << ", normalized L1 = " << number(normalized_l1(gains)) << ")\n";
+      << ", sum = " << format_number(gain_sum(gains))
+      << ", normalized L1 = " << format_number(normalized_l1(gains)) << ")\n";
   out << "  mode             " << to_string(options.mode) << ", velocity "
-      << number(options.velocity_px_per_slot)
+      << format_number(options.velocity_px_per_slot)
       << (options.restore_velocity_px_per_slot
-              ? " (restored as " + number(*options.restore_velocity_px_per_slot) + ")"
+              ? " (restored as " + format_number(*options.restore_velocity_px_per_slot) + ")"
               : std::string())
-      << ", dt " << number(options.dt) << ", snr " << number(options.snr) << ", noise "
-      << to_string(options.noise) << ", seed " << options.seed << "\n";
+      << ", dt " << format_number(options.dt) << ", snr " << format_number(options.snr)
+      << ", noise " << to_string(options.noise) << ", seed " << options.seed << "\n";
   out << "  geometry         B = " << geometry.blur_length << ", observed crop "
       << geometry.observed_width << ", deconvolution grid " << geometry.mirror_width << ", output "
       << geometry.output_width << "\n";
   out << "  windows          RMSE columns [" << rmse_first << ", " << rmse_end
       << "), RMSE_CI columns [" << rmse_ci_first << ", " << rmse_ci_end << ")\n";
-  out << "  kernel           K(0) = " << number(kernel.k0)
-      << ", min |K| = " << number(kernel.min_abs) << " at xi = " << number(kernel.min_abs_xi)
+  out << "  kernel           K(0) = " << format_number(kernel.k0)
+      << ", min |K| = " << format_number(kernel.min_abs)
+      << " at xi = " << format_number(kernel.min_abs_xi)
       << (kernel.invertible ? ", invertible\n" : ", NOT invertible\n");
-  out << "  measured         RMSE " << number(metrics.rmse) << " (PSNR " << number(metrics.psnr)
-      << "), RMSE_CI " << number(metrics.rmse_ci) << " (PSNR " << number(metrics.psnr_ci) << ")\n";
+  out << "  measured         RMSE " << format_number(metrics.rmse) << " (PSNR "
+      << format_number(metrics.psnr) << "), RMSE_CI " << format_number(metrics.rmse_ci) << " (PSNR "
+      << format_number(metrics.psnr_ci) << ")\n";
   if (trials.n > 1) {
-    out << "  trials           n = " << trials.n << ", RMSE " << number(trials.rmse_mean) << " +/- "
-        << number(trials.rmse_sd) << ", RMSE_CI " << number(trials.rmse_ci_mean) << " +/- "
-        << number(trials.rmse_ci_sd) << "\n";
+    out << "  trials           n = " << trials.n << ", RMSE " << format_number(trials.rmse_mean)
+        << " +/- " << format_number(trials.rmse_sd) << ", RMSE_CI "
+        << format_number(trials.rmse_ci_mean) << " +/- " << format_number(trials.rmse_ci_sd)
+        << "\n";
   }
   if (prediction.finite) {
-    out << "  predicted        RMSE " << number(prediction.rmse) << " = sqrt("
-        << number(prediction.rmse_noise_free) << "^2 + " << number(prediction.sigma)
-        << "^2), SNR at level 100 " << number(prediction.snr_level100) << "\n";
+    out << "  predicted        RMSE " << format_number(prediction.rmse) << " = sqrt("
+        << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.sigma)
+        << "^2), SNR at level 100 " << format_number(prediction.snr_level100) << "\n";
   } else {
     out << "  predicted        none: the code is not invertible (infinite noise)\n";
   }

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace fss {
 
@@ -29,5 +30,12 @@ class Error : public std::runtime_error {
 
 // "1.5 GiB", "800.0 MiB", "12.0 KiB" (binary units, as --max-memory reads them).
 std::string format_bytes(double bytes);
+
+// A number as printf("%g") writes it ("nan", never "-nan"), for messages.
+std::string format_number(double value);
+
+// `text` with control characters (a newline in a file name, a terminal
+// escape) written as \xNN, so that a message stays on one readable line.
+std::string escape_control_characters(std::string_view text);
 
 }  // namespace fss

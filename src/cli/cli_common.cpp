@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -12,6 +13,30 @@
 #include "fss/error.h"
 
 namespace fssim {
+
+CLI::Validator finite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
+          return "value " + text + " is not a finite number";
+        }
+        return {};
+      },
+      "FINITE", "finite");
+}
+
+CLI::Validator positive() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
+          return "value " + text + " must be > 0";
+        }
+        return {};
+      },
+      "POSITIVE", "positive");
+}
 
 CLI::Validator at_least(long long minimum) {
   return CLI::Validator(
@@ -54,7 +79,7 @@ int run_reporting_errors(const std::function<int()>& body) {
   try {
     return body();
   } catch (const fss::Error& e) {
-    std::cerr << "fssim: error: " << e.what() << "\n";
+    std::cerr << "fssim: error: " << fss::escape_control_characters(e.what()) << "\n";
     return e.kind() == fss::ErrorKind::kUsage ? kExitUsage : kExitRuntime;
   } catch (const std::bad_alloc&) {
     std::cerr << "fssim: error: out of memory\n";
@@ -63,39 +88,6 @@ int run_reporting_errors(const std::function<int()>& body) {
     std::cerr << "fssim: error: " << e.what() << "\n";
     return kExitRuntime;
   }
-}
-
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    fss::throw_runtime_error("cannot write '" + path.string() + "': it is a directory");
-  }
-  std::filesystem::path temporary = path;
-  temporary += ".fssim-tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file) {
-      fss::throw_runtime_error("cannot write '" + path.string() + "': " + std::strerror(errno));
-    }
-    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    file.close();
-    if (!file) {
-      std::filesystem::remove(temporary, ec);
-      fss::throw_runtime_error("cannot write '" + path.string() + "'");
-    }
-  }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    fss::throw_runtime_error("cannot write '" + path.string() + "': " + ec.message());
-  }
-}
-
-std::string format_number(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%g", value);
-  return buffer;
 }
 
 }  // namespace fssim

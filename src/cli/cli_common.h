@@ -8,31 +8,19 @@
 #include <functional>
 #include <string>
 
+#include "fss/error.h"
+#include "fss/outputs.h"
+
 namespace fssim {
 
 inline constexpr int kExitRuntime = 1;
 inline constexpr int kExitUsage = 2;
 
-// CLI11 validator for finite numbers (CLI11 accepts "nan" and "inf").
-inline const CLI::Validator kFinite(
-    [](std::string& text) -> std::string {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-        return "value " + text + " is not a finite number";
-      }
-      return {};
-    },
-    "FINITE", "finite");
-
-inline const CLI::Validator kPositive(
-    [](std::string& text) -> std::string {
-      double value = 0.0;
-      if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
-        return "value " + text + " must be > 0";
-      }
-      return {};
-    },
-    "POSITIVE", "positive");
+// CLI11 validators, made on demand so that nothing can throw during static
+// initialization: finite numbers (CLI11 itself accepts "nan" and "inf"), and
+// numbers > 0.
+CLI::Validator finite();
+CLI::Validator positive();
 
 // Integer option of at least `minimum`, with a short message (CLI11's own
 // range checks print the largest double in full).
@@ -51,12 +39,7 @@ std::string first_given_option(const CLI::App& app);
 // stderr and the exit status: 2 for a usage fss::Error, 1 otherwise.
 int run_reporting_errors(const std::function<int()>& body);
 
-// Writes `bytes` to `path` through a temporary file in the same directory
-// renamed into place, so that `path` is either untouched or complete. Throws a
-// runtime fss::Error naming the file on failure.
-void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
-
-// A number as printf("%g") writes it.
-std::string format_number(double value);
+using fss::format_number;          // fss/error.h
+using fss::write_file_atomically;  // fss/outputs.h
 
 }  // namespace fssim

@@ -118,10 +118,10 @@ CodeCommands::CodeCommands(CLI::App& app) {
   generate_
       ->add_option("-v,--velocity", generate_options_.velocity_px_per_slot,
                    "sinc, mip: velocity the code is designed for (pixels per slot)")
-      ->check(kFinite)
+      ->check(finite())
       ->capture_default_str();
   generate_->add_option("--dt", generate_options_.dt, "sinc, mip: time slot length, > 0")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive())
       ->capture_default_str();
   generate_->add_option("--seed", generate_options_.seed, "random: seed of the gains")
       ->capture_default_str();
@@ -141,13 +141,13 @@ CodeCommands::CodeCommands(CLI::App& app) {
                    "code file")
       ->required();
   analyze_->add_option("-v,--velocity", analyze_velocity_, "velocity in pixels per time slot")
-      ->check(kFinite)
+      ->check(finite())
       ->capture_default_str();
   analyze_->add_option("--dt", analyze_dt_, "time slot length, > 0")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive())
       ->capture_default_str();
   analyze_->add_option("--snr", analyze_snr_, "SNR of a level-100 landscape seen through one slot")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive())
       ->capture_default_str();
   analyze_->add_option("-m,--mode", analyze_mode_, "numerical or analog (Q and admissible gains)")
       ->check(CLI::IsMember({"numerical", "analog"}))
@@ -169,12 +169,12 @@ CodeCommands::CodeCommands(CLI::App& app) {
       ->check(at_least(1));
   optimize_->add_option("-v,--velocity", o.velocity_px_per_slot, "velocity in pixels per slot")
       ->required()
-      ->check(kFinite);
+      ->check(finite());
   optimize_->add_option("--dt", o.dt, "time slot length, > 0")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive())
       ->capture_default_str();
   optimize_->add_option("--snr", o.snr, "snr of the reported SNR at level 100 (scales it only)")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive())
       ->capture_default_str();
   optimize_
       ->add_option("-m,--mode", optimize_mode_,
@@ -185,7 +185,7 @@ CodeCommands::CodeCommands(CLI::App& app) {
   optimize_
       ->add_option("--min-light", o.min_light_slots,
                    "light budget for analog or binary codes: sum of gains >= this (slots)")
-      ->check(kFinite)
+      ->check(finite())
       ->capture_default_str();
   optimize_->add_option("--restarts", o.restarts, "random starting codes (seeded by --seed)")
       ->check(at_least(0))

@@ -40,43 +40,12 @@ constexpr int kExitUsage = 2;
 constexpr double kSmallestScale = 1e-100;
 constexpr double kLargestScale = 1e100;
 
-// The message on one line: control characters (a newline in a file name, an
-// escape sequence in a value) are written as \xNN.
-std::string one_line(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20 || byte == 0x7f) {
-      constexpr char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[byte >> 4];
-      out += kHex[byte & 0xf];
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 void print_error(std::string_view message) {
-  std::cerr << "fssim: error: " << one_line(message) << std::endl;
+  std::cerr << "fssim: error: " << fss::escape_control_characters(message) << std::endl;
 }
 
 // The validators are made inside run(), so that even their construction
 // cannot throw outside main's handlers.
-
-// CLI11 validator for finite numbers (CLI11 accepts "nan" and "inf").
-CLI::Validator finite() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-          return "value " + text + " is not a finite number";
-        }
-        return {};
-      },
-      "FINITE", "finite");
-}
 
 // A number > 0 within [kSmallestScale, kLargestScale].
 CLI::Validator positive_scale() {
@@ -227,20 +196,20 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("-v,--velocity", options.velocity_px_per_slot,
                  "velocity in pixels per time slot, signed (direction along rows)")
-      ->check(finite())
+      ->check(fssim::finite())
       ->capture_default_str();
   double restore_velocity = 0.0;
   CLI::Option* restore_velocity_option =
       app.add_option("--restore-velocity", restore_velocity,
                      "velocity assumed by the restoration (default: the true --velocity), to "
                      "measure the cost of a wrong velocity estimate")
-          ->check(finite());
+          ->check(fssim::finite());
   app.add_option("--dt", options.dt, "time slot length, > 0 (1e-100 to 1e100)")
-      ->check(finite() & positive_scale())
+      ->check(fssim::finite() & positive_scale())
       ->capture_default_str();
   app.add_option("--snr", options.snr,
                  "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)")
-      ->check(finite() & positive_scale())
+      ->check(fssim::finite() & positive_scale())
       ->capture_default_str();
   app.add_option("--seed", options.seed, "seed of the photon noise")
       ->check(seed_value())
@@ -285,10 +254,10 @@ int run(int argc, char** argv) {
       ->required();
   spectra_app->add_option("-o,--output", spectra.output, "PNG file to write")->required();
   spectra_app->add_option("-v,--velocity", spectra.velocity, "velocity in pixels per time slot")
-      ->check(finite())
+      ->check(fssim::finite())
       ->capture_default_str();
   spectra_app->add_option("--dt", spectra.dt, "time slot length, > 0")
-      ->check(finite() & positive_scale())
+      ->check(fssim::finite() & positive_scale())
       ->capture_default_str();
   spectra_app->add_flag("--linear", spectra.linear, "linear |K| axis (default: logarithmic)");
   spectra_app->add_option("--width", spectra.plot.width, "plot width in pixels")
@@ -369,7 +338,7 @@ int run(int argc, char** argv) {
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
     for (const auto& warning : report.warnings) {
-      std::cerr << "fssim: warning: " << one_line(warning) << "\n";
+      std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
     }
     activity = "writing the outputs to '" + outdir + "'";
     const std::vector<std::string> builtins = fss::builtin_code_names();

@@ -80,7 +80,7 @@ SweepCommand::SweepCommand(CLI::App& app) {
   sweep_->add_option("--snr", snr_, "snr S, or a range start:stop:step; values > 0")
       ->capture_default_str();
   sweep_->add_option("--dt", options_.dt, "time slot length, > 0")
-      ->check(kFinite & kPositive)
+      ->check(finite() & positive())
       ->capture_default_str();
   sweep_->add_option("--trials", options_.trials, "noise realizations per setting")
       ->check(at_least(1))

@@ -30,16 +30,11 @@ using ::testing::StartsWith;
 
 const char kFixture[] = "camera_numerical_raskar_v1_noisefree";
 
-std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
+using test::quote;
 
 std::string camera() { return quote(test::source_path("data/camera.png")); }
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
+using test::lines_of;
 
 std::vector<std::string> sorted_output_names() {
   std::vector<std::string> names = output_file_names();

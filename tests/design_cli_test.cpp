@@ -28,16 +28,11 @@ using test::run_fssim;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
+using test::quote;
 
 std::string camera() { return quote(test::source_path("data/camera.png")); }
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
+using test::lines_of;
 
 std::vector<std::string> split(const std::string& line, char separator) {
   std::vector<std::string> fields;

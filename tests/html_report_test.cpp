@@ -230,7 +230,7 @@ double standard_deviation(const Image& image) {
   return std::sqrt(std::max(0.0, square_sum / n - (sum / n) * (sum / n)));
 }
 
-std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
+using test::quote;
 
 TEST(HtmlReportInBrowser, EveryFigureLoadsInsideItsFrame) {
   const fs::path chromium = "/usr/bin/chromium";

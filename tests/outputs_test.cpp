@@ -83,15 +83,7 @@ std::vector<std::pair<std::string, std::string>> expected_files(const Simulation
   };
 }
 
-template <typename F>
-std::optional<Error> error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return std::nullopt;
-}
+using test::error_of;
 
 // ---------------------------------------------------------------------------
 // spectrum.txt

@@ -89,15 +89,7 @@ void expect_drawn_plot(const std::vector<std::uint8_t>& png, int width, int heig
   EXPECT_EQ(pixel(image, width - 1, height - 1), kWhite);
 }
 
-template <typename F>
-std::optional<Error> error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return std::nullopt;
-}
+using test::error_of;
 
 // ---------------------------------------------------------------------------
 // Code plot

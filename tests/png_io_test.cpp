@@ -126,15 +126,7 @@ Image decode(const Bytes& bytes, const std::string& name = "test.png") {
 std::string as_string(const Bytes& bytes) { return {bytes.begin(), bytes.end()}; }
 
 // The fss::Error thrown by `f`, if any (other exceptions propagate).
-template <typename F>
-std::optional<Error> error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return std::nullopt;
-}
+using test::error_of;
 
 // ---------------------------------------------------------------------------
 // Chunk surgery for damaged files.

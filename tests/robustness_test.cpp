@@ -59,12 +59,7 @@ std::string quote(const std::string& text) {
 }
 std::string quote(const fs::path& path) { return quote(path.string()); }
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
+using test::lines_of;
 
 // Every entry under `dir`, recursively: relative path -> "dir" or the bytes
 // of the file. Two equal snapshots mean nothing was added, removed or changed.

@@ -26,15 +26,7 @@ using ::testing::HasSubstr;
 
 ShutterCode code(const char* name) { return builtin_code(name).value(); }
 
-template <typename F>
-std::optional<Error> error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  return std::nullopt;
-}
+using test::error_of;
 
 SimulationOptions noise_free() {
   SimulationOptions options;

@@ -85,6 +85,15 @@ Image make_test_image(int width, int height, int channels, std::uint64_t seed) {
   return image;
 }
 
+std::string quote(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
 std::filesystem::path source_path(const std::string& relative) {
   return std::filesystem::path(FSS_SOURCE_DIR) / relative;
 }

@@ -4,9 +4,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "fss/error.h"
 #include "fss/image.h"
 
 namespace fss::test {
@@ -46,6 +48,23 @@ CommandResult run_fssim(const std::string& arguments);
 // Deterministic test image with edges, smooth ramps and texture; values in
 // [0, 255].
 Image make_test_image(int width, int height, int channels, std::uint64_t seed = 1);
+
+// The fss::Error thrown by f(), if any.
+template <typename F>
+std::optional<Error> error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  return std::nullopt;
+}
+
+// A path in single quotes, for a command line run by run_command.
+std::string quote(const std::filesystem::path& path);
+
+// The lines of `text`, without their line ends.
+std::vector<std::string> lines_of(const std::string& text);
 
 // Repository paths.
 std::filesystem::path source_path(const std::string& relative);

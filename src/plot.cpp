@@ -547,6 +547,88 @@ std::vector<std::uint8_t> plot_spectra_overlay_png(const std::vector<ShutterCode
   });
 }
 
+std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
+                                          const std::vector<CurveSeries>& series,
+                                          const std::string& x_label, const std::string& y_label,
+                                          const PlotOptions& options) {
+  if (x.empty()) throw_usage_error("a curve plot needs at least one x value");
+  if (series.empty() || static_cast<int>(series.size()) > kMaxSeries) {
+    throw_usage_error("a curve plot takes 1 to " + std::to_string(kMaxSeries) + " curves, got " +
+                      std::to_string(series.size()));
+  }
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i]) || (i > 0 && !(x[i] > x[i - 1]))) {
+      throw_usage_error("the x values of a curve plot must be finite and increasing");
+    }
+  }
+  double low = HUGE_VAL, high = -HUGE_VAL;
+  for (const CurveSeries& curve : series) {
+    if (curve.y.size() != x.size()) {
+      throw_usage_error("curve '" + curve.name + "' has " + std::to_string(curve.y.size()) +
+                        " values for " + std::to_string(x.size()) + " x values");
+    }
+    for (const double v : curve.y) {
+      if (std::isfinite(v)) {
+        low = std::min(low, v);
+        high = std::max(high, v);
+      }
+    }
+  }
+  if (!(low <= high)) low = 0.0, high = 1.0;  // no finite value: an empty frame
+  const double pad = high > low ? 0.08 * (high - low) : std::max(1.0, std::abs(high)) * 0.1;
+  const double y_low = low >= 0.0 ? std::max(0.0, low - pad) : low - pad;  // 0 stays the floor
+  const double y_high = high + pad;
+  const double x_pad = x.size() > 1 ? 0.03 * (x.back() - x.front()) : 0.5;
+  std::vector<LegendEntry> legend;
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    legend.push_back({ellipsize(series[i].name, 40), static_cast<PLINT>(kSeries + i),
+                      series[i].dashed ? 2 : 1, 1.8});
+  }
+  const std::string title = options.title.empty()
+                                ? literal(y_label) + " against " + literal(x_label)
+                                : literal(options.title);
+  return render_plot(options, [&](const Canvas& canvas) {
+    draw_title(canvas, title);
+    canvas.viewport(kLeft, kRight, 40.0, kBottom);
+    plwind(x.front() - x_pad, x.back() + x_pad, y_low, y_high);
+    for (std::size_t i = 0; i < series.size(); ++i) {
+      plcol0(legend[i].colour);
+      pllsty(legend[i].line_style);
+      plwidth(legend[i].line_width);
+      // Runs of finite values, each a polyline; gaps where a value is missing.
+      std::vector<double> run_x, run_y;
+      auto flush = [&] {
+        if (run_x.size() > 1) {
+          plline(static_cast<PLINT>(run_x.size()), run_x.data(), run_y.data());
+        }
+        run_x.clear();
+        run_y.clear();
+      };
+      for (std::size_t j = 0; j < x.size(); ++j) {
+        if (std::isfinite(series[i].y[j])) {
+          run_x.push_back(x[j]);
+          run_y.push_back(series[i].y[j]);
+        } else {
+          flush();
+        }
+      }
+      flush();
+      if (series[i].markers) {
+        pllsty(1);
+        plssym(0.0, 1.6);  // markers 1.6 times the default size
+        for (std::size_t j = 0; j < x.size(); ++j) {
+          if (!std::isfinite(series[i].y[j])) continue;
+          double px = x[j], py = series[i].y[j];
+          plpoin(1, &px, &py, 17);  // filled circle
+        }
+      }
+    }
+    pllsty(1);
+    draw_axes(canvas, "bcnst", 0.0, "bcnstv", literal(x_label), literal(y_label));
+    draw_legend(canvas, legend, kLeft + 12.0, 52.0, false);
+  });
+}
+
 std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels,
                                            const std::string& title) {
   if (panels.empty()) throw_usage_error("a figure sheet needs at least one image");

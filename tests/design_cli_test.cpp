@@ -15,6 +15,7 @@
 #include "fss/design.h"
 #include "fss/error.h"
 #include "fss/image.h"
+#include "fss/plot.h"
 #include "fss/png_io.h"
 #include "range.h"
 #include "test_util.h"
@@ -270,6 +271,32 @@ TEST_F(CodeCli, OptimizeBinaryWithALightBudget) {
 
 // ---------------------------------------------------------------------------
 // sweep.
+
+TEST_F(CodeCli, SweepPlotDrawsTheCurveAndNeedsOneRange) {
+  const fs::path csv = dir_ / "sweep.csv";
+  const fs::path png = dir_ / "sweep.png";
+  const CommandResult r = run_fssim("sweep --input " + camera() +
+                                    " --code sinc --velocity 0.5:1:0.5 --noise-free-check " +
+                                    "-o " + quote(csv) + " --plot " + quote(png));
+  // --noise-free-check is not an option: nothing is written.
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(fs::exists(png));
+  const CommandResult ok =
+      run_fssim("sweep --input " + camera() + " --code sinc --velocity 0.5:1:0.5 -o " + quote(csv) +
+                " --plot " + quote(png));
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const Image plot = read_png(png);
+  EXPECT_EQ(plot.width, kPlotWidth);
+  EXPECT_EQ(plot.height, kPlotHeight);
+  EXPECT_THAT(ok.out, HasSubstr("Plot: "));
+  const CommandResult both = run_fssim("sweep --input " + camera() +
+                                       " --code sinc --velocity 0.5:1:0.5 --snr 50:100:50 -o " +
+                                       quote(dir_ / "b.csv") + " --plot " + quote(dir_ / "b.png"));
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_THAT(both.err, HasSubstr("--plot"));
+  EXPECT_FALSE(fs::exists(dir_ / "b.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "b.png"));
+}
 
 TEST_F(CodeCli, SweepWritesOneRowPerSetting) {
   const fs::path csv = dir_ / "sweep.csv";

@@ -92,6 +92,30 @@ void expect_drawn_plot(const std::vector<std::uint8_t>& png, int width, int heig
 using test::error_of;
 
 // ---------------------------------------------------------------------------
+// Curves
+
+TEST(PlotCurves, IsAPngOfTheRequestedSizeWithDrawnContentAndGaps) {
+  const std::vector<double> x = {0.25, 0.5, 0.75, 1.0, 1.25};
+  const std::vector<CurveSeries> series = {
+      {"measured", {1.4, 1.35, std::nan(""), 1.39, 1.8}, false, true},
+      {"predicted", {1.41, 1.36, 1.34, 1.38, 1.79}, true, false}};
+  expect_drawn_plot(plot_curves_png(x, series, "velocity", "RMSE"), kPlotWidth, kPlotHeight);
+  expect_drawn_plot(plot_curves_png(x, series, "velocity", "RMSE", {400, 300, "title"}), 400, 300);
+}
+
+TEST(PlotCurves, RefusesBadInput) {
+  const std::vector<double> x = {1.0, 2.0};
+  auto kind_of = [](const auto& f) {
+    const auto error = error_of(f);
+    return error ? error->kind() : ErrorKind::kRuntime;
+  };
+  EXPECT_TRUE(error_of([&] { plot_curves_png(x, {{"a", {1.0}, false, false}}, "x", "y"); }));
+  EXPECT_TRUE(error_of([&] { plot_curves_png({2.0, 1.0}, {{"a", {1.0, 2.0}}}, "x", "y"); }));
+  EXPECT_TRUE(error_of([&] { plot_curves_png(x, {}, "x", "y"); }));
+  EXPECT_EQ(kind_of([&] { plot_curves_png({}, {{"a", {}}}, "x", "y"); }), ErrorKind::kUsage);
+}
+
+// ---------------------------------------------------------------------------
 // Code plot
 
 TEST(PlotCode, IsAPngOfTheDefaultSizeWithDrawnContent) {

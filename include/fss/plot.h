@@ -53,6 +53,21 @@ std::vector<std::uint8_t> plot_spectra_overlay_png(const std::vector<ShutterCode
                                                    bool log_scale = true,
                                                    const PlotOptions& options = {});
 
+// One curve of plot_curves_png.
+struct CurveSeries {
+  std::string name;       // in the legend
+  std::vector<double> y;  // one value per x; NaN or infinite values leave a gap
+  bool dashed = false;    // dashed line (a prediction, say)
+  bool markers = false;   // a marker at every point (measurements, say)
+};
+
+// Curves over shared x values (increasing), with axes labelled `x_label`
+// and `y_label`, and a legend (at most 8 curves).
+std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
+                                          const std::vector<CurveSeries>& series,
+                                          const std::string& x_label, const std::string& y_label,
+                                          const PlotOptions& options = {});
+
 struct SheetPanel {
   const Image* image = nullptr;  // 1 or 3 channels, 0..255 scale
   std::string caption;

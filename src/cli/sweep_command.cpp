@@ -9,7 +9,9 @@
 #include "cli_common.h"
 #include "fss/code.h"
 #include "fss/error.h"
+#include "fss/plot.h"
 #include "fss/png_io.h"
+#include "fss/simulate.h"
 #include "range.h"
 
 namespace fssim {
@@ -97,6 +99,9 @@ SweepCommand::SweepCommand(CLI::App& app) {
       ->check(at_least(0))
       ->capture_default_str();
   sweep_->add_option("-o,--output", output_, "CSV file to write")->required();
+  sweep_->add_option("--plot", plot_,
+                     "also draw measured and predicted RMSE against the swept parameter into "
+                     "this PNG (one of --velocity, --snr must be a range)");
 }
 
 bool SweepCommand::parsed() const { return sweep_->parsed(); }
@@ -119,7 +124,16 @@ int SweepCommand::RunSweep() const {
                            std::to_string(velocities.size() * snrs.size()) +
                            " settings, more than " + std::to_string(kMaxRangePoints));
   }
+  const bool by_velocity = velocities.size() > 1;
+  if (!plot_.empty() && velocities.size() > 1 && snrs.size() > 1) {
+    fss::throw_usage_error(
+        "--plot draws one curve: give a range to --velocity or to --snr, not "
+        "to both");
+  }
   std::error_code ec;
+  if (!plot_.empty() && (std::filesystem::equivalent(input_, plot_, ec) || plot_ == output_)) {
+    fss::throw_runtime_error("--plot '" + plot_ + "' must differ from the input and the CSV");
+  }
   if (std::filesystem::equivalent(input_, output_, ec)) {
     fss::throw_runtime_error("refusing to write the CSV '" + output_ + "' over the input");
   }
@@ -144,6 +158,9 @@ int SweepCommand::RunSweep() const {
   }
   std::string csv = kCsvHeader;
   int rows = 0;
+  // For --plot: the swept values, the measured mean and the prediction (NaN
+  // where a setting has none).
+  std::vector<double> plot_x, plot_measured, plot_predicted;
   for (const double velocity : velocities) {
     for (const double snr : snrs) {
       options.velocity_px_per_slot = velocity;
@@ -158,11 +175,17 @@ int SweepCommand::RunSweep() const {
                   << "; row marked too-narrow (see --rmse-margin)\n";
         csv +=
             setting + (blur_length > 0 ? std::to_string(blur_length) : "") + ",,,,,,,too-narrow\n";
+        plot_x.push_back(by_velocity ? velocity : snr);
+        plot_measured.push_back(std::nan(""));
+        plot_predicted.push_back(std::nan(""));
         std::printf("velocity %g, snr %g: too narrow\n", velocity, snr);
         continue;
       }
       const fss::SimulationReport r = fss::Simulate(options, image, code);
       const fss::Prediction& p = r.prediction;
+      plot_x.push_back(by_velocity ? velocity : snr);
+      plot_measured.push_back(r.trials.rmse_mean);
+      plot_predicted.push_back(p.finite ? p.rmse : std::nan(""));
       csv += setting + std::to_string(r.geometry.blur_length) + "," +
              csv_number(r.trials.rmse_mean) + "," + csv_number(r.trials.rmse_sd) + "," +
              csv_number(p.rmse) + "," + csv_number(p.rmse_noise_free) + "," +
@@ -177,8 +200,29 @@ int SweepCommand::RunSweep() const {
       }
     }
   }
+  std::vector<std::uint8_t> png;
+  if (!plot_.empty()) {
+    const std::string trials =
+        std::to_string(options.trials) + (options.trials == 1 ? " realization" : " realizations");
+    fss::PlotOptions plot_options;
+    plot_options.title = "RMSE of code " + code.name + " on " +
+                         std::filesystem::path(input_).filename().string() + ", " +
+                         fss::to_string(options.mode) +
+                         (by_velocity ? ", snr " + format_number(snrs.front())
+                                      : ", velocity " + format_number(velocities.front()));
+    png =
+        fss::plot_curves_png(plot_x,
+                             {{"measured (mean of " + trials + ")", plot_measured, false, true},
+                              {"predicted, sqrt(RMSE_0^2 + sigma^2)", plot_predicted, true, false}},
+                             by_velocity ? "velocity (pixels per time slot)" : "snr",
+                             "RMSE (gray levels)", plot_options);
+  }
   write_file_atomically(output_, csv);
   std::printf("Wrote %d rows to %s\n", rows, output_.c_str());
+  if (!plot_.empty()) {
+    write_file_atomically(plot_, std::string(png.begin(), png.end()));
+    std::printf("Plot: %s\n", plot_.c_str());
+  }
   return 0;
 }
 

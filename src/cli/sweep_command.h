@@ -30,6 +30,7 @@ class SweepCommand {
   std::string velocity_ = "1";
   std::string snr_ = "100";
   std::string output_;
+  std::string plot_;  // --plot: PNG of measured and predicted RMSE, or empty
   fss::SimulationOptions options_;
 };
 

@@ -82,6 +82,14 @@ void RowFFT::inverse(Workspace& workspace) const {
                        reinterpret_cast<fftw_complex*>(workspace.spectrum_), workspace.real_);
 }
 
+void RowFFT::inverse_filtered(Workspace& workspace,
+                              std::span<const std::complex<double>> filter) const {
+  multiply_half_spectrum(workspace.spectrum(), filter, n_);
+  inverse(workspace);
+  const double inverse_n = 1.0 / n_;
+  for (double& value : workspace.real()) value *= inverse_n;
+}
+
 void multiply_half_spectrum(std::span<std::complex<double>> spectrum,
                             std::span<const std::complex<double>> filter, int n) {
   const std::size_t bins = static_cast<std::size_t>(n) / 2 + 1;

@@ -83,10 +83,7 @@ void RowObserver::load_spectrum(const Complex* bins, Scratch& scratch) const {
 std::span<const double> RowObserver::filtered(const std::vector<Complex>& filter,
                                               Scratch& scratch) const {
   std::copy(scratch.spectrum.begin(), scratch.spectrum.end(), scratch.workspace.spectrum().begin());
-  multiply_half_spectrum(scratch.workspace.spectrum(), filter, width_);
-  fft_.inverse(scratch.workspace);
-  const double inverse_n = 1.0 / width_;
-  for (double& value : scratch.workspace.real()) value *= inverse_n;
+  fft_.inverse_filtered(scratch.workspace, filter);
   return scratch.workspace.real();
 }
 
@@ -161,17 +158,14 @@ Image convolve_rows(const RowSpectra& u, std::span<const double> gains,
   const RowFFT& fft = RowFFT::for_size(u.width);
   const auto filter = transfer_function_bins(gains, params.velocity, params.dt, u.width);
   const int bins = u.spectrum_size();
-  const double inverse_n = 1.0 / u.width;
   parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
     RowFFT::Workspace workspace(u.width);
     for (int r = begin; r < end; ++r) {
       const int c = r / u.height;
       const int y = r % u.height;
       std::copy(u.row(c, y), u.row(c, y) + bins, workspace.spectrum().begin());
-      multiply_half_spectrum(workspace.spectrum(), filter, u.width);
-      fft.inverse(workspace);
-      // e = IDFT(DFT(u) K)
-      for (int x = 0; x < u.width; ++x) out.at(c, y, x) = workspace.real()[x] * inverse_n;
+      fft.inverse_filtered(workspace, filter);  // e = IDFT(DFT(u) K)
+      std::copy(workspace.real().begin(), workspace.real().end(), out.row(c, y));
     }
   });
   return out;

@@ -74,12 +74,8 @@ std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double
 // r = IDFT(DFT(row) / K), in place in workspace.real().
 void inverse_filter_row(const RowFFT& fft, const std::vector<Complex>& inverse,
                         RowFFT::Workspace& workspace) {
-  const int n = fft.size();
   fft.forward(workspace);
-  multiply_half_spectrum(workspace.spectrum(), inverse, n);
-  fft.inverse(workspace);
-  const double inverse_n = 1.0 / n;
-  for (double& value : workspace.real()) value *= inverse_n;
+  fft.inverse_filtered(workspace, inverse);
 }
 }  // namespace
 

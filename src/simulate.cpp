@@ -63,15 +63,13 @@ bool SimulationOptions::IsValid(std::string* error) const {
   return true;
 }
 
-namespace {
-
-void check_code(const SimulationOptions& options, const ShutterCode& code) {
+void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
   if (code.gains.empty()) throw_usage_error("code '" + code.name + "' has no gains");
   if (gain_max_abs(code.gains) == 0.0) {
     throw_usage_error("code '" + code.name +
                       "' has only zero gains: its transfer function is 0 and nothing is observed");
   }
-  if (options.mode == ShutterMode::kAnalog) {
+  if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < code.gains.size(); ++k) {
       const double g = code.gains[k];
       if (!(g >= 0.0 && g <= 1.0)) {
@@ -82,6 +80,8 @@ void check_code(const SimulationOptions& options, const ShutterCode& code) {
     }
   }
 }
+
+namespace {
 
 struct Windows {
   int rmse_first, rmse_end, ci_first, ci_end;
@@ -133,7 +133,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
                           const ShutterCode& code) {
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);
-  check_code(options, code);
+  check_code_for_mode(code, options.mode);
   if (input.channels != 1 && input.channels != 3) {
     throw_usage_error("input has " + std::to_string(input.channels) +
                       " channels, expected 1 (gray) or 3 (RGB)");

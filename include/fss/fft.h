@@ -57,6 +57,11 @@ class RowFFT {
   // workspace.spectrum() -> workspace.real(); the spectrum is overwritten.
   void inverse(Workspace& workspace) const;
 
+  // workspace.real() = IDFT(workspace.spectrum() * filter), normalized (the
+  // 1/N included): the row filtered by `filter` (half spectrum, see
+  // multiply_half_spectrum). The spectrum is overwritten.
+  void inverse_filtered(Workspace& workspace, std::span<const std::complex<double>> filter) const;
+
  private:
   int n_;
   void* forward_plan_;

@@ -109,6 +109,10 @@ struct SimulationReport {
   std::string FullReport() const;
 };
 
+// Throws the usage fss::Error Simulate would for a code the mode cannot use:
+// no gains, only zero gains, or (analog) a gain outside [0, 1].
+void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
+
 // Runs the simulation of `code` on `input`. Throws a usage fss::Error for a
 // combination that cannot run (invalid options, analog gains outside [0, 1],
 // an all-zero code, an image too narrow for the RMSE window).

@@ -144,18 +144,7 @@ int SweepCommand::RunSweep() const {
   options.mode = *fss::shutter_mode_from_string(mode_);
   // Refuse a code the mode cannot use before any row runs (Simulate would, at
   // the first setting that fits the image).
-  if (fss::gain_max_abs(code.gains) == 0.0) {
-    fss::throw_usage_error("code '" + code.name + "' has only zero gains: nothing is observed");
-  }
-  if (options.mode == fss::ShutterMode::kAnalog) {
-    for (std::size_t k = 0; k < code.gains.size(); ++k) {
-      if (!(code.gains[k] >= 0.0 && code.gains[k] <= 1.0)) {
-        fss::throw_usage_error("code '" + code.name + "' cannot be used in analog mode: gain " +
-                               std::to_string(k) + " is " + format_number(code.gains[k]) +
-                               ", analog gains must lie in [0, 1] (use --mode numerical)");
-      }
-    }
-  }
+  fss::check_code_for_mode(code, options.mode);
   std::string csv = kCsvHeader;
   int rows = 0;
   // For --plot: the swept values, the measured mean and the prediction (NaN

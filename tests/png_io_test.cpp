@@ -30,71 +30,9 @@ using Bytes = std::vector<std::uint8_t>;
 // ---------------------------------------------------------------------------
 // Writing test PNGs with libpng.
 
-struct WriteContext {
-  Bytes out;
-  char message[256] = {0};
-};
+using test::PngSpec;
 
-void on_write_error(png_structp png, png_const_charp message) {
-  auto* ctx = static_cast<WriteContext*>(png_get_error_ptr(png));
-  std::snprintf(ctx->message, sizeof ctx->message, "%s", message);
-  png_longjmp(png, 1);
-}
-
-void on_write_data(png_structp png, png_bytep data, png_size_t length) {
-  auto* ctx = static_cast<WriteContext*>(png_get_io_ptr(png));
-  ctx->out.insert(ctx->out.end(), data, data + length);
-}
-
-void on_flush(png_structp) {}
-
-struct PngSpec {
-  int width = 0;
-  int height = 0;
-  int bit_depth = 8;
-  int color_type = PNG_COLOR_TYPE_GRAY;
-  bool interlaced = false;
-  std::vector<png_color> palette;  // for PNG_COLOR_TYPE_PALETTE
-  // Packed rows exactly as stored in a PNG (16-bit samples big-endian,
-  // sub-byte samples leftmost pixel in the high bits).
-  std::vector<Bytes> rows;
-};
-
-// Runs libpng; kept free of objects with destructors because of setjmp.
-bool write_png_raw(WriteContext* ctx, const PngSpec* spec, png_bytepp rows) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, on_write_error, nullptr);
-  if (png == nullptr) return false;
-  png_infop info = png_create_info_struct(png);
-  if (info == nullptr || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, info ? &info : nullptr);
-    return false;
-  }
-  png_set_write_fn(png, ctx, on_write_data, on_flush);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(spec->width),
-               static_cast<png_uint_32>(spec->height), spec->bit_depth, spec->color_type,
-               spec->interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  if (!spec->palette.empty()) {
-    png_set_PLTE(png, info, spec->palette.data(), static_cast<int>(spec->palette.size()));
-  }
-  png_write_info(png, info);
-  png_write_image(png, rows);  // handles the Adam7 passes itself
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
-Bytes write_png(const PngSpec& spec) {
-  WriteContext ctx;
-  std::vector<Bytes> rows = spec.rows;
-  std::vector<png_bytep> pointers;
-  for (Bytes& row : rows) pointers.push_back(row.data());
-  if (!write_png_raw(&ctx, &spec, pointers.data())) {
-    ADD_FAILURE() << "libpng could not write the test PNG: " << ctx.message;
-    return {};
-  }
-  return ctx.out;
-}
+Bytes write_png(const PngSpec& spec) { return test::craft_png(spec); }
 
 // Packs samples of `bits` bits (1, 2, 4, 8 or 16) into a PNG row.
 Bytes pack_row(const std::vector<int>& samples, int bits) {

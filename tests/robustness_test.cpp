@@ -100,83 +100,9 @@ void expect_clean_failure(const CommandResult& r, int exit_code,
 // ---------------------------------------------------------------------------
 // Writing PNGs of every kind with libpng.
 
-struct PngSpec {
-  int width = 0;
-  int height = 0;
-  int bit_depth = 8;
-  int color_type = PNG_COLOR_TYPE_GRAY;
-  bool interlaced = false;
-  std::vector<png_color> palette;
-  std::vector<Bytes> rows;  // as stored: 16-bit samples big-endian
-};
+using test::PngSpec;
 
-struct PngSink {
-  Bytes bytes;
-  char message[200] = {0};
-};
-
-void on_png_error(png_structp png, png_const_charp message) {
-  auto* sink = static_cast<PngSink*>(png_get_error_ptr(png));
-  std::snprintf(sink->message, sizeof sink->message, "%s", message);
-  png_longjmp(png, 1);
-}
-
-void on_png_warning(png_structp, png_const_charp) {}
-
-void on_png_write(png_structp png, png_bytep data, png_size_t length) {
-  auto* sink = static_cast<PngSink*>(png_get_io_ptr(png));
-  bool out_of_memory = false;
-  try {  // no exception may cross libpng's frames
-    sink->bytes.insert(sink->bytes.end(), data, data + length);
-  } catch (const std::bad_alloc&) {
-    out_of_memory = true;
-  }
-  if (out_of_memory) png_error(png, "out of memory");
-}
-
-void on_png_flush(png_structp) {}
-
-// The libpng calls. Nothing in this frame has a destructor, and png and info
-// are not modified after setjmp, so reading them after a longjmp is defined.
-bool run_png_writer(PngSink* sink, const PngSpec* spec, png_bytepp rows) {
-  png_structp png =
-      png_create_write_struct(PNG_LIBPNG_VER_STRING, sink, on_png_error, on_png_warning);
-  if (png == nullptr) return false;
-  png_infop info = png_create_info_struct(png);
-  if (info == nullptr) {
-    png_destroy_write_struct(&png, nullptr);
-    return false;
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    return false;
-  }
-  png_set_write_fn(png, sink, on_png_write, on_png_flush);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(spec->width),
-               static_cast<png_uint_32>(spec->height), spec->bit_depth, spec->color_type,
-               spec->interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  if (!spec->palette.empty()) {
-    png_set_PLTE(png, info, spec->palette.data(), static_cast<int>(spec->palette.size()));
-  }
-  png_write_info(png, info);
-  png_write_image(png, rows);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
-Bytes encode(const PngSpec& spec) {
-  PngSink sink;
-  std::vector<Bytes> rows = spec.rows;
-  std::vector<png_bytep> pointers;
-  for (Bytes& row : rows) pointers.push_back(row.data());
-  if (!run_png_writer(&sink, &spec, pointers.data())) {
-    ADD_FAILURE() << "libpng could not write the test image: " << sink.message;
-    return {};
-  }
-  return sink.bytes;
-}
+Bytes encode(const PngSpec& spec) { return test::craft_png(spec); }
 
 // The test picture: edges, ramps and texture, in [0, 255], different per channel.
 int sample(int c, int y, int x) {

@@ -3,11 +3,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <new>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -92,6 +96,78 @@ std::vector<std::string> lines_of(const std::string& text) {
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   return lines;
+}
+
+namespace {
+
+struct PngSink {
+  std::vector<std::uint8_t> bytes;
+  char message[200] = {0};
+};
+
+void on_png_error(png_structp png, png_const_charp message) {
+  auto* sink = static_cast<PngSink*>(png_get_error_ptr(png));
+  std::snprintf(sink->message, sizeof sink->message, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void on_png_warning(png_structp, png_const_charp) {}
+
+void on_png_write(png_structp png, png_bytep data, png_size_t length) {
+  auto* sink = static_cast<PngSink*>(png_get_io_ptr(png));
+  bool out_of_memory = false;
+  try {  // no exception may cross libpng's frames
+    sink->bytes.insert(sink->bytes.end(), data, data + length);
+  } catch (const std::bad_alloc&) {
+    out_of_memory = true;
+  }
+  if (out_of_memory) png_error(png, "out of memory");
+}
+
+void on_png_flush(png_structp) {}
+
+// The libpng calls. Nothing in this frame has a destructor, and png and info
+// are not modified after setjmp, so reading them after a longjmp is defined.
+bool run_png_writer(PngSink* sink, const PngSpec* spec, png_bytepp rows) {
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, sink, on_png_error, on_png_warning);
+  if (png == nullptr) return false;
+  png_infop info = png_create_info_struct(png);
+  if (info == nullptr) {
+    png_destroy_write_struct(&png, nullptr);
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_set_write_fn(png, sink, on_png_write, on_png_flush);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(spec->width),
+               static_cast<png_uint_32>(spec->height), spec->bit_depth, spec->color_type,
+               spec->interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (!spec->palette.empty()) {
+    png_set_PLTE(png, info, spec->palette.data(), static_cast<int>(spec->palette.size()));
+  }
+  png_write_info(png, info);
+  png_write_image(png, rows);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> craft_png(const PngSpec& spec) {
+  PngSink sink;
+  std::vector<std::vector<std::uint8_t>> rows = spec.rows;
+  std::vector<png_bytep> pointers;
+  for (std::vector<std::uint8_t>& row : rows) pointers.push_back(row.data());
+  if (!run_png_writer(&sink, &spec, pointers.data())) {
+    ADD_FAILURE() << "libpng could not write the test image: " << sink.message;
+    return {};
+  }
+  return sink.bytes;
 }
 
 std::filesystem::path source_path(const std::string& relative) {

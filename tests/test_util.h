@@ -2,6 +2,8 @@
 // images and running the fssim binary.
 #pragma once
 
+#include <png.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -65,6 +67,23 @@ std::string quote(const std::filesystem::path& path);
 
 // The lines of `text`, without their line ends.
 std::vector<std::string> lines_of(const std::string& text);
+
+// A PNG to craft with libpng itself, in any format libpng writes.
+struct PngSpec {
+  int width = 0;
+  int height = 0;
+  int bit_depth = 8;
+  int color_type = PNG_COLOR_TYPE_GRAY;
+  bool interlaced = false;
+  std::vector<png_color> palette;  // for PNG_COLOR_TYPE_PALETTE
+  // Packed rows exactly as stored in a PNG (16-bit samples big-endian,
+  // sub-byte samples leftmost pixel in the high bits).
+  std::vector<std::vector<std::uint8_t>> rows;
+};
+
+// The PNG file `spec` describes; a test failure (and no bytes) if libpng
+// refuses it.
+std::vector<std::uint8_t> craft_png(const PngSpec& spec);
 
 // Repository paths.
 std::filesystem::path source_path(const std::string& relative);

@@ -1,12 +1,14 @@
 #include "fss/metrics.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fss/error.h"
@@ -86,60 +88,145 @@ struct Window {
   }
 };
 
-// Least-significant-digit radix sort of 64-bit keys, 11-bit digits; a pass
-// whose digit is the same for every key is skipped (the high bits of values
-// in a narrow range). `buffer` is scratch of the same size.
-void radix_sort(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& buffer) {
-  constexpr int kDigitBits = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
-  constexpr int kPasses = (64 + kDigitBits - 1) / kDigitBits;
-  const std::size_t n = keys.size();
-  if (n < 2) return;
-  std::vector<std::size_t> counts(kPasses * kBuckets, 0);
-  for (const std::uint64_t key : keys) {
-    for (int p = 0; p < kPasses; ++p)
-      ++counts[p * kBuckets + ((key >> (p * kDigitBits)) & (kBuckets - 1))];
+// Radix sort of 64-bit keys whose scratch is bounded by `max_scratch` keys
+// rather than n. Digits are 11 bits wide and only the bits below the highest
+// one in which the keys differ count. A range of at most max_scratch keys is
+// sorted least-significant digit first through a buffer of its size; a
+// longer one is split in place on its most significant digit ("American
+// flag" permutation: each misplaced key cycled to the next free slot of its
+// digit), then each part is sorted the same way.
+class KeySorter {
+ public:
+  explicit KeySorter(std::size_t max_scratch)
+      : max_scratch_(std::max<std::size_t>(max_scratch, 1)) {}
+
+  void sort(std::uint64_t* keys, std::size_t n) {
+    if (n < kSmall) {
+      std::sort(keys, keys + n);
+      return;
+    }
+    const auto [low, high] = std::minmax_element(keys, keys + n);
+    if (*low == *high) return;
+    const int top_bit = 63 - std::countl_zero(*low ^ *high);  // highest differing bit
+    if (n <= max_scratch_) {
+      sort_lsd(keys, n, top_bit);
+    } else {
+      split_msd(keys, n, std::max(0, top_bit - kDigitBits + 1));
+    }
   }
-  buffer.resize(n);
-  for (int p = 0; p < kPasses; ++p) {
-    std::size_t* count = counts.data() + p * kBuckets;
-    const int shift = p * kDigitBits;
-    if (count[(keys[0] >> shift) & (kBuckets - 1)] == n) continue;  // one digit value: no-op
+
+ private:
+  static constexpr int kDigitBits = 11;
+  static constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
+  static constexpr std::size_t kSmall = 256;
+
+  void sort_lsd(std::uint64_t* keys, std::size_t n, int top_bit) {
+    buffer_.resize(n);
+    std::uint64_t* from = keys;
+    std::uint64_t* to = buffer_.data();
+    std::vector<std::size_t> count(kBuckets);
+    for (int shift = 0; shift <= top_bit; shift += kDigitBits) {
+      std::fill(count.begin(), count.end(), 0);
+      for (std::size_t i = 0; i < n; ++i) ++count[(from[i] >> shift) & (kBuckets - 1)];
+      if (count[(from[0] >> shift) & (kBuckets - 1)] == n) continue;  // one digit value
+      std::size_t start = 0;
+      for (std::size_t& c : count) start += std::exchange(c, start);
+      for (std::size_t i = 0; i < n; ++i)
+        to[count[(from[i] >> shift) & (kBuckets - 1)]++] = from[i];
+      std::swap(from, to);
+    }
+    if (from != keys) std::copy(from, from + n, keys);
+  }
+
+  void split_msd(std::uint64_t* keys, std::size_t n, int shift) {
+    std::vector<std::size_t> next(kBuckets, 0);  // where the next key of each digit goes
+    std::vector<std::size_t> stop(kBuckets, 0);  // one past each digit's range
+    for (std::size_t i = 0; i < n; ++i) ++stop[(keys[i] >> shift) & (kBuckets - 1)];
     std::size_t start = 0;
     for (std::size_t d = 0; d < kBuckets; ++d) {
-      const std::size_t c = count[d];
-      count[d] = start;
-      start += c;
+      next[d] = start;
+      start += stop[d];
+      stop[d] = start;
     }
-    for (const std::uint64_t key : keys) buffer[count[(key >> shift) & (kBuckets - 1)]++] = key;
-    keys.swap(buffer);
+    for (std::size_t d = 0; d < kBuckets; ++d) {
+      while (next[d] < stop[d]) {
+        std::uint64_t key = keys[next[d]];
+        std::size_t digit = (key >> shift) & (kBuckets - 1);
+        while (digit != d) {
+          std::swap(key, keys[next[digit]++]);
+          digit = (key >> shift) & (kBuckets - 1);
+        }
+        keys[next[d]++] = key;
+      }
+    }
+    std::size_t begin = 0;
+    for (std::size_t d = 0; d < kBuckets; ++d) {
+      sort(keys + begin, stop[d] - begin);  // the part's own highest differing bit is lower
+      begin = stop[d];
+    }
   }
-}
 
-std::vector<std::uint64_t> sorted_keys(const Window& w, const RankKeys& keys,
-                                       std::vector<std::uint64_t>& buffer) {
+  std::size_t max_scratch_;
+  std::vector<std::uint64_t> buffer_;
+};
+
+// The rank keys of a window, sorted: key i holds the column-major index of
+// the window's i-th smallest pixel. The image is read row by row (the keys
+// carry their index, so the order they are made in does not matter).
+std::vector<std::uint64_t> sorted_keys(const Window& w, const RankKeys& keys) {
   std::vector<std::uint64_t> sorted(w.size());
-  std::size_t i = 0;
-  for (int x = w.first; x < w.end; ++x) {
-    for (int y = 0; y < w.image->height; ++y, ++i) {
-      sorted[i] = keys.key(w.image->at(w.channel, y, x), i);
+  const auto h = static_cast<std::size_t>(w.image->height);
+  std::size_t k = 0;
+  for (int y = 0; y < w.image->height; ++y) {
+    const double* row = w.image->row(w.channel, y);
+    for (int x = w.first; x < w.end; ++x) {
+      sorted[k++] = keys.key(row[x], static_cast<std::size_t>(x - w.first) * h + y);
     }
   }
-  radix_sort(sorted, buffer);
+  // Scratch: 1/16 of the keys (half a byte a pixel).
+  KeySorter(sorted.size() / 16 + 1024).sort(sorted.data(), sorted.size());
   return sorted;
 }
 
-// The ranks of two windows of equal size: keys sorted, so that rank i pairs
-// a's pixel keys.index(a_sorted[i]) with b's pixel keys.index(b_sorted[i]).
-struct MidwayRanks {
-  RankKeys keys;
-  std::vector<std::uint64_t> a_sorted;
-  std::vector<std::uint64_t> b_sorted;
-  MidwayRanks(const Window& a, const Window& b) : keys(a.size()) {
-    std::vector<std::uint64_t> buffer;
-    a_sorted = sorted_keys(a, keys, buffer);
-    b_sorted = sorted_keys(b, keys, buffer);
+// Midway equalization of two windows of equal size by ranks: the pixels of
+// rank i of a and of b both become mid(i), the mean of the two i-th smallest
+// values. Kept: the rank of each of a's pixels, the pixel of each rank of b
+// (column-major indices) and the midway values; scratch at its peak is 16
+// bytes a pixel (a's ranks and pixels, b's sorted 8-byte keys).
+class MidwayRanks {
+ public:
+  MidwayRanks(const Window& a, const Window& b) {
+    const RankKeys keys(a.size());
+    const std::size_t n = a.size();
+    std::vector<std::uint32_t> pixel(n);  // a's pixel of each rank, then b's
+    {
+      const std::vector<std::uint64_t> a_sorted = sorted_keys(a, keys);
+      for (std::size_t i = 0; i < n; ++i)
+        pixel[i] = static_cast<std::uint32_t>(keys.index(a_sorted[i]));
+    }
+    a_rank.resize(n);
+    for (std::size_t i = 0; i < n; ++i) a_rank[pixel[i]] = static_cast<std::uint32_t>(i);
+    mid_bits_ = sorted_keys(b, keys);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t b_pixel = keys.index(mid_bits_[i]);
+      const double mid = 0.5 * (a[pixel[i]] + b[b_pixel]);  // the two i-th smallest: their mean
+      pixel[i] = static_cast<std::uint32_t>(b_pixel);
+      std::memcpy(&mid_bits_[i], &mid, sizeof mid);
+    }
+    b_pixel = std::move(pixel);
   }
+  double mid(std::size_t i) const {
+    double value;
+    std::memcpy(&value, &mid_bits_[i], sizeof value);
+    return value;
+  }
+  std::size_t size() const { return mid_bits_.size(); }
+
+  std::vector<std::uint32_t> a_rank;   // by a's pixel
+  std::vector<std::uint32_t> b_pixel;  // by rank
+
+ private:
+  std::vector<std::uint64_t> mid_bits_;  // by rank
 };
 
 }  // namespace
@@ -181,17 +268,13 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b) {
   Image ea(a.width, a.height, a.channels);
   Image eb(b.width, b.height, b.channels);
   const auto h = static_cast<std::size_t>(a.height);
+  auto at = [h](Image& image, int c, std::size_t pixel) -> double& {
+    return image.at(c, static_cast<int>(pixel % h), static_cast<int>(pixel / h));
+  };
   for (int c = 0; c < a.channels; ++c) {
-    const Window wa{&a, c, 0, a.width};
-    const Window wb{&b, c, 0, b.width};
-    const MidwayRanks ranks(wa, wb);
-    for (std::size_t i = 0; i < ranks.a_sorted.size(); ++i) {
-      const std::size_t ia = ranks.keys.index(ranks.a_sorted[i]);
-      const std::size_t ib = ranks.keys.index(ranks.b_sorted[i]);
-      const double mid = 0.5 * (wa[ia] + wb[ib]);  // the i-th smallest of each becomes their mean
-      ea.at(c, static_cast<int>(ia % h), static_cast<int>(ia / h)) = mid;
-      eb.at(c, static_cast<int>(ib % h), static_cast<int>(ib / h)) = mid;
-    }
+    const MidwayRanks ranks(Window{&a, c, 0, a.width}, Window{&b, c, 0, b.width});
+    for (std::size_t p = 0; p < ranks.size(); ++p) at(ea, c, p) = ranks.mid(ranks.a_rank[p]);
+    for (std::size_t i = 0; i < ranks.size(); ++i) at(eb, c, ranks.b_pixel[i]) = ranks.mid(i);
   }
   return {std::move(ea), std::move(eb)};
 }
@@ -206,28 +289,11 @@ double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int
   require_window(b, first, end);
   double sum = 0.0;
   for (int c = 0; c < b.channels; ++c) {
-    const Window wa{&a, c, first + a_offset, end + a_offset};
-    const Window wb{&b, c, first, end};
-    MidwayRanks ranks(wa, wb);
-    const std::size_t n = ranks.a_sorted.size();
-    // rank_of_a[p]: the rank of a's pixel p. The midway value of rank i,
-    // mean of the two i-th smallest values, then replaces a_sorted[i].
-    std::vector<std::uint32_t> rank_of_a(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t ia = ranks.keys.index(ranks.a_sorted[i]);
-      rank_of_a[ia] = static_cast<std::uint32_t>(i);
-      const double mid = 0.5 * (wa[ia] + wb[ranks.keys.index(ranks.b_sorted[i])]);
-      std::memcpy(&ranks.a_sorted[i], &mid, sizeof mid);
-    }
-    auto mid_of_rank = [&](std::size_t i) {
-      double mid;
-      std::memcpy(&mid, &ranks.a_sorted[i], sizeof mid);
-      return mid;
-    };
+    const MidwayRanks ranks(Window{&a, c, first + a_offset, end + a_offset},
+                            Window{&b, c, first, end});
     // At b's pixel of rank i: equalized b is mid(i), equalized a is mid(rank of a there).
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t pixel = ranks.keys.index(ranks.b_sorted[i]);
-      const double d = mid_of_rank(rank_of_a[pixel]) - mid_of_rank(i);
+    for (std::size_t i = 0; i < ranks.size(); ++i) {
+      const double d = ranks.mid(ranks.a_rank[ranks.b_pixel[i]]) - ranks.mid(i);
       sum += d * d;
     }
   }

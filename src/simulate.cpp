@@ -340,7 +340,7 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
       static_cast<std::size_t>(std::max(geometry.output_width - 2 * geometry.blur_length, 0));
   const std::size_t input = w * h * c * sizeof(double);
   const std::size_t outputs = (trials > 1 ? 3 : 2) * wo * h * c * sizeof(double);
-  const std::size_t midway = 24 * ci_width * h;
+  const std::size_t midway = 17 * ci_width * h;  // 16 bytes a pixel + the sorter's scratch
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = 8 * wo * h * c;
   return input + outputs + std::max(midway, encoding);

@@ -31,10 +31,10 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 
 // RMSE of the midway-equalized columns [first, end) of a and b. Ranks are
 // sorted as 8-byte keys (the value's order-preserving bits, their low bits
-// replaced by the column-major index, radix-sorted), so the scratch is at
-// most 24 bytes a pixel of one channel. Equal values are ranked by index exactly; values closer
-// than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are ranked by index too,
-// which moves their midway values by no more than that.
+// replaced by the column-major index, radix-sorted in place), so the scratch
+// is at most 16 bytes a pixel of one channel. Equal values are ranked by index exactly; values
+// closer than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are ranked by
+// index too, which moves their midway values by no more than that.
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end);
 double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end);
 

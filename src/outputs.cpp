@@ -109,7 +109,53 @@ std::vector<std::string> output_file_names(const OutputOptions& options) {
   return names;
 }
 
+ObservedPng8::ObservedPng8(int height, int channels) : height_(height), channels_(channels) {
+  if (height <= 0 || (channels != 1 && channels != 3)) {
+    throw_usage_error("ObservedPng8 needs a height > 0 and 1 or 3 channels, got height " +
+                      std::to_string(height) + " and " + std::to_string(channels) + " channels");
+  }
+}
+
+void ObservedPng8::store_row(int channel, int row, std::span<const double> values) {
+  std::call_once(allocated_, [&] {
+    width_ = static_cast<int>(values.size());
+    samples_.resize(values.size() * static_cast<std::size_t>(height_) * channels_);
+  });
+  if (channel < 0 || channel >= channels_ || row < 0 || row >= height_ ||
+      values.size() != static_cast<std::size_t>(width_)) {
+    throw_usage_error("ObservedPng8: row " + std::to_string(row) + " of channel " +
+                      std::to_string(channel) + " with " + std::to_string(values.size()) +
+                      " values does not fit a " + std::to_string(width_) + " x " +
+                      std::to_string(height_) + " x " + std::to_string(channels_) + " image");
+  }
+  std::uint8_t* out =
+      samples_.data() + (static_cast<std::size_t>(channel) * height_ + row) * width_;
+  for (const double v : values) *out++ = png8_sample(v);
+  ++rows_stored_;
+}
+
+std::function<void(int, int, std::span<const double>)> ObservedPng8::row_callback() {
+  return [this](int channel, int row, std::span<const double> values) {
+    store_row(channel, row, values);
+  };
+}
+
+std::vector<std::uint8_t> ObservedPng8::encode() const {
+  if (rows_stored_ != height_ * channels_) {
+    throw_usage_error("observed.png: " + std::to_string(rows_stored_) + " of " +
+                      std::to_string(height_ * channels_) + " observed rows were collected");
+  }
+  // Whole numbers in [0, 255] encode to themselves.
+  return encode_png8(width_, height_, channels_, [&](int c, int y, double* row) {
+    const std::uint8_t* in = samples_.data() + (static_cast<std::size_t>(c) * height_ + y) * width_;
+    std::copy(in, in + width_, row);
+  });
+}
+
 std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Image& input) {
+  if (r.observed.data.empty()) {
+    throw_usage_error("sheet.png needs the observed image: run with keep_observed = true");
+  }
   char parameters[160];
   std::snprintf(parameters, sizeof parameters,
                 "%s, v = %g, dt = %g, snr = %g: RMSE %.4g, RMSE_CI %.4g",
@@ -199,7 +245,14 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
   const ResidualRange range = residual_range(input, offset, report.restored);
   // How to make each file of `names`.
   const std::vector<std::pair<std::string, std::function<std::string()>>> makers = {
-      {"observed.png", [&] { return as_string(encode_png8(report.observed)); }},
+      {"observed.png",
+       [&] {
+         if (!report.observed.data.empty()) return as_string(encode_png8(report.observed));
+         if (options.observed_png8) return as_string(options.observed_png8->encode());
+         throw_usage_error(
+             "observed.png: the report keeps no observed image (keep_observed = false) and "
+             "OutputOptions::observed_png8 is not set");
+       }},
       {"restored.png", [&] { return as_string(encode_png8(report.restored)); }},
       {"groundtruth.png",
        [&] {

@@ -273,6 +273,11 @@ Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
   return decode_png(bytes.data(), bytes.size(), name, max_bytes);
 }
 
+std::uint8_t png8_sample(double value) {
+  const double v = std::clamp(std::round(value), 0.0, 255.0);
+  return static_cast<std::uint8_t>(std::isnan(v) ? 0.0 : v);
+}
+
 std::vector<std::uint8_t> encode_png8(const Image& image) {
   return encode_png8(image.width, image.height, image.channels, [&](int c, int y, double* row) {
     std::copy(image.row(c, y), image.row(c, y) + image.width, row);
@@ -295,11 +300,8 @@ std::vector<std::uint8_t> encode_png8(
     for (int c = 0; c < channels; ++c) {
       fill_row(c, y, row.data());
       std::uint8_t* out = pixels.data() + static_cast<std::size_t>(y) * width * channels + c;
-      for (int x = 0; x < width; ++x) {
-        const double v = std::clamp(std::round(row[x]), 0.0, 255.0);
-        out[static_cast<std::size_t>(x) * channels] =
-            static_cast<std::uint8_t>(std::isnan(v) ? 0.0 : v);
-      }
+      for (int x = 0; x < width; ++x)
+        out[static_cast<std::size_t>(x) * channels] = png8_sample(row[x]);
     }
   }
   std::vector<png_bytep> rows(static_cast<std::size_t>(height));

@@ -1,6 +1,7 @@
 #include "fss/simulate.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -142,6 +143,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   SimulationReport report;
   report.options = options;
   report.options.trial_callback = nullptr;
+  report.options.observed_row_callback = nullptr;
   report.code_name = code.name;
   report.gains = code.gains;
   report.width = input.width;
@@ -157,8 +159,8 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
       Geometry::compute(input.width, code.length(), std::max(std::abs(v), std::abs(v_r)), dt);
   const Windows windows = metric_windows(options, g);
   if (options.max_memory_bytes > 0) {
-    const std::size_t needed =
-        estimate_working_memory_bytes(input.width, input.height, input.channels, g, options.trials);
+    const std::size_t needed = estimate_working_memory_bytes(
+        input.width, input.height, input.channels, g, options.trials, options.keep_observed);
     if (needed > options.max_memory_bytes) {
       throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
                         std::to_string(input.height) + " x " + std::to_string(input.channels) +
@@ -209,23 +211,33 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   // One pass over all rows. `restored` (Wo wide) may be null when only the
   // squared errors over the RMSE window are wanted (per row, summed in row
   // order so that the total does not depend on the threads).
-  auto run_pass = [&](bool noisy, std::uint64_t seed, Image* restored, Image* observed,
+  // With `observed`, the observed rows go to report.observed (when kept) and
+  // to the row callback, and their finiteness is checked.
+  std::atomic<bool> observed_finite{true};
+  auto run_pass = [&](bool noisy, std::uint64_t seed, Image* restored, bool observed,
                       std::vector<double>* row_errors) {
     parallel_for(rows, options.threads, [&](int begin, int end) {
       RowObserver::Scratch observer_scratch(observer);
       RowRestorer::Scratch restorer_scratch(restorer);
       std::vector<double> observation(static_cast<std::size_t>(g.width));
       std::vector<double> own_row(restored ? 0 : static_cast<std::size_t>(g.output_width));
+      std::vector<double> observed_row(observed ? static_cast<std::size_t>(g.output_width) : 0);
       for (int r = begin; r < end; ++r) {
         const int c = r / input.height;
         const int y = r % input.height;
         observer.load_row(input.row(c, y), observer_scratch);
         observer.observe(noisy, seed, c, y, observer_scratch, observation);
         if (observed) {
-          double* out = observed->row(c, y);
+          bool finite = true;
           for (int x = 0; x < g.output_width; ++x) {
-            out[x] = observation[offset + x] / report.observed_divisor;
+            observed_row[x] = observation[offset + x] / report.observed_divisor;
+            finite = finite && std::isfinite(observed_row[x]);
           }
+          if (!finite) observed_finite = false;
+          if (options.keep_observed) {
+            std::copy(observed_row.begin(), observed_row.end(), report.observed.row(c, y));
+          }
+          if (options.observed_row_callback) options.observed_row_callback(c, y, observed_row);
         }
         double* out = restored ? restored->row(c, y) : own_row.data();
         restorer.restore(observation.data(), restorer_scratch, out);
@@ -250,12 +262,12 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     return m;
   };
 
-  report.observed = Image(g.output_width, input.height, input.channels);
+  if (options.keep_observed) report.observed = Image(g.output_width, input.height, input.channels);
   report.restored = Image(g.output_width, input.height, input.channels);
   double rmse_noise_free = 0.0;
   if (options.noise == NoiseModel::kNone) {
     // The noise-free run is every trial: run it once.
-    run_pass(false, 0, &report.restored, &report.observed, nullptr);
+    run_pass(false, 0, &report.restored, true, nullptr);
     report.metrics = measure(report.restored);
     rmse_noise_free = report.metrics.rmse;
     report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
@@ -263,7 +275,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   } else {
     // RMSE_0 of the prediction: the same pipeline on the expected observation.
     std::vector<double> row_errors(static_cast<std::size_t>(rows));
-    run_pass(false, 0, nullptr, nullptr, &row_errors);
+    run_pass(false, 0, nullptr, false, &row_errors);
     double total = 0.0;
     for (const double e : row_errors) total += e;
     rmse_noise_free =
@@ -276,7 +288,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
       const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
       if (t == 1) later_trial = Image(g.output_width, input.height, input.channels);
       Image& restored = t == 0 ? report.restored : later_trial;
-      run_pass(true, seed, &restored, t == 0 ? &report.observed : nullptr, nullptr);
+      run_pass(true, seed, &restored, t == 0, nullptr);
       const Metrics m = measure(restored);
       if (t == 0) report.metrics = m;
       sum += m.rmse;
@@ -297,8 +309,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
                        [](double value) { return std::isfinite(value); });
   };
   if (!(std::isfinite(report.metrics.rmse) && std::isfinite(report.metrics.rmse_ci) &&
-        std::isfinite(report.trials.rmse_mean) && all_finite(report.observed) &&
-        all_finite(report.restored))) {
+        std::isfinite(report.trials.rmse_mean) && observed_finite && all_finite(report.restored))) {
     double smallest = 0.0;
     for (const double gain : gains) {
       if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
@@ -331,7 +342,8 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 }
 
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
-                                          const Geometry& geometry, int trials) {
+                                          const Geometry& geometry, int trials,
+                                          bool keep_observed) {
   const auto w = static_cast<std::size_t>(width);
   const auto h = static_cast<std::size_t>(height);
   const auto c = static_cast<std::size_t>(channels);
@@ -339,7 +351,8 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const auto ci_width =
       static_cast<std::size_t>(std::max(geometry.output_width - 2 * geometry.blur_length, 0));
   const std::size_t input = w * h * c * sizeof(double);
-  const std::size_t outputs = (trials > 1 ? 3 : 2) * wo * h * c * sizeof(double);
+  const std::size_t outputs =
+      ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
   const std::size_t midway = 17 * ci_width * h;  // 16 bytes a pixel + the sorter's scratch
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = 8 * wo * h * c;

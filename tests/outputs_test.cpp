@@ -491,3 +491,100 @@ TEST_F(WriteOutputs, EmptyOutdirIsAUsageError) {
 
 }  // namespace
 }  // namespace fss
+
+namespace fss {
+namespace {
+
+// A run that streams its observed rows into an ObservedPng8 instead of
+// keeping them, as fssim does; `keep` also keeps them for comparison.
+struct StreamedRun {
+  explicit StreamedRun(const Image& input, bool keep = false, int threads = 2)
+      : observed(input.height, input.channels) {
+    SimulationOptions options;
+    options.seed = 11;
+    options.threads = threads;
+    options.keep_observed = keep;
+    options.observed_row_callback = observed.row_callback();
+    report = Simulate(options, input, *builtin_code("raskar"));
+  }
+  ObservedPng8 observed;
+  SimulationReport report;
+};
+
+TEST(ObservedPng8, EncodesTheBytesOfTheKeptImage) {
+  for (const int channels : {1, 3}) {
+    const Image input = test::make_test_image(480, 9, channels, 6);
+    const StreamedRun run(input, /*keep=*/true);
+    ASSERT_EQ(run.observed.rows_stored(), 9 * channels);
+    EXPECT_EQ(run.observed.width(), run.report.observed.width);
+    EXPECT_TRUE(run.observed.encode() == encode_png8(run.report.observed)) << channels;
+  }
+}
+
+TEST(ObservedPng8, RoundsAndClampsLikeTheEncoder) {
+  ObservedPng8 observed(1, 1);
+  const std::vector<double> row = {
+      -3.0, -0.5, 0.49, 0.5, 127.5, 254.5, 255.4, 300.0, std::numeric_limits<double>::quiet_NaN()};
+  observed.store_row(0, 0, row);
+  const std::vector<std::uint8_t> png = observed.encode();
+  const Image decoded = decode_png(png.data(), png.size(), "observed");
+  const std::vector<double> expected = {0, 0, 0, 1, 128, 255, 255, 255, 0};
+  EXPECT_EQ(decoded.data, expected);
+  for (std::size_t i = 0; i < row.size(); ++i) EXPECT_EQ(png8_sample(row[i]), expected[i]) << i;
+}
+
+TEST(ObservedPng8, RefusesRowsThatDoNotFitAndIncompleteImages) {
+  ObservedPng8 observed(2, 1);
+  const std::vector<double> row(5, 1.0);
+  observed.store_row(0, 0, row);
+  EXPECT_THROW(observed.store_row(0, 1, std::vector<double>(4, 1.0)), Error);  // width
+  EXPECT_THROW(observed.store_row(0, 2, row), Error);                          // row
+  EXPECT_THROW(observed.store_row(1, 0, row), Error);                          // channel
+  const auto incomplete = test::error_of([&] { observed.encode(); });
+  ASSERT_TRUE(incomplete.has_value());
+  EXPECT_THAT(incomplete->what(), HasSubstr("1 of 2 observed rows"));
+  observed.store_row(0, 1, row);
+  EXPECT_NO_THROW(observed.encode());
+  EXPECT_THROW(ObservedPng8(0, 1), Error);
+  EXPECT_THROW(ObservedPng8(3, 2), Error);
+}
+
+TEST(ObservedPng8, WriteOutputsGivesTheSameFilesWithoutTheKeptImage) {
+  const Image input = test::make_test_image(480, 9, 3, 6);
+  const StreamedRun kept(input, /*keep=*/true);
+  const StreamedRun streamed(input, /*keep=*/false);
+  ASSERT_TRUE(streamed.report.observed.data.empty());
+  test::TempDir dir;
+  write_outputs(dir / "kept", kept.report, input, "input.png");
+  OutputOptions options;
+  options.observed_png8 = &streamed.observed;
+  write_outputs(dir / "streamed", streamed.report, input, "input.png", options);
+  for (const std::string& name : output_file_names()) {
+    EXPECT_TRUE(test::read_file(dir / "kept" / name) == test::read_file(dir / "streamed" / name))
+        << name;
+  }
+}
+
+TEST(ObservedPng8, WithoutEitherObservedImageNothingIsWritten) {
+  const Image input = test::make_test_image(480, 4, 1, 6);
+  const StreamedRun streamed(input);
+  test::TempDir dir;
+  const auto error =
+      test::error_of([&] { write_outputs(dir / "out", streamed.report, input, "input.png"); });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
+  EXPECT_THAT(error->what(), HasSubstr("observed_png8"));
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // The sheet shows the observed image: it needs the kept one.
+  OutputOptions sheet;
+  sheet.sheet = true;
+  sheet.observed_png8 = &streamed.observed;
+  const auto sheet_error = test::error_of(
+      [&] { write_outputs(dir / "out", streamed.report, input, "input.png", sheet); });
+  ASSERT_TRUE(sheet_error.has_value());
+  EXPECT_THAT(sheet_error->what(), HasSubstr("keep_observed"));
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+}  // namespace
+}  // namespace fss

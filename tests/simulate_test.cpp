@@ -5,10 +5,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -425,6 +428,41 @@ TEST(Simulate, TrialsUseConsecutiveSeeds) {
 namespace fss {
 namespace {
 
+// The observed rows reach the callback exactly as the kept image holds them,
+// each row once, whatever the thread count; keep_observed = false only
+// leaves the image out.
+TEST(Simulate, ObservedRowCallbackSeesTheKeptImage) {
+  const Image input = test::make_test_image(480, 10, 3, 4);
+  for (const NoiseModel noise : {NoiseModel::kPoisson, NoiseModel::kNone}) {
+    SimulationOptions options;
+    options.seed = 5;
+    options.trials = 2;  // only the first trial's rows are reported
+    options.noise = noise;
+    const SimulationReport kept = Simulate(options, input, code("raskar"));
+    ASSERT_EQ(kept.observed.channels, 3);
+
+    Image seen(kept.observed.width, kept.observed.height, kept.observed.channels, -1.0);
+    std::vector<std::atomic<int>> calls(static_cast<std::size_t>(3 * input.height));
+    options.keep_observed = false;
+    options.threads = 2;
+    options.observed_row_callback = [&](int c, int y, std::span<const double> values) {
+      ASSERT_EQ(values.size(), static_cast<std::size_t>(seen.width));
+      std::copy(values.begin(), values.end(), seen.row(c, y));
+      ++calls[static_cast<std::size_t>(c * input.height + y)];
+    };
+    const SimulationReport streamed = Simulate(options, input, code("raskar"));
+    EXPECT_TRUE(streamed.observed.data.empty());
+    EXPECT_EQ(streamed.observed.width, 0);
+    EXPECT_FALSE(streamed.options.observed_row_callback);  // not kept in the report
+    for (const auto& n : calls) EXPECT_EQ(n, 1);
+    expect_same_image(seen, kept.observed, "observed rows");
+    expect_same_image(streamed.restored, kept.restored, "restored");
+    EXPECT_EQ(streamed.metrics.rmse, kept.metrics.rmse);
+    EXPECT_EQ(streamed.metrics.rmse_ci, kept.metrics.rmse_ci);
+    EXPECT_EQ(streamed.trials.rmse_mean, kept.trials.rmse_mean);
+  }
+}
+
 TEST(MemoryLimit, EstimateCoversTheBuffersAndTheLimitIsEnforced) {
   const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);
   const std::size_t estimate = estimate_working_memory_bytes(512, 512, 1, g, 1);
@@ -435,6 +473,9 @@ TEST(MemoryLimit, EstimateCoversTheBuffersAndTheLimitIsEnforced) {
   EXPECT_GT(estimate_working_memory_bytes(512, 512, 1, g, 2), estimate);
   EXPECT_GE(estimate_working_memory_bytes(512, 512, 3, g, 1),
             3u * (512u * 512u + 2u * 356u * 512u) * sizeof(double));
+  // An observed image not kept costs one byte a sample instead of eight.
+  EXPECT_EQ(estimate - estimate_working_memory_bytes(512, 512, 1, g, 1, false),
+            356u * 512u * (sizeof(double) - 1));
 
   SimulationOptions options;
   options.noise = NoiseModel::kNone;
@@ -529,13 +570,17 @@ TEST(IsValid, BoundsDtSnrAndTheMargin) {
 TEST(Simulate, ResultsOutsideDoublePrecisionAreAnErrorNotANaN) {
   // Gains this small make K underflow: the restoration divides by 0.
   const ShutterCode tiny{"tiny", std::vector<double>(52, 1e-320)};
-  try {
-    Simulate(SimulationOptions(), test::make_test_image(480, 4, 1), tiny);
-    FAIL() << "a NaN result was accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::kUsage);
-    EXPECT_NE(std::string(e.what()).find("range of double-precision"), std::string::npos)
-        << e.what();
+  for (const bool keep_observed : {true, false}) {
+    SimulationOptions options;
+    options.keep_observed = keep_observed;
+    try {
+      Simulate(options, test::make_test_image(480, 4, 1), tiny);
+      FAIL() << "a NaN result was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::kUsage);
+      EXPECT_NE(std::string(e.what()).find("range of double-precision"), std::string::npos)
+          << e.what();
+    }
   }
 }
 

@@ -2,8 +2,12 @@
 // once every one of them has been written, so a failed run leaves nothing.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,6 +24,37 @@ std::string format_spectrum_txt(const std::vector<double>& gains, double velocit
 // report.json content; `input_path` is recorded as given.
 nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);
 
+// The observed image as the 8-bit samples observed.png holds, collected row
+// by row through SimulationOptions::observed_row_callback (row_callback()),
+// so that a run can leave keep_observed false: one byte a sample instead of
+// a double. Rows may arrive concurrently; the width is that of the first.
+class ObservedPng8 {
+ public:
+  ObservedPng8(int height, int channels);
+  ObservedPng8(const ObservedPng8&) = delete;
+  ObservedPng8& operator=(const ObservedPng8&) = delete;
+
+  // Stores one row; the callback to put in SimulationOptions calls this.
+  void store_row(int channel, int row, std::span<const double> values);
+  std::function<void(int, int, std::span<const double>)> row_callback();
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+  // Rows stored so far (channels x height when complete).
+  int rows_stored() const { return rows_stored_; }
+  // The PNG; the same bytes as encode_png8 of the observed image of doubles.
+  std::vector<std::uint8_t> encode() const;
+
+ private:
+  int width_ = 0;
+  int height_;
+  int channels_;
+  std::once_flag allocated_;
+  std::vector<std::uint8_t> samples_;  // planar, like Image
+  std::atomic<int> rows_stored_{0};
+};
+
 // Optional outputs of a run.
 struct OutputOptions {
   bool plots = true;         // code.png and spectrum.png (plot.h)
@@ -27,6 +62,10 @@ struct OutputOptions {
   bool html_report = false;  // report.html (html_report.h)
   // Files besides the input image that must never be overwritten (the code file).
   std::vector<std::string> other_inputs;
+  // Where observed.png comes from when the report does not keep the observed
+  // image (SimulationOptions::keep_observed = false); it must then hold
+  // every row. sheet.png needs the kept image.
+  const ObservedPng8* observed_png8 = nullptr;
 };
 
 // Names of the files write_outputs creates.

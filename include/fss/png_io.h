@@ -31,8 +31,12 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
 std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
                              std::size_t row_bytes);
 
-// Encodes an 8-bit gray (1 channel) or RGB (3 channels) PNG; each value is
-// rounded to the nearest integer and clamped to [0, 255].
+// A value as an 8-bit PNG sample: rounded to the nearest integer (halves
+// away from zero), clamped to [0, 255]; NaN gives 0.
+std::uint8_t png8_sample(double value);
+
+// Encodes an 8-bit gray (1 channel) or RGB (3 channels) PNG; each value
+// becomes png8_sample(value).
 std::vector<std::uint8_t> encode_png8(const Image& image);
 
 // Same for an image given row by row: fill_row(c, y, row) writes the `width`

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +50,15 @@ struct SimulationOptions {
   std::size_t max_memory_bytes = 0;
   // Called after each trial with (done, total); may be empty.
   std::function<void(int, int)> trial_callback;
+  // Receives each row of the first trial's observed image as soon as it is
+  // computed: channel, row and its Wo values, as SimulationReport::observed
+  // holds them. Called from the worker threads, concurrently for different
+  // rows, once per row; may be empty. Neither callback is kept in the report.
+  std::function<void(int channel, int row, std::span<const double> values)> observed_row_callback;
+  // False leaves SimulationReport::observed empty (0 x 0): a caller that
+  // takes the rows from observed_row_callback (fssim encodes them to 8 bits
+  // as they come) saves a Wo x H x C image of doubles.
+  bool keep_observed = true;
 
   // False, with a message naming the field, its value and the rule, when an
   // option is out of range on its own (image and code checks are in Simulate).
@@ -100,7 +110,7 @@ struct SimulationReport {
   // truth and the residual display are derived from the input on demand
   // (groundtruth_image, residual_image) rather than kept: for a large image
   // each of them would be as big as the input.
-  Image observed;  // divided by observed_divisor
+  Image observed;  // divided by observed_divisor; empty unless options.keep_observed
   Image restored;
 
   int output_first_column() const { return 3 * geometry.half_blur; }
@@ -120,12 +130,14 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
                           const ShutterCode& code);
 
 // Estimated peak memory of Simulate plus write_outputs, in bytes, the input
-// image included: the input, the observed and restored outputs (one more
-// restoration buffer when trials > 1), and the larger of the RMSE_CI scratch
-// (24 bytes a pixel of one channel's window) and the PNG encoding buffers.
-// Rows in flight are a few kilobytes a thread and are not counted.
+// image included: the input, the observed (as doubles, or as 8-bit samples
+// when not kept) and restored outputs (one more restoration buffer when
+// trials > 1), and the larger of the RMSE_CI scratch (17 bytes a pixel of
+// one channel's window) and the PNG encoding buffers. Rows in flight are a
+// few kilobytes a thread and are not counted.
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
-                                          const Geometry& geometry, int trials);
+                                          const Geometry& geometry, int trials,
+                                          bool keep_observed = true);
 
 // The ground truth aligned with report.restored: input columns
 // [output_first_column(), output_first_column() + Wo).

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <limits>
 #include <new>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -335,6 +336,15 @@ int run(int argc, char** argv) {
         if (done == total) std::fprintf(stderr, "\n");
         std::fflush(stderr);
       };
+    }
+    // observed.png is all fssim needs of the observed image unless the sheet
+    // shows it: keep its rows as 8-bit samples, not doubles.
+    std::optional<fss::ObservedPng8> observed_png8;
+    if (!output_options.sheet) {
+      observed_png8.emplace(image.height, image.channels);
+      options.keep_observed = false;
+      options.observed_row_callback = observed_png8->row_callback();
+      output_options.observed_png8 = &*observed_png8;
     }
     const fss::SimulationReport report = fss::Simulate(options, image, code);
     for (const auto& warning : report.warnings) {

@@ -118,21 +118,28 @@ class KeySorter {
  private:
   static constexpr int kDigitBits = 11;
   static constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
-  static constexpr std::size_t kSmall = 256;
+  // Below this, std::sort beats LSD passes that each walk 2048 counters.
+  static constexpr std::size_t kSmall = 1024;
 
   void sort_lsd(std::uint64_t* keys, std::size_t n, int top_bit) {
+    const int passes = top_bit / kDigitBits + 1;
+    // Every pass's histogram in one read of the keys.
+    std::vector<std::size_t> counts(static_cast<std::size_t>(passes) * kBuckets, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int p = 0; p < passes; ++p) {
+        ++counts[p * kBuckets + ((keys[i] >> (p * kDigitBits)) & (kBuckets - 1))];
+      }
+    }
     buffer_.resize(n);
     std::uint64_t* from = keys;
     std::uint64_t* to = buffer_.data();
-    std::vector<std::size_t> count(kBuckets);
-    for (int shift = 0; shift <= top_bit; shift += kDigitBits) {
-      std::fill(count.begin(), count.end(), 0);
-      for (std::size_t i = 0; i < n; ++i) ++count[(from[i] >> shift) & (kBuckets - 1)];
+    for (int p = 0; p < passes; ++p) {
+      std::size_t* count = counts.data() + p * kBuckets;
+      const int shift = p * kDigitBits;
       if (count[(from[0] >> shift) & (kBuckets - 1)] == n) continue;  // one digit value
       std::size_t start = 0;
-      for (std::size_t& c : count) start += std::exchange(c, start);
-      for (std::size_t i = 0; i < n; ++i)
-        to[count[(from[i] >> shift) & (kBuckets - 1)]++] = from[i];
+      for (std::size_t d = 0; d < kBuckets; ++d) start += std::exchange(count[d], start);
+      for (std::size_t i = 0; i < n; ++i) to[count[(from[i] >> shift) & (kBuckets - 1)]++] = from[i];
       std::swap(from, to);
     }
     if (from != keys) std::copy(from, from + n, keys);
@@ -183,8 +190,10 @@ std::vector<std::uint64_t> sorted_keys(const Window& w, const RankKeys& keys) {
       sorted[k++] = keys.key(row[x], static_cast<std::size_t>(x - w.first) * h + y);
     }
   }
-  // Scratch: 1/16 of the keys (half a byte a pixel).
-  KeySorter(sorted.size() / 16 + 1024).sort(sorted.data(), sorted.size());
+  // Scratch: 1/16 of the keys (half a byte a pixel), at least 8 MB, so that
+  // windows up to a million pixels are sorted by buffered passes alone.
+  KeySorter(std::max<std::size_t>(sorted.size() / 16, std::size_t{1} << 20))
+      .sort(sorted.data(), sorted.size());
   return sorted;
 }
 

@@ -124,20 +124,20 @@ void render(int width, int height, std::vector<std::uint8_t>& rgba,
   if (!messages.empty()) throw_runtime_error("PLplot: " + messages);
 }
 
-// The RGBA buffer as an RGB, or gray, image.
-Image to_image(const std::vector<std::uint8_t>& rgba, int width, int height, int channels) {
-  Image image(width, height, channels);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const std::uint8_t* pixel = &rgba[(static_cast<std::size_t>(y) * width + x) * 4];
-      if (channels == 1) {
-        image.at(0, y, x) = std::round((pixel[0] + pixel[1] + pixel[2]) / 3.0);
-      } else {
-        for (int c = 0; c < 3; ++c) image.at(c, y, x) = pixel[c];
-      }
+// The RGBA buffer as interleaved RGB, or gray, 8-bit samples; gray is the
+// rounded mean of red, green and blue: round(s / 3) = (s + 1) / 3 for s >= 0.
+std::vector<std::uint8_t> to_samples(const std::vector<std::uint8_t>& rgba, int channels) {
+  const std::size_t pixels = rgba.size() / 4;
+  std::vector<std::uint8_t> samples(pixels * static_cast<std::size_t>(channels));
+  for (std::size_t i = 0; i < pixels; ++i) {
+    const std::uint8_t* pixel = &rgba[4 * i];
+    if (channels == 1) {
+      samples[i] = static_cast<std::uint8_t>((pixel[0] + pixel[1] + pixel[2] + 1) / 3);
+    } else {
+      std::copy(pixel, pixel + 3, &samples[3 * i]);
     }
   }
-  return image;
+  return samples;
 }
 
 // ---------------------------------------------------------------------------
@@ -262,7 +262,8 @@ std::vector<std::uint8_t> render_plot(const PlotOptions& options,
       static_cast<std::size_t>(options.width) * static_cast<std::size_t>(options.height) * 4, 255);
   const Canvas canvas(options.width, options.height);
   render(options.width, options.height, rgba, [&] { draw(canvas); });
-  return encode_png8(to_image(rgba, options.width, options.height, 3));
+  return encode_png8_samples(options.width, options.height, 3, to_samples(rgba, 3),
+                             PngCompression::kGraphics);
 }
 
 // Frequencies sampled for a spectrum plot: two per pixel column.
@@ -663,7 +664,7 @@ std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels
       for (int x = 0; x < image.width; ++x) {
         for (int c = 0; c < 3; ++c) {
           const double value = image.at(channels == 1 ? 0 : c, y, x);
-          row[4 * x + c] = static_cast<std::uint8_t>(std::clamp(std::round(value), 0.0, 255.0));
+          row[4 * x + c] = png8_sample(value);
         }
       }
     }
@@ -682,7 +683,7 @@ std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels
                   fit(panels[i].caption, panels[i].image->width));
     }
   });
-  return encode_png8(to_image(rgba, width, sheet_height, channels));
+  return encode_png8_samples(width, sheet_height, channels, to_samples(rgba, channels));
 }
 
 }  // namespace fss

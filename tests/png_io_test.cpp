@@ -9,12 +9,16 @@
 #include <sys/resource.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csetjmp>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <optional>
+#include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -187,6 +191,66 @@ TEST(EncodePng8, RgbRoundTripKeepsChannelsApart) {
       }
     }
   }
+}
+
+// png8_sample is the rounding and clamping rule spelled with std::round.
+TEST(Png8Sample, EqualsClampedStdRound) {
+  auto expected = [](double v) {
+    const double r = std::clamp(std::round(v), 0.0, 255.0);
+    return static_cast<std::uint8_t>(std::isnan(r) ? 0.0 : r);
+  };
+  std::vector<double> values = {0.0,
+                                -0.0,
+                                std::nextafter(0.5, 0.0),
+                                0.5,
+                                std::nextafter(0.5, 1.0),
+                                1.5,
+                                2.5,
+                                std::nextafter(254.5, 0.0),
+                                254.5,
+                                std::nextafter(255.0, 0.0),
+                                255.0,
+                                255.49,
+                                255.5,
+                                256.0,
+                                -0.5,
+                                -0.49,
+                                -1.5,
+                                4.9e-324,
+                                1e300,
+                                -1e300,
+                                std::numeric_limits<double>::infinity(),
+                                -std::numeric_limits<double>::infinity(),
+                                std::numeric_limits<double>::quiet_NaN()};
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> any(-20.0, 280.0);
+  for (int i = 0; i < 200000; ++i) values.push_back(any(rng));
+  for (int k = -2; k <= 258; ++k) {  // every half and its neighbours
+    const double half = k + 0.5;
+    values.insert(values.end(), {half, std::nextafter(half, -1e9), std::nextafter(half, 1e9)});
+  }
+  for (const double v : values) ASSERT_EQ(png8_sample(v), expected(v)) << v;
+}
+
+// Both compressions hold the same pixels, and 8-bit samples encode as the
+// same values given as doubles.
+TEST(EncodePng8, CompressionsAndSampleInputKeepThePixels) {
+  const Image image = test::make_test_image(37, 11, 3, 8);
+  std::vector<std::uint8_t> samples(image.plane_size() * 3);
+  for (int y = 0; y < 11; ++y) {
+    for (int x = 0; x < 37; ++x) {
+      for (int c = 0; c < 3; ++c) samples[(y * 37 + x) * 3 + c] = png8_sample(image.at(c, y, x));
+    }
+  }
+  const Image expected = decode(encode_png8(image));
+  for (const PngCompression compression : {PngCompression::kImage, PngCompression::kGraphics}) {
+    EXPECT_EQ(decode(encode_png8(image, compression)).data, expected.data);
+    EXPECT_EQ(decode(encode_png8_samples(37, 11, 3, samples, compression)).data,
+              expected.data);
+  }
+  EXPECT_TRUE(encode_png8_samples(37, 11, 3, samples) == encode_png8(image));
+  EXPECT_THROW(encode_png8_samples(37, 11, 3, std::span(samples).first(100)), Error);
+  EXPECT_THROW(encode_png8_samples(37, 11, 2, samples), Error);
 }
 
 TEST(EncodePng8, RefusesTwoChannels) {

@@ -18,6 +18,7 @@
 
 #include "fss/error.h"
 #include "fss/html_report.h"
+#include "fss/kernel.h"
 #include "fss/metrics.h"
 #include "fss/parallel.h"
 #include "fss/plot.h"
@@ -152,6 +153,41 @@ std::vector<std::uint8_t> ObservedPng8::encode() const {
   });
 }
 
+RunPlots render_run_plots(const ShutterCode& code, const SimulationOptions& options) {
+  RunPlots plots;
+  plots.code_name = code.name;
+  plots.gains = code.gains;
+  plots.velocity_px_per_slot = options.velocity_px_per_slot;
+  plots.restore_velocity_px_per_slot =
+      options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot);
+  plots.dt = options.dt;
+  plots.code_png = plot_code_png(code.gains, code.name);
+  // The curve at the true velocity; the minimum marked is that of the
+  // kernel the restoration inverts (SimulationReport::kernel).
+  plots.spectrum_png =
+      plot_spectrum_png(code.gains, code.name, plots.velocity_px_per_slot, plots.dt,
+                        analyze_kernel(code.gains, plots.restore_velocity_px_per_slot, plots.dt));
+  return plots;
+}
+
+namespace {
+
+const RunPlots& check_plots_match(const RunPlots& plots, const SimulationReport& report) {
+  const SimulationOptions& o = report.options;
+  if (plots.code_name != report.code_name || plots.gains != report.gains ||
+      plots.velocity_px_per_slot != o.velocity_px_per_slot ||
+      plots.restore_velocity_px_per_slot !=
+          o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot) ||
+      plots.dt != o.dt) {
+    throw_usage_error("the plots given to write_outputs were drawn for code '" + plots.code_name +
+                      "' at velocity " + format_number(plots.velocity_px_per_slot) +
+                      ", not for the report's run");
+  }
+  return plots;
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Image& input) {
   if (r.observed.data.empty()) {
     throw_usage_error("sheet.png needs the observed image: run with keep_observed = true");
@@ -283,9 +319,18 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
                     .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
                 "\n";
        }},
-      {"code.png", [&] { return as_string(plot_code_png(report.gains, report.code_name)); }},
+      {"code.png",
+       [&] {
+         if (options.rendered_plots) {
+           return as_string(check_plots_match(*options.rendered_plots, report).code_png);
+         }
+         return as_string(plot_code_png(report.gains, report.code_name));
+       }},
       {"spectrum.png",
        [&] {
+         if (options.rendered_plots) {
+           return as_string(check_plots_match(*options.rendered_plots, report).spectrum_png);
+         }
          return as_string(
              plot_spectrum_png(report.gains, report.code_name, velocity, dt, report.kernel));
        }},

@@ -588,3 +588,63 @@ TEST(ObservedPng8, WithoutEitherObservedImageNothingIsWritten) {
 
 }  // namespace
 }  // namespace fss
+
+namespace fss {
+namespace {
+
+// Plots drawn ahead are the bytes write_outputs draws itself, including with
+// a restore velocity (the marked minimum is that of the inverted kernel).
+TEST(RenderRunPlots, AreTheBytesWriteOutputsDraws) {
+  const Image input = test::make_test_image(640, 6, 1, 2);
+  for (const std::optional<double> restore : {std::optional<double>(), std::optional(1.3)}) {
+    SimulationOptions options;
+    options.velocity_px_per_slot = -1.0;
+    options.restore_velocity_px_per_slot = restore;
+    options.dt = 0.9;
+    const ShutterCode code = *builtin_code("raskar");
+    const RunPlots plots = render_run_plots(code, options);
+    const SimulationReport report = Simulate(options, input, code);
+    test::TempDir dir;
+    write_outputs(dir / "drawn", report, input, "input.png");
+    OutputOptions given;
+    given.rendered_plots = &plots;
+    write_outputs(dir / "given", report, input, "input.png", given);
+    for (const char* name : {"code.png", "spectrum.png"}) {
+      const std::string drawn = test::read_file(dir / "drawn" / name);
+      EXPECT_TRUE(drawn == test::read_file(dir / "given" / name)) << name;
+      EXPECT_TRUE(drawn ==
+                  as_string(std::string(name) == "code.png" ? plots.code_png : plots.spectrum_png))
+          << name;
+    }
+  }
+}
+
+TEST(RenderRunPlots, PlotsOfAnotherRunAreRefused) {
+  const Image input = test::make_test_image(480, 4, 1, 2);
+  SimulationOptions options;
+  const SimulationReport report = Simulate(options, input, *builtin_code("raskar"));
+  std::vector<std::pair<std::string, RunPlots>> wrong;
+  wrong.emplace_back("code", render_run_plots(*builtin_code("mip"), options));
+  options.velocity_px_per_slot = 2.0;
+  wrong.emplace_back("velocity", render_run_plots(*builtin_code("raskar"), options));
+  options.velocity_px_per_slot = 1.0;
+  options.restore_velocity_px_per_slot = 1.5;
+  wrong.emplace_back("restore velocity", render_run_plots(*builtin_code("raskar"), options));
+  options.restore_velocity_px_per_slot.reset();
+  options.dt = 0.5;
+  wrong.emplace_back("dt", render_run_plots(*builtin_code("raskar"), options));
+  for (const auto& [what, plots] : wrong) {
+    test::TempDir dir;
+    OutputOptions given;
+    given.rendered_plots = &plots;
+    const auto error =
+        test::error_of([&] { write_outputs(dir / "out", report, input, "input.png", given); });
+    ASSERT_TRUE(error.has_value()) << what;
+    EXPECT_EQ(error->kind(), ErrorKind::kUsage) << what;
+    EXPECT_THAT(error->what(), HasSubstr("not for the report's run")) << what;
+    EXPECT_FALSE(fs::exists(dir / "out")) << what;
+  }
+}
+
+}  // namespace
+}  // namespace fss

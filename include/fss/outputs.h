@@ -55,6 +55,24 @@ class ObservedPng8 {
   std::atomic<int> rows_stored_{0};
 };
 
+// code.png and spectrum.png of a run. They depend only on the code and the
+// motion, so a caller can draw them on another thread while Simulate runs
+// and hand them to write_outputs (OutputOptions::rendered_plots). Drawing
+// is serialized inside PLplot: it overlaps the simulation, not other plots.
+struct RunPlots {
+  std::string code_name;  // what they were drawn for, checked by write_outputs
+  std::vector<double> gains;
+  double velocity_px_per_slot = 0.0;
+  double restore_velocity_px_per_slot = 0.0;
+  double dt = 0.0;
+  std::vector<std::uint8_t> code_png;
+  std::vector<std::uint8_t> spectrum_png;
+};
+
+// Draws the plots write_outputs would draw for a run of `code` with
+// `options`: the same bytes.
+RunPlots render_run_plots(const ShutterCode& code, const SimulationOptions& options);
+
 // Optional outputs of a run.
 struct OutputOptions {
   bool plots = true;         // code.png and spectrum.png (plot.h)
@@ -66,6 +84,9 @@ struct OutputOptions {
   // image (SimulationOptions::keep_observed = false); it must then hold
   // every row. sheet.png needs the kept image.
   const ObservedPng8* observed_png8 = nullptr;
+  // Plots drawn ahead (render_run_plots) for the report's code and motion,
+  // used instead of drawing them again; a usage error if they do not match.
+  const RunPlots* rendered_plots = nullptr;
 };
 
 // Names of the files write_outputs creates.

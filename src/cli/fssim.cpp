@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <future>
 #include <iostream>
 #include <limits>
 #include <new>
@@ -26,6 +27,7 @@
 #include "fss/error.h"
 #include "fss/kernel.h"
 #include "fss/outputs.h"
+#include "fss/parallel.h"
 #include "fss/plot.h"
 #include "fss/png_io.h"
 #include "fss/simulate.h"
@@ -324,6 +326,15 @@ int run(int argc, char** argv) {
   std::string activity = "reading code '" + code_name + "'";
   try {
     const fss::ShutterCode code = fss::load_code(code_name);
+    // code.png and spectrum.png need only the code and the motion: draw them
+    // on their own thread while the image is read and simulated (after it,
+    // on this thread, when --threads 1 asks for one).
+    std::future<fss::RunPlots> plots;
+    if (output_options.plots) {
+      const auto policy = fss::resolve_thread_count(options.threads) > 1 ? std::launch::async
+                                                                         : std::launch::deferred;
+      plots = std::async(policy, fss::render_run_plots, code, options);
+    }
     activity = "reading input '" + input + "'";
     const fss::Image image = fss::read_png(input, options.max_memory_bytes);
     activity = "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
@@ -349,6 +360,12 @@ int run(int argc, char** argv) {
     const fss::SimulationReport report = fss::Simulate(options, image, code);
     for (const auto& warning : report.warnings) {
       std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
+    }
+    activity = "drawing the plots";
+    std::optional<fss::RunPlots> rendered_plots;
+    if (plots.valid()) {
+      rendered_plots = plots.get();
+      output_options.rendered_plots = &*rendered_plots;
     }
     activity = "writing the outputs to '" + outdir + "'";
     const std::vector<std::string> builtins = fss::builtin_code_names();

@@ -257,7 +257,8 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     Metrics m;
     m.rmse = rmse(input, offset, restored, windows.rmse_first, windows.rmse_end);
     m.psnr = psnr(m.rmse);
-    m.rmse_ci = rmse_contrast_invariant(input, offset, restored, windows.ci_first, windows.ci_end);
+    m.rmse_ci = rmse_contrast_invariant(input, offset, restored, windows.ci_first, windows.ci_end,
+                                        options.threads);
     m.psnr_ci = psnr(m.rmse_ci);
     return m;
   };
@@ -353,7 +354,9 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t input = w * h * c * sizeof(double);
   const std::size_t outputs =
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
-  const std::size_t midway = 17 * ci_width * h;  // 16 bytes a pixel + the sorter's scratch
+  // 16 bytes a pixel and the sorter's scratch; 20 when a and b are sorted at
+  // the same time (windows of at most kParallelSortPixels, metrics.h).
+  const std::size_t midway = (ci_width * h <= kParallelSortPixels ? 21 : 17) * ci_width * h;
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = 8 * wo * h * c;
   return input + outputs + std::max(midway, encoding);

@@ -283,6 +283,20 @@ TEST(RmseContrastInvariant, ZeroPerChannelWithDifferentMaps) {
   EXPECT_EQ(rmse_contrast_invariant(a, b, 0, 12), 0.0);
 }
 
+// Sorting a and b at the same time (more than one thread, a window of at
+// most kParallelSortPixels) gives the bits of sorting them one after the
+// other.
+TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
+  const Image a = random_image(300, 200, 3, 31, 0.0, 255.0, true);
+  const Image b = random_image(300, 200, 3, 32, -30.0, 290.0, false);
+  const double one = rmse_contrast_invariant(a, b, 10, 290, 1);
+  EXPECT_GT(one, 0.0);
+  EXPECT_EQ(rmse_contrast_invariant(a, b, 10, 290, 2), one);
+  EXPECT_EQ(rmse_contrast_invariant(a, b, 10, 290, 0), one);
+  EXPECT_EQ(rmse_contrast_invariant(a, 5, crop_columns(b, 5, 290), 5, 285, 2),
+            rmse_contrast_invariant(a, 5, crop_columns(b, 5, 290), 5, 285, 1));
+}
+
 TEST(RmseContrastInvariant, IsTheRmseOfTheEqualizedWindow) {
   const Image a = random_image(16, 8, 1, 9, 0.0, 255.0, true);
   const Image b = random_image(16, 8, 1, 10, 0.0, 255.0, false);

@@ -3,6 +3,7 @@
 // the column window is empty or out of range.
 #pragma once
 
+#include <cstddef>
 #include <utility>
 
 #include "fss/image.h"
@@ -34,9 +35,13 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 // replaced by the column-major index, radix-sorted in place), so the scratch
 // is at most 16 bytes a pixel of one channel. Equal values are ranked by index exactly; values
 // closer than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are ranked by
-// index too, which moves their midway values by no more than that.
-double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end);
-double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end);
+// index too, which moves their midway values by no more than that. With more than one thread and a
+// window of at most kParallelSortPixels pixels, a and b are sorted at the same time (20 bytes a
+// pixel); the result is the same.
+inline constexpr std::size_t kParallelSortPixels = std::size_t{1} << 22;
+double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end, int threads = 1);
+double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end,
+                               int threads = 1);
 
 // The range of a - b (a's column x + a_offset facing b's column x) and the
 // affine map of the residual display: (d - min) / (max - min) * 255, every

@@ -132,7 +132,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 // Estimated peak memory of Simulate plus write_outputs, in bytes, the input
 // image included: the input, the observed (as doubles, or as 8-bit samples
 // when not kept) and restored outputs (one more restoration buffer when
-// trials > 1), and the larger of the RMSE_CI scratch (17 bytes a pixel of
+// trials > 1), and the larger of the RMSE_CI scratch (17 or 21 bytes a pixel of
 // one channel's window) and the PNG encoding buffers. Rows in flight are a
 // few kilobytes a thread and are not counted.
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,

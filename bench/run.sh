@@ -4,6 +4,7 @@
 # then the micro-benchmarks. Builds in Release in build-bench/.
 # Usage: bench/run.sh            RUNS=3 bench/run.sh
 set -euo pipefail
+export LC_ALL=C  # a dot in $EPOCHREALTIME and in printf
 cd "$(dirname "$0")/.."
 runs=${RUNS:-5}
 build=build-bench
@@ -22,9 +23,16 @@ measure() {  # name, then fssim arguments
   local name=$1; shift
   : > "$out/times"; : > "$out/rss"
   for _ in $(seq "$runs"); do
-    /usr/bin/time -f "%e %M" -o "$out/t" "$build/fssim" "$@" --outdir "$out/o" >/dev/null
-    read -r wall rss < "$out/t"
-    echo "$wall" >> "$out/times"; echo "$rss" >> "$out/rss"
+    # Wall time from the shell's microsecond clock (GNU time's %e has only
+    # two decimals and drops the third: 0.059 s prints as 0.05), so it
+    # includes starting GNU time itself (about a millisecond); peak RSS from
+    # GNU time.
+    local start=$EPOCHREALTIME
+    /usr/bin/time -f "%M" -o "$out/t" "$build/fssim" "$@" --outdir "$out/o" >/dev/null
+    local end=$EPOCHREALTIME
+    awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f\n", e - s }' >> "$out/times"
+    cat "$out/t" >> "$out/rss"
+    rm -rf "$out/o"
   done
   printf '| %s | %s s | %s MB |\n' "$name" "$(median < "$out/times")" \
     "$(awk '{ if ($1 > m) m = $1 } END { printf "%.0f", m / 1024 }' "$out/rss")"

@@ -330,7 +330,7 @@ struct LegendEntry {
 
 // At most `limit` characters of `text`, an ellipsis replacing the rest.
 std::string ellipsize(const std::string& text, std::size_t limit) {
-  const std::string valid = detail::sanitize_utf8(text);
+  std::string valid = detail::sanitize_utf8(text);
   std::size_t characters = 0, cut = valid.size();
   for (std::size_t i = 0; i < valid.size(); ++i) {
     if ((static_cast<unsigned char>(valid[i]) & 0xC0) == 0x80) continue;

@@ -468,7 +468,7 @@ void expect_runtime_error_naming(const std::filesystem::path& path) {
 class ReadPngErrors : public ::testing::Test {
  protected:
   std::filesystem::path write(const std::string& name, const Bytes& bytes) {
-    const auto path = dir_ / name;
+    auto path = dir_ / name;
     test::write_file(path, as_string(bytes));
     return path;
   }

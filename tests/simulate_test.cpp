@@ -448,7 +448,7 @@ TEST(Simulate, ObservedRowCallbackSeesTheKeptImage) {
     options.observed_row_callback = [&](int c, int y, std::span<const double> values) {
       ASSERT_EQ(values.size(), static_cast<std::size_t>(seen.width));
       std::copy(values.begin(), values.end(), seen.row(c, y));
-      ++calls[static_cast<std::size_t>(c * input.height + y)];
+      ++calls[static_cast<std::size_t>(c) * input.height + y];
     };
     const SimulationReport streamed = Simulate(options, input, code("raskar"));
     EXPECT_TRUE(streamed.observed.data.empty());

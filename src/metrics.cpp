@@ -98,10 +98,19 @@ struct Window {
 // longer one is split in place on its most significant digit ("American
 // flag" permutation: each misplaced key cycled to the next free slot of its
 // digit), then each part is sorted the same way.
+// Keys of scratch for sorting n keys: a sixteenth of them (half a byte a
+// pixel), and at least 256 Ki keys (2 MiB), so that small windows are
+// sorted by buffered passes alone (faster than splitting them).
+std::size_t sort_scratch_keys(std::size_t n) { return std::max<std::size_t>(n / 16, 1 << 18); }
+
 class KeySorter {
  public:
-  explicit KeySorter(std::size_t max_scratch)
-      : max_scratch_(std::max<std::size_t>(max_scratch, 1)) {}
+  // The buffer is reserved once for the largest range it can serve, so it
+  // never reallocates (no moment with two copies).
+  KeySorter(std::size_t n, std::size_t max_scratch)
+      : max_scratch_(std::max<std::size_t>(max_scratch, 1)) {
+    buffer_.reserve(std::min(n, max_scratch_));
+  }
 
   void sort(std::uint64_t* keys, std::size_t n) {
     if (n < kSmall) {
@@ -194,26 +203,31 @@ std::vector<std::uint64_t> sorted_keys(const Window& w, const RankKeys& keys) {
       sorted[k++] = keys.key(row[x], static_cast<std::size_t>(x - w.first) * h + y);
     }
   }
-  // Scratch: 1/16 of the keys (half a byte a pixel), at least 8 MB, so that
-  // windows up to a million pixels are sorted by buffered passes alone.
-  KeySorter(std::max<std::size_t>(sorted.size() / 16, std::size_t{1} << 20))
-      .sort(sorted.data(), sorted.size());
+  KeySorter(sorted.size(), sort_scratch_keys(sorted.size())).sort(sorted.data(), sorted.size());
   return sorted;
 }
+
+// Ranks and pixel indices are 32-bit.
+constexpr std::size_t kMaxRankedPixels = std::size_t{1} << 32;
 
 // Midway equalization of two windows of equal size by ranks: the pixels of
 // rank i of a and of b both become mid(i), the mean of the two i-th smallest
 // values. Kept: the rank of each of a's pixels, the pixel of each rank of b
 // (column-major indices) and the midway values; scratch at its peak is 16
-// bytes a pixel (a's ranks and pixels, b's sorted 8-byte keys).
+// bytes a pixel (a's ranks and pixels, b's sorted 8-byte keys) plus the
+// sorter's buffer (sort_scratch_keys).
 class MidwayRanks {
  public:
   // With `in_parallel`, b's keys are sorted on another thread while a's are
-  // (4 more bytes a pixel at the peak; the same result).
+  // (20 bytes a pixel at the peak and two sorter buffers; the same result).
   MidwayRanks(const Window& a, const Window& b, bool in_parallel = false) {
-    const RankKeys keys(a.size());
     const std::size_t n = a.size();
-    std::vector<std::uint32_t> pixel(n);  // a's pixel of each rank, then b's
+    if (n > kMaxRankedPixels) {
+      throw_usage_error("a window of " + std::to_string(n) +
+                        " pixels a channel is too large to rank: at most 2^32 are supported");
+    }
+    const RankKeys keys(n);
+    std::vector<std::uint32_t> pixel;  // a's pixel of each rank, then b's
     std::future<std::vector<std::uint64_t>> b_sorted;
     if (in_parallel) {
       try {
@@ -224,6 +238,7 @@ class MidwayRanks {
     }
     {
       const std::vector<std::uint64_t> a_sorted = sorted_keys(a, keys);
+      pixel.resize(n);
       for (std::size_t i = 0; i < n; ++i) {
         pixel[i] = static_cast<std::uint32_t>(keys.index(a_sorted[i]));
       }

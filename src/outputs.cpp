@@ -115,6 +115,7 @@ ObservedPng8::ObservedPng8(int height, int channels) : height_(height), channels
     throw_usage_error("ObservedPng8 needs a height > 0 and 1 or 3 channels, got height " +
                       std::to_string(height) + " and " + std::to_string(channels) + " channels");
   }
+  stored_ = std::vector<std::atomic<bool>>(static_cast<std::size_t>(height) * channels);
 }
 
 void ObservedPng8::store_row(int channel, int row, std::span<const double> values) {
@@ -128,6 +129,10 @@ void ObservedPng8::store_row(int channel, int row, std::span<const double> value
                       std::to_string(channel) + " with " + std::to_string(values.size()) +
                       " values does not fit a " + std::to_string(width_) + " x " +
                       std::to_string(height_) + " x " + std::to_string(channels_) + " image");
+  }
+  if (stored_[static_cast<std::size_t>(channel) * height_ + row].exchange(true)) {
+    throw_usage_error("ObservedPng8: row " + std::to_string(row) + " of channel " +
+                      std::to_string(channel) + " was stored twice");
   }
   std::uint8_t* out =
       samples_.data() + (static_cast<std::size_t>(channel) * height_ + row) * width_;
@@ -174,14 +179,24 @@ namespace {
 
 const RunPlots& check_plots_match(const RunPlots& plots, const SimulationReport& report) {
   const SimulationOptions& o = report.options;
-  if (plots.code_name != report.code_name || plots.gains != report.gains ||
-      plots.velocity_px_per_slot != o.velocity_px_per_slot ||
-      plots.restore_velocity_px_per_slot !=
-          o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot) ||
-      plots.dt != o.dt) {
-    throw_usage_error("the plots given to write_outputs were drawn for code '" + plots.code_name +
-                      "' at velocity " + format_number(plots.velocity_px_per_slot) +
-                      ", not for the report's run");
+  const double restore_velocity = o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot);
+  std::string problem;
+  if (plots.code_name != report.code_name) {
+    problem = "code '" + plots.code_name + "', the run's is '" + report.code_name + "'";
+  } else if (plots.gains != report.gains) {
+    problem = "other gains of code '" + plots.code_name + "'";
+  } else if (plots.velocity_px_per_slot != o.velocity_px_per_slot) {
+    problem = "velocity " + format_number(plots.velocity_px_per_slot) + ", the run's is " +
+              format_number(o.velocity_px_per_slot);
+  } else if (plots.restore_velocity_px_per_slot != restore_velocity) {
+    problem = "restore velocity " + format_number(plots.restore_velocity_px_per_slot) +
+              ", the run's is " + format_number(restore_velocity);
+  } else if (plots.dt != o.dt) {
+    problem = "dt " + format_number(plots.dt) + ", the run's is " + format_number(o.dt);
+  }
+  if (!problem.empty()) {
+    throw_usage_error("the plots given to write_outputs are not for the report's run: drawn for " +
+                      problem);
   }
   return plots;
 }
@@ -284,7 +299,20 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
       {"observed.png",
        [&] {
          if (!report.observed.data.empty()) return as_string(encode_png8(report.observed));
-         if (options.observed_png8) return as_string(options.observed_png8->encode());
+         if (const ObservedPng8* observed = options.observed_png8) {
+           if (observed->width() != report.restored.width ||
+               observed->height() != report.restored.height ||
+               observed->channels() != report.restored.channels) {
+             throw_usage_error(
+                 "observed.png: OutputOptions::observed_png8 holds a " +
+                 std::to_string(observed->width()) + " x " + std::to_string(observed->height()) +
+                 " x " + std::to_string(observed->channels()) +
+                 " image, the report's outputs are " + std::to_string(report.restored.width) +
+                 " x " + std::to_string(report.restored.height) + " x " +
+                 std::to_string(report.restored.channels));
+           }
+           return as_string(observed->encode());
+         }
          throw_usage_error(
              "observed.png: the report keeps no observed image (keep_observed = false) and "
              "OutputOptions::observed_png8 is not set");

@@ -354,9 +354,13 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t input = w * h * c * sizeof(double);
   const std::size_t outputs =
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
-  // 16 bytes a pixel and the sorter's scratch; 20 when a and b are sorted at
-  // the same time (windows of at most kParallelSortPixels, metrics.h).
-  const std::size_t midway = (ci_width * h <= kParallelSortPixels ? 21 : 17) * ci_width * h;
+  // RMSE_CI (metrics.h): 16 bytes a pixel and a sorter buffer of half a byte
+  // a pixel, at least 2 MiB; 20 bytes and two buffers when a and b are sorted
+  // at the same time (windows of at most kParallelSortPixels).
+  const std::size_t ci_pixels = ci_width * h;
+  const std::size_t sorter = std::max<std::size_t>(ci_pixels / 2, std::size_t{2} << 20);
+  const std::size_t midway =
+      ci_pixels <= kParallelSortPixels ? 20 * ci_pixels + 2 * sorter : 16 * ci_pixels + sorter;
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = 8 * wo * h * c;
   return input + outputs + std::max(midway, encoding);

@@ -545,6 +545,9 @@ TEST(ObservedPng8, RefusesRowsThatDoNotFitAndIncompleteImages) {
   EXPECT_THAT(incomplete->what(), HasSubstr("1 of 2 observed rows"));
   observed.store_row(0, 1, row);
   EXPECT_NO_THROW(observed.encode());
+  const auto twice = test::error_of([&] { observed.store_row(0, 1, row); });
+  ASSERT_TRUE(twice.has_value());
+  EXPECT_THAT(twice->what(), HasSubstr("row 1 of channel 0 was stored twice"));
   EXPECT_THROW(ObservedPng8(0, 1), Error);
   EXPECT_THROW(ObservedPng8(3, 2), Error);
 }
@@ -574,6 +577,15 @@ TEST(ObservedPng8, WithoutEitherObservedImageNothingIsWritten) {
   ASSERT_TRUE(error.has_value());
   EXPECT_EQ(error->kind(), ErrorKind::kUsage);
   EXPECT_THAT(error->what(), HasSubstr("observed_png8"));
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // Rows of another image are refused.
+  const StreamedRun other(test::make_test_image(480, 5, 1, 6));
+  OutputOptions mismatched;
+  mismatched.observed_png8 = &other.observed;
+  const auto size_error = test::error_of(
+      [&] { write_outputs(dir / "out", streamed.report, input, "input.png", mismatched); });
+  ASSERT_TRUE(size_error.has_value());
+  EXPECT_THAT(size_error->what(), HasSubstr("x 5 x 1 image, the report's outputs are"));
   EXPECT_FALSE(fs::exists(dir / "out"));
   // The sheet shows the observed image: it needs the kept one.
   OutputOptions sheet;
@@ -623,16 +635,23 @@ TEST(RenderRunPlots, PlotsOfAnotherRunAreRefused) {
   const Image input = test::make_test_image(480, 4, 1, 2);
   SimulationOptions options;
   const SimulationReport report = Simulate(options, input, *builtin_code("raskar"));
+  // What differs, and how the message says it.
   std::vector<std::pair<std::string, RunPlots>> wrong;
-  wrong.emplace_back("code", render_run_plots(*builtin_code("mip"), options));
+  wrong.emplace_back("code 'mip', the run's is 'raskar'",
+                     render_run_plots(*builtin_code("mip"), options));
+  ShutterCode other_gains = *builtin_code("raskar");
+  other_gains.gains[0] = 0.5;
+  wrong.emplace_back("other gains of code 'raskar'", render_run_plots(other_gains, options));
   options.velocity_px_per_slot = 2.0;
-  wrong.emplace_back("velocity", render_run_plots(*builtin_code("raskar"), options));
+  wrong.emplace_back("velocity 2, the run's is 1",
+                     render_run_plots(*builtin_code("raskar"), options));
   options.velocity_px_per_slot = 1.0;
   options.restore_velocity_px_per_slot = 1.5;
-  wrong.emplace_back("restore velocity", render_run_plots(*builtin_code("raskar"), options));
+  wrong.emplace_back("restore velocity 1.5, the run's is 1",
+                     render_run_plots(*builtin_code("raskar"), options));
   options.restore_velocity_px_per_slot.reset();
   options.dt = 0.5;
-  wrong.emplace_back("dt", render_run_plots(*builtin_code("raskar"), options));
+  wrong.emplace_back("dt 0.5, the run's is 1", render_run_plots(*builtin_code("raskar"), options));
   for (const auto& [what, plots] : wrong) {
     test::TempDir dir;
     OutputOptions given;
@@ -641,7 +660,7 @@ TEST(RenderRunPlots, PlotsOfAnotherRunAreRefused) {
         test::error_of([&] { write_outputs(dir / "out", report, input, "input.png", given); });
     ASSERT_TRUE(error.has_value()) << what;
     EXPECT_EQ(error->kind(), ErrorKind::kUsage) << what;
-    EXPECT_THAT(error->what(), HasSubstr("not for the report's run")) << what;
+    EXPECT_THAT(error->what(), HasSubstr("not for the report's run: drawn for " + what));
     EXPECT_FALSE(fs::exists(dir / "out")) << what;
   }
 }

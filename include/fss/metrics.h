@@ -32,12 +32,15 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 
 // RMSE of the midway-equalized columns [first, end) of a and b. Ranks are
 // sorted as 8-byte keys (the value's order-preserving bits, their low bits
-// replaced by the column-major index, radix-sorted in place), so the scratch
-// is at most 16 bytes a pixel of one channel. Equal values are ranked by index exactly; values
-// closer than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are ranked by
-// index too, which moves their midway values by no more than that. With more than one thread and a
-// window of at most kParallelSortPixels pixels, a and b are sorted at the same time (20 bytes a
-// pixel); the result is the same.
+// replaced by the column-major index, radix-sorted), so the scratch is 16
+// bytes a pixel of one channel plus the sorter's buffer (half a byte a pixel,
+// at least 2 MiB). Equal values are ranked by index exactly; values closer
+// than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are
+// ranked by index too, which moves their midway values by no more than that.
+// With more than one thread and a window of at most kParallelSortPixels
+// pixels, a and b are sorted at the same time (20 bytes a pixel and two
+// buffers); the result is the same. A window above 2^32 pixels a channel is a
+// usage error.
 inline constexpr std::size_t kParallelSortPixels = std::size_t{1} << 22;
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end, int threads = 1);
 double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end,

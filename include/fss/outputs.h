@@ -34,7 +34,8 @@ class ObservedPng8 {
   ObservedPng8(const ObservedPng8&) = delete;
   ObservedPng8& operator=(const ObservedPng8&) = delete;
 
-  // Stores one row; the callback to put in SimulationOptions calls this.
+  // Stores one row; the callback to put in SimulationOptions calls this. A
+  // row that does not fit or is stored twice is a usage error.
   void store_row(int channel, int row, std::span<const double> values);
   std::function<void(int, int, std::span<const double>)> row_callback();
 
@@ -51,7 +52,8 @@ class ObservedPng8 {
   int height_;
   int channels_;
   std::once_flag allocated_;
-  std::vector<std::uint8_t> samples_;  // planar, like Image
+  std::vector<std::uint8_t> samples_;      // planar, like Image
+  std::vector<std::atomic<bool>> stored_;  // by channel * height + row
   std::atomic<int> rows_stored_{0};
 };
 
@@ -82,7 +84,8 @@ struct OutputOptions {
   std::vector<std::string> other_inputs;
   // Where observed.png comes from when the report does not keep the observed
   // image (SimulationOptions::keep_observed = false); it must then hold
-  // every row. sheet.png needs the kept image.
+  // every row, at the size of the report's outputs. sheet.png needs the
+  // kept image.
   const ObservedPng8* observed_png8 = nullptr;
   // Plots drawn ahead (render_run_plots) for the report's code and motion,
   // used instead of drawing them again; a usage error if they do not match.

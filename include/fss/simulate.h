@@ -52,8 +52,9 @@ struct SimulationOptions {
   std::function<void(int, int)> trial_callback;
   // Receives each row of the first trial's observed image as soon as it is
   // computed: channel, row and its Wo values, as SimulationReport::observed
-  // holds them. Called from the worker threads, concurrently for different
-  // rows, once per row; may be empty. Neither callback is kept in the report.
+  // holds them. Called from the worker threads (the calling thread when
+  // there is one), concurrently for different rows, once per row; may be
+  // empty. Neither callback is kept in the report.
   std::function<void(int channel, int row, std::span<const double> values)> observed_row_callback;
   // False leaves SimulationReport::observed empty (0 x 0): a caller that
   // takes the rows from observed_row_callback (fssim encodes them to 8 bits
@@ -132,9 +133,10 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 // Estimated peak memory of Simulate plus write_outputs, in bytes, the input
 // image included: the input, the observed (as doubles, or as 8-bit samples
 // when not kept) and restored outputs (one more restoration buffer when
-// trials > 1), and the larger of the RMSE_CI scratch (17 or 21 bytes a pixel of
-// one channel's window) and the PNG encoding buffers. Rows in flight are a
-// few kilobytes a thread and are not counted.
+// trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel
+// of one channel's window and the sorter's buffers, metrics.h) and the PNG
+// encoding buffers. Rows in flight are a few kilobytes a thread and are not
+// counted.
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
                                           bool keep_observed = true);

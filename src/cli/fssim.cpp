@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "cli_common.h"
@@ -328,12 +329,19 @@ int run(int argc, char** argv) {
     const fss::ShutterCode code = fss::load_code(code_name);
     // code.png and spectrum.png need only the code and the motion: draw them
     // on their own thread while the image is read and simulated (after it,
-    // on this thread, when --threads 1 asks for one).
+    // on this thread, when --threads 1 asks for one or no thread starts).
+    // Not for a run Simulate will refuse: its error should not wait for them.
     std::future<fss::RunPlots> plots;
-    if (output_options.plots) {
-      const auto policy = fss::resolve_thread_count(options.threads) > 1 ? std::launch::async
-                                                                         : std::launch::deferred;
-      plots = std::async(policy, fss::render_run_plots, code, options);
+    if (output_options.plots && options.IsValid(nullptr) &&
+        fss::resolve_thread_count(options.threads) > 1) {
+      try {
+        fss::check_code_for_mode(code, options.mode);
+        plots = std::async(std::launch::async, fss::render_run_plots, code, options);
+      } catch (const fss::Error&) {
+        // Simulate reports it
+      } catch (const std::system_error&) {
+        // no thread: drawn below
+      }
     }
     activity = "reading input '" + input + "'";
     const fss::Image image = fss::read_png(input, options.max_memory_bytes);
@@ -363,8 +371,8 @@ int run(int argc, char** argv) {
     }
     activity = "drawing the plots";
     std::optional<fss::RunPlots> rendered_plots;
-    if (plots.valid()) {
-      rendered_plots = plots.get();
+    if (output_options.plots) {
+      rendered_plots = plots.valid() ? plots.get() : fss::render_run_plots(code, options);
       output_options.rendered_plots = &*rendered_plots;
     }
     activity = "writing the outputs to '" + outdir + "'";

@@ -134,9 +134,13 @@ void ObservedPng8::store_row(int channel, int row, std::span<const double> value
     throw_usage_error("ObservedPng8: row " + std::to_string(row) + " of channel " +
                       std::to_string(channel) + " was stored twice");
   }
+  // Interleaved as PNG stores them: sample (row, x, channel).
   std::uint8_t* out =
-      samples_.data() + (static_cast<std::size_t>(channel) * height_ + row) * width_;
-  for (const double v : values) *out++ = png8_sample(v);
+      samples_.data() + static_cast<std::size_t>(row) * width_ * channels_ + channel;
+  for (const double v : values) {
+    *out = png8_sample(v);
+    out += channels_;
+  }
   ++rows_stored_;
 }
 
@@ -151,11 +155,7 @@ std::vector<std::uint8_t> ObservedPng8::encode() const {
     throw_usage_error("observed.png: " + std::to_string(rows_stored_) + " of " +
                       std::to_string(height_ * channels_) + " observed rows were collected");
   }
-  // Whole numbers in [0, 255] encode to themselves.
-  return encode_png8(width_, height_, channels_, [&](int c, int y, double* row) {
-    const std::uint8_t* in = samples_.data() + (static_cast<std::size_t>(c) * height_ + y) * width_;
-    std::copy(in, in + width_, row);
-  });
+  return encode_png8_samples(width_, height_, channels_, samples_);
 }
 
 RunPlots render_run_plots(const ShutterCode& code, const SimulationOptions& options) {

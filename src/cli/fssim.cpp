@@ -328,8 +328,8 @@ int run(int argc, char** argv) {
   try {
     const fss::ShutterCode code = fss::load_code(code_name);
     // code.png and spectrum.png need only the code and the motion: draw them
-    // on their own thread while the image is read and simulated (after it,
-    // on this thread, when --threads 1 asks for one or no thread starts).
+    // on their own thread while the image is read and simulated (when
+    // --threads 1 asks for one or no thread starts, write_outputs draws them).
     // Not for a run Simulate will refuse: its error should not wait for them.
     std::future<fss::RunPlots> plots;
     if (output_options.plots && options.IsValid(nullptr) &&
@@ -370,9 +370,9 @@ int run(int argc, char** argv) {
       std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
     }
     activity = "drawing the plots";
-    std::optional<fss::RunPlots> rendered_plots;
-    if (output_options.plots) {
-      rendered_plots = plots.valid() ? plots.get() : fss::render_run_plots(code, options);
+    std::optional<fss::RunPlots> rendered_plots;  // else write_outputs draws them
+    if (plots.valid()) {
+      rendered_plots = plots.get();
       output_options.rendered_plots = &*rendered_plots;
     }
     activity = "writing the outputs to '" + outdir + "'";

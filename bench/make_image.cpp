@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "fss/image.h"
-#include "fss/png_io.h"
+#include "fss/core/image.h"
+#include "fss/io/png_io.h"
 
 int main(int argc, char** argv) {
   if (argc != 4) {

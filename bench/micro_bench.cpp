@@ -5,8 +5,8 @@
 #include <complex>
 #include <vector>
 
-#include "fss/fft.h"
-#include "fss/noise.h"
+#include "fss/core/fft.h"
+#include "fss/model/noise.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <iostream>
 #include <new>
 
-#include "fss/error.h"
+#include "fss/core/error.h"
 
 namespace fssim {
 

@@ -8,8 +8,8 @@
 #include <functional>
 #include <string>
 
-#include "fss/error.h"
-#include "fss/outputs.h"
+#include "fss/core/error.h"
+#include "fss/io/outputs.h"
 
 namespace fssim {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "fss/code.h"
-#include "fss/error.h"
+#include "fss/model/code.h"
+#include "fss/core/error.h"
 
 namespace fssim {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "fss/design.h"
+#include "fss/design/design.h"
 
 namespace fssim {
 

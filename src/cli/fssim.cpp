@@ -24,14 +24,14 @@
 
 #include "cli_common.h"
 #include "code_commands.h"
-#include "fss/code.h"
-#include "fss/error.h"
-#include "fss/kernel.h"
-#include "fss/outputs.h"
-#include "fss/parallel.h"
-#include "fss/plot.h"
-#include "fss/png_io.h"
-#include "fss/simulate.h"
+#include "fss/model/code.h"
+#include "fss/core/error.h"
+#include "fss/model/kernel.h"
+#include "fss/io/outputs.h"
+#include "fss/core/parallel.h"
+#include "fss/io/plot.h"
+#include "fss/io/png_io.h"
+#include "fss/pipeline/simulate.h"
 #include "sweep_command.h"
 
 namespace {

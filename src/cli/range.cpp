@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string_view>
 
-#include "fss/error.h"
+#include "fss/core/error.h"
 
 namespace fssim {
 

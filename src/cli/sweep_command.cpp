@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "fss/code.h"
-#include "fss/error.h"
-#include "fss/plot.h"
-#include "fss/png_io.h"
-#include "fss/simulate.h"
+#include "fss/model/code.h"
+#include "fss/core/error.h"
+#include "fss/io/plot.h"
+#include "fss/io/png_io.h"
+#include "fss/pipeline/simulate.h"
 #include "range.h"
 
 namespace fssim {

@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "fss/simulate.h"
+#include "fss/pipeline/simulate.h"
 
 namespace fssim {
 

@@ -7,9 +7,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "fss/error.h"
-#include "fss/image.h"
-#include "fss/png_io.h"
+#include "fss/core/error.h"
+#include "fss/core/image.h"
+#include "fss/io/png_io.h"
 
 namespace {
 

@@ -1,0 +1,71 @@
+// PNG reading and 8-bit PNG encoding (libpng). Conventions: image.h.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fss/core/image.h"
+
+namespace fss {
+
+// Largest width or height accepted when reading.
+inline constexpr int kMaxImageSide = 1 << 16;
+
+// Reads a PNG of any colour type (gray, gray+alpha, RGB, RGBA, palette) and
+// bit depth (1..16), interlaced or not. Gray stays one channel, everything
+// else becomes three; alpha is ignored. Throws a runtime fss::Error naming
+// the file on any problem; libpng warnings are not errors and are dropped.
+// With max_bytes > 0, an image whose decoding would need more memory than
+// that is refused from its header, before anything is allocated (kLimit).
+Image read_png(const std::filesystem::path& path, std::size_t max_bytes = 0);
+
+// Same, from bytes in memory; `name` is used in error messages.
+Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string& name,
+                 std::size_t max_bytes = 0);
+
+// Memory that decoding a width x height image with `channels` (1 or 3
+// after conversion) and `row_bytes` bytes a decoded row takes at its peak.
+std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
+                             std::size_t row_bytes);
+
+// How an encoded PNG is compressed. Both use the "up" filter; the pixels
+// are the same, only file size and encoding time differ.
+//  - kImage: zlib run-length matching (Z_RLE). On camera.png's outputs it is
+//    6 % smaller and 3x faster to encode than level-3 LZ77 matching.
+//  - kGraphics: zlib level 3, whose long matches suit the repeated runs of
+//    flat colour and text in plots (Z_RLE makes them 28 % larger).
+enum class PngCompression { kImage, kGraphics };
+
+// A value as an 8-bit PNG sample: rounded to the nearest integer (halves
+// away from zero), clamped to [0, 255]; NaN gives 0. The same as
+// std::clamp(std::round(value), 0.0, 255.0) without a libm call.
+inline std::uint8_t png8_sample(double value) {
+  if (!(value >= 0.5)) return 0;  // negatives, [0, 0.5) and NaN
+  if (value >= 255.0) return 255;
+  const int whole = static_cast<int>(value);  // truncation; exact in [0.5, 255)
+  return static_cast<std::uint8_t>(whole + (value - whole >= 0.5 ? 1 : 0));
+}
+
+// Encodes an 8-bit gray (1 channel) or RGB (3 channels) PNG; each value
+// becomes png8_sample(value).
+std::vector<std::uint8_t> encode_png8(const Image& image,
+                                      PngCompression compression = PngCompression::kImage);
+
+// Same for an image given row by row: fill_row(c, y, row) writes the `width`
+// values of channel c, row y. The only full-size copy is of 8-bit samples.
+std::vector<std::uint8_t> encode_png8(
+    int width, int height, int channels,
+    const std::function<void(int c, int y, double* row)>& fill_row,
+    PngCompression compression = PngCompression::kImage);
+
+// Same for 8-bit samples already interleaved as PNG stores them (gray, or
+// RGB triplets; rows top down, width x channels bytes each).
+std::vector<std::uint8_t> encode_png8_samples(int width, int height, int channels,
+                                              std::span<const std::uint8_t> samples,
+                                              PngCompression compression = PngCompression::kImage);
+
+}  // namespace fss

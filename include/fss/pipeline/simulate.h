@@ -1,0 +1,163 @@
+// One call runs the whole simulator: SimulationOptions -> Simulate() ->
+// SimulationReport. Conventions: image.h.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fss/model/code.h"
+#include "fss/core/image.h"
+#include "fss/model/kernel.h"
+#include "fss/pipeline/restore.h"
+#include "fss/pipeline/theory.h"
+
+namespace fss {
+
+enum class NoiseModel { kPoisson, kNone };
+std::string to_string(NoiseModel noise);
+std::optional<NoiseModel> noise_model_from_string(std::string_view text);
+
+// Bounds of SimulationOptions::dt and ::snr, and of the RMSE margin.
+inline constexpr double kMinScale = 1e-100;
+inline constexpr double kMaxScale = 1e100;
+inline constexpr int kMaxMarginColumns = 1 << 16;
+
+// Receives the observed rows of the first trial as Simulate computes them,
+// for a caller that stores them in its own form (fssim encodes them to 8 bits:
+// ObservedPng8, io/outputs.h) instead of a Wo x H x C image of doubles.
+// consume_row is called once per row, with the Wo values
+// SimulationReport::observed would hold, from the worker threads,
+// concurrently for different rows.
+class ObservedRowSink {
+ public:
+  virtual ~ObservedRowSink() = default;
+  virtual void consume_row(int channel, int row, std::span<const double> values) = 0;
+};
+
+struct SimulationOptions {
+  ShutterMode mode = ShutterMode::kNumerical;
+  double velocity_px_per_slot = 1.0;  // any real; the sign is the direction along rows
+  // Velocity assumed by the restoration, to measure the cost of a wrong
+  // velocity estimate; empty means the true velocity. The blur length B
+  // covers both velocities, so a restore velocity equal to the true one is
+  // exactly a normal run.
+  std::optional<double> restore_velocity_px_per_slot;
+  double dt = 1.0;     // time slot length, in [kMinScale, kMaxScale]
+  double snr = 100.0;  // in [kMinScale, kMaxScale]
+  std::uint64_t seed = 0;
+  NoiseModel noise = NoiseModel::kPoisson;
+  // Columns left out at each side of the output for the RMSE; -1 means 3 B.
+  int rmse_margin_columns = -1;
+  // Independent noise realizations, seeds seed, seed + 1, ...; images and the
+  // headline metrics are those of the first.
+  int trials = 1;
+  int threads = 0;  // 0: all hardware threads; never changes the results
+  // Refuse, before allocating, a run whose estimated peak memory
+  // (estimate_working_memory_bytes) exceeds this; 0 means no limit.
+  std::size_t max_memory_bytes = 0;
+  // Called after each trial with (done, total); may be empty.
+  std::function<void(int, int)> trial_callback;
+  // Receives each row of the first trial's observed image as soon as it is
+  // computed: channel, row and its Wo values, as SimulationReport::observed
+  // holds them. Called from the worker threads (the calling thread when
+  // there is one), concurrently for different rows, once per row; may be
+  // empty. Neither callback is kept in the report.
+  std::function<void(int channel, int row, std::span<const double> values)> observed_row_callback;
+  // False leaves SimulationReport::observed empty (0 x 0): a caller that
+  // takes the rows from observed_row_callback (fssim encodes them to 8 bits
+  // as they come) saves a Wo x H x C image of doubles.
+  bool keep_observed = true;
+
+  // False, with a message naming the field, its value and the rule, when an
+  // option is out of range on its own (image and code checks are in Simulate).
+  bool IsValid(std::string* error) const;
+};
+
+struct Metrics {
+  double rmse = 0.0;
+  double psnr = 0.0;
+  double rmse_ci = 0.0;
+  double psnr_ci = 0.0;
+};
+
+struct TrialStatistics {
+  int n = 0;
+  double rmse_mean = 0.0;
+  double rmse_sd = 0.0;  // sample standard deviation, 0 for one trial
+  double rmse_ci_mean = 0.0;
+  double rmse_ci_sd = 0.0;
+};
+
+struct SimulationReport {
+  SimulationOptions options;
+  std::string code_name;
+  std::vector<double> gains;
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+
+  Geometry geometry;
+  int rmse_first = 0;  // RMSE window [rmse_first, rmse_end) of the output
+  int rmse_end = 0;
+  int rmse_ci_first = 0;  // RMSE_CI window
+  int rmse_ci_end = 0;
+
+  // The kernel that is inverted: the code at the restore velocity (the true
+  // velocity unless options.restore_velocity_px_per_slot is set).
+  KernelAnalysis kernel;
+  double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) = 0
+  int zero_bins = 0;              // deconvolution bins with K = 0, left at 0
+
+  Metrics metrics;         // of the first trial
+  TrialStatistics trials;  // over all trials
+  Prediction prediction;
+  std::vector<std::string> warnings;
+
+  // Wo x H outputs of the first trial, on the 0..255 scale (not rounded),
+  // aligned with input columns [output_first_column(), + Wo). The ground
+  // truth and the residual display are derived from the input on demand
+  // (groundtruth_image, residual_image) rather than kept: for a large image
+  // each of them would be as big as the input.
+  Image observed;  // divided by observed_divisor; empty unless options.keep_observed
+  Image restored;
+
+  int output_first_column() const { return 3 * geometry.half_blur; }
+
+  // Human-readable summary of everything above but the images.
+  std::string FullReport() const;
+};
+
+// Throws the usage fss::Error Simulate would for a code the mode cannot use:
+// no gains, only zero gains, or (analog) a gain outside [0, 1].
+void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
+
+// Runs the simulation of `code` on `input`. Throws a usage fss::Error for a
+// combination that cannot run (invalid options, analog gains outside [0, 1],
+// an all-zero code, an image too narrow for the RMSE window).
+SimulationReport Simulate(const SimulationOptions& options, const Image& input,
+                          const ShutterCode& code);
+
+// Estimated peak memory of Simulate plus write_outputs, in bytes, the input
+// image included: the input, the observed (as doubles, or as 8-bit samples
+// when not kept) and restored outputs (one more restoration buffer when
+// trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel
+// of one channel's window and the sorter's buffers, metrics.h) and the PNG
+// encoding buffers. Rows in flight are a few kilobytes a thread and are not
+// counted.
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry, int trials,
+                                          bool keep_observed = true);
+
+// The ground truth aligned with report.restored: input columns
+// [output_first_column(), output_first_column() + Wo).
+Image groundtruth_image(const Image& input, const SimulationReport& report);
+
+// groundtruth - restored, stretched affinely to [0, 255] (metrics.h).
+Image residual_image(const Image& input, const SimulationReport& report);
+
+}  // namespace fss

@@ -1,0 +1,190 @@
+#include "fss/model/code.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fss/core/error.h"
+
+namespace fss {
+
+std::string to_string(ShutterMode mode) {
+  return mode == ShutterMode::kAnalog ? "analog" : "numerical";
+}
+
+std::optional<ShutterMode> shutter_mode_from_string(std::string_view text) {
+  if (text == "numerical") return ShutterMode::kNumerical;
+  if (text == "analog") return ShutterMode::kAnalog;
+  return std::nullopt;
+}
+
+namespace {
+bool is_separator(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f' || c == ',' ||
+         c == ';';
+}
+
+// A token as shown in a message: control bytes as \xNN, cut after 40
+// characters, so that a binary file gives a short, one-line message.
+std::string printable_token(std::string_view token) {
+  constexpr std::size_t kShown = 40;
+  std::string out;
+  std::size_t used = 0;
+  for (; used < token.size() && out.size() < kShown; ++used) {
+    out += escape_control_characters(token.substr(used, 1));
+  }
+  if (used < token.size()) out += "...";
+  return out;
+}
+}  // namespace
+
+ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
+  ShutterCode code;
+  code.name = origin;
+  std::size_t line = 1;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      ++i;
+    } else if (c == '#') {
+      while (i < text.size() && text[i] != '\n') ++i;
+    } else if (is_separator(c)) {
+      ++i;
+    } else {
+      std::size_t end = i;
+      while (end < text.size() && !is_separator(text[end]) && text[end] != '#') ++end;
+      const std::string_view token = text.substr(i, end - i);
+      // from_chars does not take a leading '+'; accept it as people write it.
+      std::string_view digits = token;
+      if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
+      double value = 0.0;
+      const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+      const std::string where = "code file '" + origin + "' line " + std::to_string(line);
+      // (Appended rather than "'" + ...: GCC 12 warns wrongly on that form.)
+      std::string shown = "'";
+      shown += printable_token(token);
+      shown += "'";
+      if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size()) {
+        throw_runtime_error(where + ": gain " + shown +
+                            " is out of the range of double-precision numbers");
+      }
+      if (ec != std::errc() || ptr != digits.data() + digits.size()) {
+        throw_runtime_error(where + ": " + shown +
+                            " is not a number (expected gains separated by spaces, commas or "
+                            "semicolons)");
+      }
+      if (!std::isfinite(value)) {
+        throw_runtime_error(where + ": gain " + shown + " is not a finite number");
+      }
+      code.gains.push_back(value);
+      i = end;
+    }
+  }
+  if (code.gains.empty()) {
+    throw_runtime_error("code file '" + origin + "' holds no gains (expected at least one number)");
+  }
+  return code;
+}
+
+std::vector<std::string> builtin_code_names() {
+  std::vector<std::string> names;
+  for (const auto& entry : detail::embedded_codes()) names.emplace_back(entry.name);
+  return names;
+}
+
+std::optional<ShutterCode> builtin_code(std::string_view name) {
+  for (const auto& entry : detail::embedded_codes()) {
+    if (name == entry.name) {
+      ShutterCode code = parse_code_text(entry.text, entry.name);
+      code.name = entry.name;
+      return code;
+    }
+  }
+  return std::nullopt;
+}
+
+ShutterCode load_code(const std::string& name_or_path) {
+  if (auto code = builtin_code(name_or_path)) return *code;
+  std::error_code ec;
+  const std::filesystem::path path(name_or_path);
+  const bool exists = std::filesystem::exists(path, ec);
+  if (ec) throw_runtime_error("cannot access code file '" + name_or_path + "': " + ec.message());
+  if (!exists) {
+    std::string names;
+    for (const auto& n : builtin_code_names()) names += (names.empty() ? "" : ", ") + n;
+    throw_usage_error("--code '" + name_or_path + "' is neither a built-in code (" + names +
+                      ") nor an existing file");
+  }
+  if (std::filesystem::is_directory(path, ec)) {
+    throw_runtime_error("code file '" + name_or_path + "' is a directory, expected a text file");
+  }
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    throw_runtime_error("cannot open code file '" + name_or_path + "': " + std::strerror(errno));
+  }
+  // Read in blocks and refused past kMaxCodeFileBytes, so that an endless
+  // stream (/dev/zero) or a huge file does not exhaust memory.
+  std::string text;
+  std::vector<char> buffer(std::size_t{1} << 16);
+  while (file.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) ||
+         file.gcount() > 0) {
+    text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
+    if (text.size() > kMaxCodeFileBytes) {
+      throw_runtime_error("code file '" + name_or_path + "' is larger than " +
+                          std::to_string(kMaxCodeFileBytes >> 20) +
+                          " MiB: expected a text file of gains");
+    }
+  }
+  if (file.bad()) throw_runtime_error("cannot read code file '" + name_or_path + "'");
+  return parse_code_text(text, name_or_path);
+}
+
+std::string format_code_txt(const ShutterCode& code) {
+  std::string out;
+  for (const double g : code.gains) {
+    char buffer[64];
+    // Shortest text that reads back to the same double.
+    const auto [ptr, ec] = std::to_chars(buffer, buffer + sizeof buffer, g);
+    out.append(buffer, ptr);
+    out += ";\n";
+  }
+  return out;
+}
+
+double gain_sum(const std::vector<double>& gains) {
+  double s = 0.0;
+  for (const double g : gains) s += g;
+  return s;
+}
+
+double gain_square_sum(const std::vector<double>& gains) {
+  double s = 0.0;
+  for (const double g : gains) s += g * g;
+  return s;
+}
+
+double gain_max_abs(const std::vector<double>& gains) {
+  double m = 0.0;
+  for (const double g : gains) m = std::max(m, std::abs(g));
+  return m;
+}
+
+double normalized_l1(const std::vector<double>& gains) {
+  const double sup = gain_max_abs(gains);
+  if (sup == 0.0) return 0.0;
+  double l1 = 0.0;
+  for (const double g : gains) l1 += std::abs(g);
+  return l1 / sup;
+}
+
+}  // namespace fss

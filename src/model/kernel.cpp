@@ -1,0 +1,89 @@
+#include "fss/model/kernel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "fss/model/transfer.h"
+
+namespace fss {
+
+namespace {
+// Golden-section search for the minimum of |K| on [a, b]; returns (xi, |K|).
+std::pair<double, double> refine_minimum(std::span<const double> gains, double velocity, double dt,
+                                         double a, double b) {
+  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+  auto f = [&](double xi) { return std::abs(transfer_function(gains, velocity, dt, xi)); };
+  double x1 = b - ratio * (b - a);
+  double x2 = a + ratio * (b - a);
+  double f1 = f(x1);
+  double f2 = f(x2);
+  for (int iteration = 0; iteration < 80 && b - a > 1e-15; ++iteration) {
+    if (f1 <= f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - ratio * (b - a);
+      f1 = f(x1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + ratio * (b - a);
+      f2 = f(x2);
+    }
+  }
+  return f1 <= f2 ? std::make_pair(x1, f1) : std::make_pair(x2, f2);
+}
+}  // namespace
+
+KernelAnalysis analyze_kernel(std::span<const double> gains, double velocity, double dt) {
+  KernelAnalysis result;
+  double sum = 0.0;
+  double abs_sum = 0.0;
+  for (const double g : gains) {
+    sum += g;
+    abs_sum += std::abs(g);
+  }
+  result.k0 = dt * sum;
+  const double scale = dt * abs_sum;
+
+  // |K(-xi)| = |K(xi)| for real gains: scan [0, pi] only.
+  const int intervals = std::max<int>(4096, 64 * static_cast<int>(gains.size()));
+  std::vector<double> values(static_cast<std::size_t>(intervals) + 1);
+  auto xi_of = [&](int j) { return M_PI * j / intervals; };
+  for (int j = 0; j <= intervals; ++j) {
+    values[j] = std::abs(transfer_function(gains, velocity, dt, xi_of(j)));
+  }
+  result.min_abs = std::numeric_limits<double>::infinity();
+  for (int j = 0; j <= intervals; ++j) {
+    const bool left_ok = j == 0 || values[j] <= values[j - 1];
+    const bool right_ok = j == intervals || values[j] <= values[j + 1];
+    if (!(left_ok && right_ok)) continue;
+    if (values[j] < result.min_abs) {
+      result.min_abs = values[j];
+      result.min_abs_xi = xi_of(j);
+    }
+    const auto [xi, value] = refine_minimum(gains, velocity, dt, xi_of(std::max(j - 1, 0)),
+                                            xi_of(std::min(j + 1, intervals)));
+    if (value < result.min_abs) {
+      result.min_abs = value;
+      result.min_abs_xi = xi;
+    }
+  }
+  result.invertible = scale > 0.0 && result.min_abs > kInvertibilityTolerance * scale;
+  return result;
+}
+
+double mean_inverse_power(std::span<const double> gains, double velocity, double dt, int n) {
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double power = std::norm(transfer_function(gains, velocity, dt, bin_frequency(i, n)));
+    if (power == 0.0) return std::numeric_limits<double>::infinity();
+    sum += 1.0 / power;
+  }
+  return sum / n;
+}
+
+}  // namespace fss

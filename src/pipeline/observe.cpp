@@ -1,0 +1,189 @@
+#include "fss/pipeline/observe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "fss/core/error.h"
+#include "fss/core/parallel.h"
+#include "fss/model/transfer.h"
+
+namespace fss {
+
+RowSpectra row_spectra(const Image& image, int threads) {
+  RowSpectra spectra;
+  spectra.width = image.width;
+  spectra.height = image.height;
+  spectra.channels = image.channels;
+  const int bins = spectra.spectrum_size();
+  const int rows = image.channels * image.height;
+  spectra.bins.resize(static_cast<std::size_t>(rows) * bins);
+  const RowFFT& fft = RowFFT::for_size(image.width);
+  parallel_for(rows, threads, [&](int begin, int end) {
+    RowFFT::Workspace workspace(image.width);
+    for (int r = begin; r < end; ++r) {
+      const double* src = image.data.data() + static_cast<std::size_t>(r) * image.width;
+      std::copy(src, src + image.width, workspace.real().begin());
+      fft.forward(workspace);
+      std::copy(workspace.spectrum().begin(), workspace.spectrum().end(),
+                spectra.bins.begin() + static_cast<std::ptrdiff_t>(r) * bins);
+    }
+  });
+  return spectra;
+}
+
+RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode mode,
+                         const ObservationParams& params)
+    : width_(width),
+      gains_(gains.begin(), gains.end()),
+      mode_(mode),
+      snr_(params.snr),
+      fft_(RowFFT::for_size(width)) {
+  if (mode == ShutterMode::kAnalog) {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      if (!(gains_[k] >= 0.0 && gains_[k] <= 1.0)) {
+        throw_usage_error("analog mode needs gains in [0, 1], but gain " + std::to_string(k) +
+                          " is " + std::to_string(gains_[k]));
+      }
+    }
+    filters_.push_back(transfer_function_bins(gains_, params.velocity, params.dt, width));
+    return;
+  }
+  const double s = params.velocity * params.dt;
+  shift_ = std::nearbyint(s) == s && std::abs(s) < 1e9;
+  if (shift_) {
+    step_ = static_cast<long long>(s);
+    filters_.push_back(slot_transfer_function_bins(0, params.velocity, params.dt, width));
+  } else {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      filters_.push_back(gains_[k] == 0.0
+                             ? std::vector<Complex>()
+                             : slot_transfer_function_bins(static_cast<int>(k), params.velocity,
+                                                           params.dt, width));
+    }
+  }
+}
+
+RowObserver::Scratch::Scratch(const RowObserver& observer)
+    : workspace(observer.width_),
+      spectrum(static_cast<std::size_t>(observer.width_ / 2 + 1)),
+      sampler(observer.snr_) {}
+
+void RowObserver::load_row(const double* row, Scratch& scratch) const {
+  std::copy(row, row + width_, scratch.workspace.real().begin());
+  fft_.forward(scratch.workspace);
+  std::copy(scratch.workspace.spectrum().begin(), scratch.workspace.spectrum().end(),
+            scratch.spectrum.begin());
+}
+
+void RowObserver::load_spectrum(const Complex* bins, Scratch& scratch) const {
+  std::copy(bins, bins + width_ / 2 + 1, scratch.spectrum.begin());
+}
+
+std::span<const double> RowObserver::filtered(const std::vector<Complex>& filter,
+                                              Scratch& scratch) const {
+  std::copy(scratch.spectrum.begin(), scratch.spectrum.end(), scratch.workspace.spectrum().begin());
+  fft_.inverse_filtered(scratch.workspace, filter);
+  return scratch.workspace.real();
+}
+
+void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
+                          std::span<double> out) const {
+  const auto c = static_cast<std::uint64_t>(channel);
+  const auto y = static_cast<std::uint64_t>(row);
+  std::fill(out.begin(), out.end(), 0.0);
+  if (mode_ == ShutterMode::kAnalog) {
+    const std::span<const double> e = filtered(filters_[0], scratch);
+    if (noisy) {
+      scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
+    } else {
+      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
+    }
+    return;
+  }
+  // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
+  auto add_slot = [&](std::size_t k, std::span<const double> e) {
+    const double alpha = gains_[k];
+    if (noisy) {
+      scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
+    } else {
+      for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+    }
+  };
+  if (!shift_) {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      if (gains_[k] != 0.0) add_slot(k, filtered(filters_[k], scratch));
+    }
+    return;
+  }
+  const std::span<const double> e0 = filtered(filters_[0], scratch);
+  scratch.shifted.resize(static_cast<std::size_t>(width_));
+  for (std::size_t k = 0; k < gains_.size(); ++k) {
+    if (gains_[k] == 0.0) continue;
+    // e_k(x) = e_0((x - s k) mod W)
+    long long offset = (step_ * static_cast<long long>(k)) % width_;
+    if (offset < 0) offset += width_;
+    const auto o = static_cast<std::ptrdiff_t>(offset);
+    std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
+    std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
+    add_slot(k, scratch.shifted);
+  }
+}
+
+namespace {
+
+// The observation of every row of u, from its stored spectra.
+Image observe_all(const RowSpectra& u, std::span<const double> gains, ShutterMode mode, bool noisy,
+                  const ObservationParams& params) {
+  const RowObserver observer(u.width, gains, mode, params);
+  Image out(u.width, u.height, u.channels);
+  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
+    RowObserver::Scratch scratch(observer);
+    for (int r = begin; r < end; ++r) {
+      const int c = r / u.height;
+      const int y = r % u.height;
+      observer.load_spectrum(u.row(c, y), scratch);
+      observer.observe(noisy, params.seed, c, y, scratch,
+                       std::span<double>(out.row(c, y), static_cast<std::size_t>(u.width)));
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+Image convolve_rows(const RowSpectra& u, std::span<const double> gains,
+                    const ObservationParams& params) {
+  Image out(u.width, u.height, u.channels);
+  const RowFFT& fft = RowFFT::for_size(u.width);
+  const auto filter = transfer_function_bins(gains, params.velocity, params.dt, u.width);
+  const int bins = u.spectrum_size();
+  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
+    RowFFT::Workspace workspace(u.width);
+    for (int r = begin; r < end; ++r) {
+      const int c = r / u.height;
+      const int y = r % u.height;
+      std::copy(u.row(c, y), u.row(c, y) + bins, workspace.spectrum().begin());
+      fft.inverse_filtered(workspace, filter);  // e = IDFT(DFT(u) K)
+      std::copy(workspace.real().begin(), workspace.real().end(), out.row(c, y));
+    }
+  });
+  return out;
+}
+
+Image observe_noise_free(const RowSpectra& u, std::span<const double> gains, ShutterMode mode,
+                         const ObservationParams& params) {
+  return observe_all(u, gains, mode, false, params);
+}
+
+Image observe_analog(const RowSpectra& u, std::span<const double> gains,
+                     const ObservationParams& params) {
+  return observe_all(u, gains, ShutterMode::kAnalog, true, params);
+}
+
+Image observe_numerical(const RowSpectra& u, std::span<const double> gains,
+                        const ObservationParams& params) {
+  return observe_all(u, gains, ShutterMode::kNumerical, true, params);
+}
+
+}  // namespace fss

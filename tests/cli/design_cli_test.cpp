@@ -1,0 +1,466 @@
+// End-to-end tests of `fssim code generate | analyze | optimize` and
+// `fssim sweep`, and unit tests of the command line's range syntax.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fss/model/code.h"
+#include "fss/design/design.h"
+#include "fss/core/error.h"
+#include "fss/core/image.h"
+#include "fss/io/plot.h"
+#include "fss/io/png_io.h"
+#include "range.h"
+#include "support/test_util.h"
+
+namespace fss {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CommandResult;
+using test::run_fssim;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+using test::quote;
+
+std::string camera() { return quote(test::source_path("data/camera.png")); }
+
+using test::lines_of;
+
+std::vector<std::string> split(const std::string& line, char separator) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, separator)) fields.push_back(field);
+  if (!line.empty() && line.back() == separator) fields.push_back("");
+  return fields;
+}
+
+// The number after "label: " on the line that starts with it.
+double value_after(const std::string& out, const std::string& label) {
+  for (const std::string& line : lines_of(out)) {
+    if (line.rfind(label + ": ", 0) == 0) return std::stod(line.substr(label.size() + 2));
+  }
+  ADD_FAILURE() << "no line '" << label << ": ...' in:\n" << out;
+  return std::nan("");
+}
+
+void expect_one_error_line(const CommandResult& result) {
+  const std::vector<std::string> lines = lines_of(result.err);
+  EXPECT_EQ(lines.size(), 1u) << "stderr:\n" << result.err;
+  if (!lines.empty()) EXPECT_THAT(lines[0], StartsWith("fssim: error:"));
+  EXPECT_LE(result.err.size(), 250u) << result.err;
+}
+
+// ---------------------------------------------------------------------------
+// Range syntax.
+
+TEST(Range, SingleValue) {
+  EXPECT_EQ(fssim::parse_range("1.5", "--velocity"), std::vector<double>{1.5});
+  EXPECT_EQ(fssim::parse_range("-2", "--velocity"), std::vector<double>{-2.0});
+  EXPECT_EQ(fssim::parse_range("+3", "--velocity"), std::vector<double>{3.0});
+}
+
+TEST(Range, InclusiveStopWithinHalfAStep) {
+  EXPECT_EQ(fssim::parse_range("0.25:2:0.25", "--velocity"),
+            (std::vector<double>{0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0}));
+  // 0.1 steps do not add up to 0.3 exactly; the stop is still included.
+  const std::vector<double> tenths = fssim::parse_range("0.1:0.3:0.1", "--snr");
+  ASSERT_EQ(tenths.size(), 3u);
+  EXPECT_DOUBLE_EQ(tenths[2], 0.1 + 2 * 0.1);
+  // A stop that is not on the grid: the last value stays below stop + step / 2.
+  EXPECT_EQ(fssim::parse_range("0:1:0.3", "--velocity"),
+            (std::vector<double>{0.0, 0.3, 0.6, 0.8999999999999999}));
+  EXPECT_EQ(fssim::parse_range("5:5:1", "--snr"), std::vector<double>{5.0});
+  EXPECT_EQ(fssim::parse_range("-1:1:1", "--velocity"), (std::vector<double>{-1.0, 0.0, 1.0}));
+}
+
+TEST(Range, ErrorsNameTheOptionAndTheRule) {
+  struct Case {
+    const char* text;
+    const char* rule;
+  };
+  const Case cases[] = {
+      {"abc", "finite number"},      {"nan", "finite number"},
+      {"inf", "finite number"},      {"", "finite number"},
+      {"1:2", "three parts"},        {"1:2:3:4", "three parts"},
+      {"0:1:0", "step must be > 0"}, {"0:1:-0.5", "step must be > 0"},
+      {"0:nan:0.5", "finite"},       {"0:1:inf", "finite"},
+      {"2:1:0.5", "stop"},           {"0:1:0.00001", "more than 10000"},
+      {"1:x:1", "finite"},
+  };
+  for (const Case& c : cases) {
+    try {
+      fssim::parse_range(c.text, "--velocity");
+      ADD_FAILURE() << "'" << c.text << "' was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::kUsage);
+      EXPECT_THAT(e.what(), HasSubstr("--velocity")) << c.text;
+      EXPECT_THAT(e.what(), HasSubstr(c.rule)) << c.text;
+    }
+  }
+  // 10000 values is the limit, not an error.
+  EXPECT_EQ(fssim::parse_range("1:10000:1", "--snr").size(), 10000u);
+}
+
+// ---------------------------------------------------------------------------
+// code generate.
+
+class CodeCli : public ::testing::Test {
+ protected:
+  test::TempDir dir_;
+};
+
+TEST_F(CodeCli, GenerateWritesAFileTheSimulatorAccepts) {
+  const fs::path file = dir_ / "sinc52.txt";
+  const CommandResult r =
+      run_fssim("code generate sinc --length 52 --velocity 1 -o " + quote(file));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_THAT(r.out, HasSubstr("written to"));
+  const ShutterCode code = load_code(file.string());
+  EXPECT_EQ(code.gains, generate_sinc_code(52, 1.0, 1.0));  // shortest exact decimals
+  EXPECT_THAT(test::read_file(file), StartsWith("# sinc code, L = 52"));
+  EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"sinc52.txt"});
+
+  const CommandResult sim = run_fssim("--input " + camera() + " --code " + quote(file) +
+                                      " --noise none --outdir " + quote(dir_ / "out"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  // Noise-free RMSE of the paper's sinc code on camera.png (SPEC 6: 0.357).
+  const double rmse = std::stod(lines_of(sim.out).at(0).substr(6));
+  EXPECT_NEAR(rmse, 0.357, 0.002);
+}
+
+TEST_F(CodeCli, GenerateToStandardOutput) {
+  const CommandResult r = run_fssim("code generate mip --length 30 --velocity 0.5 --dt 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(parse_code_text(r.out, "stdout").gains, generate_mip_code(30, 1.0, 1.0));
+
+  const CommandResult random = run_fssim("code generate random --length 20 --seed 3 --analog");
+  ASSERT_EQ(random.exit_code, 0) << random.err;
+  EXPECT_EQ(parse_code_text(random.out, "stdout").gains, generate_random_code(20, 3, true));
+  EXPECT_THAT(random.out, HasSubstr("seed 3"));
+
+  const CommandResult snapshot = run_fssim("code generate snapshot -L 4");
+  ASSERT_EQ(snapshot.exit_code, 0) << snapshot.err;
+  EXPECT_EQ(parse_code_text(snapshot.out, "stdout").gains,
+            (std::vector<double>{1.0, 0.0, 0.0, 0.0}));
+  const CommandResult accumulation = run_fssim("code generate accumulation -L 3");
+  EXPECT_EQ(parse_code_text(accumulation.out, "stdout").gains,
+            (std::vector<double>{1.0, 1.0, 1.0}));
+}
+
+// ---------------------------------------------------------------------------
+// code analyze.
+
+TEST_F(CodeCli, AnalyzePrintsTheFiguresOfMerit) {
+  const CommandResult r = run_fssim("code analyze raskar");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_THAT(r.out, StartsWith("Code: raskar (L = 52)\n"));
+  EXPECT_DOUBLE_EQ(value_after(r.out, "Sum of gains"), 26.0);
+  EXPECT_DOUBLE_EQ(value_after(r.out, "Sum of squares"), 26.0);
+  EXPECT_DOUBLE_EQ(value_after(r.out, "Normalized L1 norm"), 26.0);
+  EXPECT_THAT(r.out, HasSubstr("\nInvertible: yes\n"));
+  EXPECT_THAT(r.out, HasSubstr("Min |K| on the band: "));
+  const CodeAnalysis a =
+      analyze_code(builtin_code("raskar")->gains, 1.0, 1.0, 100.0, ShutterMode::kNumerical);
+  EXPECT_NEAR(value_after(r.out, "SNR at level 100"), a.snr_level100, 1e-6);
+  EXPECT_NEAR(value_after(r.out, "Snapshot SNR at level 100"), 84.932180, 1e-6);
+  EXPECT_NEAR(value_after(r.out, "Ratio to the snapshot"), a.ratio_to_snapshot, 1e-6);
+  EXPECT_NEAR(value_after(r.out, "Bound on the SNR at level 100 (any code, any length)"), 85.745378,
+              1e-6);
+}
+
+TEST_F(CodeCli, AnalyzeOnTheSimulatorsGridMatchesItsPrediction) {
+  // report.json's snr_level100 of a real run against `code analyze --grid 2 Wa`.
+  const CommandResult sim =
+      run_fssim("--input " + camera() + " --code mip --velocity 0.8 --snr 50 --outdir " +
+                quote(dir_ / "out"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const nlohmann::json report = nlohmann::json::parse(test::read_file(dir_ / "out/report.json"));
+  const int grid = report["geometry"]["mirror_width"];
+  EXPECT_EQ(grid, 920);
+  const fs::path json = dir_ / "analysis.json";
+  const CommandResult r = run_fssim("code analyze mip --velocity 0.8 --snr 50 --grid " +
+                                    std::to_string(grid) + " --json " + quote(json));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const double predicted = report["prediction"]["snr_level100"];
+  EXPECT_NEAR(value_after(r.out, "SNR at level 100"), predicted, 1e-6);
+  EXPECT_THAT(r.out, HasSubstr("920-point DFT grid"));
+  const nlohmann::json analysis = nlohmann::json::parse(test::read_file(json));
+  EXPECT_NEAR(analysis["analysis"]["snr_level100"].get<double>(), predicted, 1e-9 * predicted);
+  EXPECT_NEAR(analysis["analysis"]["m"].get<double>(), report["prediction"]["m"].get<double>(),
+              1e-12);
+  EXPECT_DOUBLE_EQ(analysis["analysis"]["q"].get<double>(), report["prediction"]["q"]);
+  EXPECT_EQ(analysis["code"]["length"], 52);
+  EXPECT_EQ(analysis["parameters"]["grid_points"], 920);
+  EXPECT_EQ(analysis["parameters"]["mode"], "numerical");
+}
+
+TEST_F(CodeCli, AnalyzeANonInvertibleCode) {
+  const fs::path json = dir_ / "a.json";
+  const CommandResult r = run_fssim("code analyze accumulation --json " + quote(json));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("Invertible: no"));
+  EXPECT_THAT(r.out, HasSubstr("): infinite\n"));
+  EXPECT_EQ(value_after(r.out, "SNR at level 100"), 0.0);
+  const nlohmann::json analysis = nlohmann::json::parse(test::read_file(json));
+  EXPECT_TRUE(analysis["analysis"]["m"].is_null());
+  EXPECT_EQ(analysis["analysis"]["invertible"], false);
+}
+
+// ---------------------------------------------------------------------------
+// code optimize.
+
+TEST_F(CodeCli, OptimizeWritesACodeThatBeatsThePaperCodes) {
+  const fs::path file = dir_ / "best.txt";
+  const CommandResult r =
+      run_fssim("code optimize --length 52 --velocity 1 --mode analog -o " + quote(file));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, StartsWith("Optimized analog code: L = 52, velocity 1, dt 1\n"));
+  EXPECT_THAT(r.out, HasSubstr("(not admissible: random, mip, sinc)"));
+  EXPECT_THAT(r.out, HasSubstr("Code written to"));
+  const ShutterCode code = load_code(file.string());
+  ASSERT_EQ(code.length(), 52);
+  const CodeAnalysis ours =
+      analyze_code(code.gains, 1.0, 1.0, 100.0, ShutterMode::kAnalog);  // analog-admissible
+  for (const char* name : {"snapshot", "accumulation", "raskar"}) {
+    EXPECT_GE(
+        ours.snr_level100,
+        analyze_code(builtin_code(name)->gains, 1.0, 1.0, 100.0, ShutterMode::kAnalog).snr_level100)
+        << name;
+  }
+  // The optimized code runs through the simulator.
+  const CommandResult sim = run_fssim("--input " + camera() + " --code " + quote(file) +
+                                      " --mode analog --outdir " + quote(dir_ / "out"));
+  EXPECT_EQ(sim.exit_code, 0) << sim.err;
+}
+
+TEST_F(CodeCli, OptimizeBinaryWithALightBudget) {
+  const CommandResult r =
+      run_fssim("code optimize -L 20 -v 0.9 --binary --min-light 8 --restarts 3 --seed 5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("light >= 8 slots"));
+  EXPECT_THAT(r.out, HasSubstr("seed 5"));
+  std::string gains_line;
+  for (const std::string& line : lines_of(r.out)) {
+    if (line.rfind("Gains:", 0) == 0) gains_line = line.substr(6);
+  }
+  std::istringstream in(gains_line);
+  int ones = 0, count = 0;
+  for (double g; in >> g; ++count) {
+    EXPECT_TRUE(g == 0.0 || g == 1.0) << g;
+    ones += g == 1.0;
+  }
+  EXPECT_EQ(count, 20);
+  EXPECT_GE(ones, 8);
+  // Same seed, same code.
+  EXPECT_EQ(
+      run_fssim("code optimize -L 20 -v 0.9 --binary --min-light 8 --restarts 3 --seed 5").out,
+      r.out);
+}
+
+// ---------------------------------------------------------------------------
+// sweep.
+
+TEST_F(CodeCli, SweepPlotDrawsTheCurveAndNeedsOneRange) {
+  const fs::path csv = dir_ / "sweep.csv";
+  const fs::path png = dir_ / "sweep.png";
+  const CommandResult r = run_fssim("sweep --input " + camera() +
+                                    " --code sinc --velocity 0.5:1:0.5 --noise-free-check " +
+                                    "-o " + quote(csv) + " --plot " + quote(png));
+  // --noise-free-check is not an option: nothing is written.
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(fs::exists(png));
+  const CommandResult ok =
+      run_fssim("sweep --input " + camera() + " --code sinc --velocity 0.5:1:0.5 -o " + quote(csv) +
+                " --plot " + quote(png));
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const Image plot = read_png(png);
+  EXPECT_EQ(plot.width, kPlotWidth);
+  EXPECT_EQ(plot.height, kPlotHeight);
+  EXPECT_THAT(ok.out, HasSubstr("Plot: "));
+  const CommandResult both = run_fssim("sweep --input " + camera() +
+                                       " --code sinc --velocity 0.5:1:0.5 --snr 50:100:50 -o " +
+                                       quote(dir_ / "b.csv") + " --plot " + quote(dir_ / "b.png"));
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_THAT(both.err, HasSubstr("--plot"));
+  EXPECT_FALSE(fs::exists(dir_ / "b.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "b.png"));
+}
+
+TEST_F(CodeCli, SweepWritesOneRowPerSetting) {
+  const fs::path csv = dir_ / "sweep.csv";
+  const CommandResult r = run_fssim("sweep --input " + camera() +
+                                    " --code sinc --velocity 0.5:1.5:0.5 --snr 50:100:50 "
+                                    "--trials 2 -o " +
+                                    quote(csv));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> rows = lines_of(test::read_file(csv));
+  ASSERT_EQ(rows.size(), 7u);
+  EXPECT_EQ(rows[0],
+            "velocity,snr,blur_length,rmse_mean,rmse_sd,predicted_rmse,noise_free_rmse,"
+            "snr_level100,invertible,status");
+  const char* settings[] = {"0.5,50,", "0.5,100,", "1,50,", "1,100,", "1.5,50,", "1.5,100,"};
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_THAT(rows[i + 1], StartsWith(settings[i])) << rows[i + 1];
+    EXPECT_EQ(split(rows[i + 1], ',').size(), 10u) << rows[i + 1];
+  }
+  // v <= 1: B = 52 and the run fits; measured within 3% of predicted.
+  for (int i = 1; i <= 4; ++i) {
+    const std::vector<std::string> f = split(rows[i], ',');
+    EXPECT_EQ(f[2], "52");
+    EXPECT_EQ(f[8], "true");
+    EXPECT_EQ(f[9], "ok");
+    EXPECT_NEAR(std::stod(f[3]) / std::stod(f[5]), 1.0, 0.03) << rows[i];
+    EXPECT_GT(std::stod(f[4]), 0.0);
+  }
+  // Higher snr, lower RMSE.
+  EXPECT_LT(std::stod(split(rows[2], ',')[5]), std::stod(split(rows[1], ',')[5]));
+  // v = 1.5: B = 78 needs a width of 703 with the default margin: the row
+  // says so, the sweep goes on and warns.
+  for (int i = 5; i <= 6; ++i) {
+    const std::vector<std::string> f = split(rows[i], ',');
+    EXPECT_EQ(f[2], "78");
+    EXPECT_EQ(f[3], "");
+    EXPECT_EQ(f[9], "too-narrow");
+  }
+  EXPECT_THAT(r.err, HasSubstr("fssim: warning: velocity 1.5"));
+  EXPECT_THAT(r.err, HasSubstr("--rmse-margin"));
+  EXPECT_THAT(r.out, HasSubstr("Wrote 6 rows to"));
+  EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"sweep.csv"});
+}
+
+TEST_F(CodeCli, SweepWithAMarginAndANonInvertibleCode) {
+  const fs::path csv = dir_ / "s.csv";
+  const CommandResult r = run_fssim("sweep --input " + camera() +
+                                    " --code accumulation --velocity 1.5 --rmse-margin 40 "
+                                    "--mode analog -o " +
+                                    quote(csv));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> rows = lines_of(test::read_file(csv));
+  ASSERT_EQ(rows.size(), 2u);
+  const std::vector<std::string> f = split(rows[1], ',');
+  EXPECT_EQ(f[0], "1.5");
+  EXPECT_EQ(f[2], "78");
+  EXPECT_EQ(f[5], "inf");
+  EXPECT_EQ(f[8], "false");
+  EXPECT_EQ(f[9], "not-invertible");
+}
+
+// ---------------------------------------------------------------------------
+// Usage errors: exit 2, one line naming the culprit, nothing written.
+
+struct UsageCase {
+  const char* name;
+  const char* arguments;  // {input} is replaced by camera.png, {out} by a file in a temp dir
+  const char* culprit;
+};
+
+void PrintTo(const UsageCase& c, std::ostream* os) { *os << c.arguments; }
+
+class DesignUsageErrors : public ::testing::TestWithParam<UsageCase> {};
+
+TEST_P(DesignUsageErrors, ExitTwoWithOneLine) {
+  test::TempDir dir;
+  std::string arguments = GetParam().arguments;
+  for (const auto& [placeholder, value] :
+       {std::pair<std::string, std::string>{"{input}", camera()},
+        std::pair<std::string, std::string>{"{out}", quote(dir / "out.txt")}}) {
+    if (const auto at = arguments.find(placeholder); at != std::string::npos) {
+      arguments.replace(at, placeholder.size(), value);
+    }
+  }
+  const CommandResult r = run_fssim(arguments);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  expect_one_error_line(r);
+  EXPECT_THAT(r.err, HasSubstr(GetParam().culprit));
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{});
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Commands, DesignUsageErrors,
+    ::testing::Values(
+        UsageCase{"CodeAlone", "code", "subcommand"},
+        UsageCase{"UnknownCodeCommand", "code frobnicate", "frobnicate"},
+        UsageCase{"SimulationOptionBeforeSubcommand", "--velocity 2 code analyze sinc",
+                  "--velocity"},
+        UsageCase{"GenerateUnknownFamily", "code generate raskar --length 52 -o {out}", "raskar"},
+        UsageCase{"GenerateMissingLength", "code generate sinc -o {out}", "--length"},
+        UsageCase{"GenerateZeroLength", "code generate sinc --length 0 -o {out}", "--length"},
+        UsageCase{"GenerateHugeLength", "code generate sinc --length 100000 -o {out}", "--length"},
+        UsageCase{"GenerateBandTooWide", "code generate sinc --length 52 --velocity 2 -o {out}",
+                  "--velocity"},
+        UsageCase{"GenerateNoMotion", "code generate mip --length 52 --velocity 0 -o {out}",
+                  "--velocity"},
+        UsageCase{"GenerateNanVelocity", "code generate sinc --length 52 --velocity nan",
+                  "--velocity"},
+        UsageCase{"AnalyzeMissingCode", "code analyze --velocity 1", "CODE"},
+        UsageCase{"AnalyzeUnknownCode", "code analyze nosuchcode", "nosuchcode"},
+        UsageCase{"AnalyzeAnalogWithNegativeGains", "code analyze sinc --mode analog", "analog"},
+        UsageCase{"AnalyzeBadSnr", "code analyze sinc --snr 0", "--snr"},
+        UsageCase{"AnalyzeBadGrid", "code analyze sinc --grid -3", "--grid"},
+        UsageCase{"OptimizeMissingVelocity", "code optimize --length 52", "--velocity"},
+        UsageCase{"OptimizeZeroVelocity", "code optimize --length 52 --velocity 0", "--velocity"},
+        UsageCase{"OptimizeFastVelocity", "code optimize --length 52 --velocity 2.5", "--velocity"},
+        UsageCase{"OptimizeLightBudgetNumerical",
+                  "code optimize --length 52 --velocity 1 --min-light 5", "--min-light"},
+        UsageCase{"OptimizeLightBudgetTooLarge",
+                  "code optimize --length 10 --velocity 1 --binary --min-light 11", "--min-light"},
+        UsageCase{"OptimizeNegativeRestarts",
+                  "code optimize --length 10 --velocity 1 --restarts -1", "--restarts"},
+        UsageCase{"OptimizeMode", "code optimize --length 10 --velocity 1 --mode foo", "--mode"},
+        UsageCase{"SweepMissingInput", "sweep --velocity 1 -o {out}", "--input"},
+        UsageCase{"SweepMissingOutput", "sweep --input {input}", "--output"},
+        UsageCase{"SweepZeroStep", "sweep --input {input} --velocity 0:1:0 -o {out}", "--velocity"},
+        UsageCase{"SweepNanRange", "sweep --input {input} --velocity 0:nan:1 -o {out}",
+                  "--velocity"},
+        UsageCase{"SweepTooManyPoints", "sweep --input {input} --snr 1:20000:1 -o {out}", "--snr"},
+        UsageCase{"SweepTooManySettings",
+                  "sweep --input {input} --velocity 0:1:0.01 --snr 1:200:1 -o {out}", "settings"},
+        UsageCase{"SweepNonPositiveSnr", "sweep --input {input} --snr -10:10:10 -o {out}", "--snr"},
+        UsageCase{"SweepAnalogNegativeGains",
+                  "sweep --input {input} --code sinc --mode analog -o {out}", "analog"},
+        UsageCase{"SweepBadTrials", "sweep --input {input} --trials 0 -o {out}", "--trials"}),
+    [](const ::testing::TestParamInfo<UsageCase>& info) { return info.param.name; });
+
+TEST(DesignCli, SweepRuntimeErrorsExitOne) {
+  test::TempDir dir;
+  const CommandResult missing =
+      run_fssim("sweep --input " + quote(dir / "none.png") + " -o " + quote(dir / "s.csv"));
+  EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  expect_one_error_line(missing);
+  EXPECT_THAT(missing.err, HasSubstr("none.png"));
+  EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{});
+
+  const CommandResult into_dir = run_fssim("code generate sinc -L 8 -o " + quote(dir.path()));
+  EXPECT_EQ(into_dir.exit_code, 1) << into_dir.err;
+  expect_one_error_line(into_dir);
+}
+
+TEST(DesignCli, HelpListsTheSubcommands) {
+  const CommandResult help = run_fssim("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_THAT(help.out, HasSubstr("code"));
+  EXPECT_THAT(help.out, HasSubstr("sweep"));
+  const CommandResult code_help = run_fssim("code optimize --help");
+  EXPECT_EQ(code_help.exit_code, 0);
+  EXPECT_THAT(code_help.out, HasSubstr("--min-light"));
+  EXPECT_THAT(code_help.out, HasSubstr("--binary"));
+  const CommandResult sweep_help = run_fssim("sweep --help");
+  EXPECT_EQ(sweep_help.exit_code, 0);
+  EXPECT_THAT(sweep_help.out, HasSubstr("start:stop:step"));
+}
+
+}  // namespace
+}  // namespace fss

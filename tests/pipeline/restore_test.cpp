@@ -1,0 +1,301 @@
+// Tests of the geometry, the mirror extension and the inverse filter
+// (restore.h, SPEC 4).
+#include "fss/pipeline/restore.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "fss/model/code.h"
+#include "fss/core/error.h"
+#include "fss/core/fft.h"
+#include "fss/model/kernel.h"
+#include "fss/pipeline/observe.h"
+#include "fss/model/transfer.h"
+#include "support/test_util.h"
+
+namespace fss {
+namespace {
+
+std::vector<double> raskar() { return builtin_code("raskar").value().gains; }
+std::vector<double> random_code() { return builtin_code("random").value().gains; }
+
+// Uniform values in [0, 255).
+Image random_image(int width, int height, int channels, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> value(0.0, 255.0);
+  Image image(width, height, channels);
+  for (double& v : image.data) v = value(rng);
+  return image;
+}
+
+// Circular convolution of every row with K on the row's own N-point grid.
+Image convolve_on_own_grid(const Image& image, const std::vector<double>& gains, double velocity,
+                           double dt) {
+  const int n = image.width;
+  const RowFFT fft(n);
+  RowFFT::Workspace workspace(n);
+  const std::vector<Complex> k = transfer_function_bins(gains, velocity, dt, n);
+  Image out(n, image.height, image.channels);
+  for (int c = 0; c < image.channels; ++c) {
+    for (int y = 0; y < image.height; ++y) {
+      std::copy(image.row(c, y), image.row(c, y) + n, workspace.real().begin());
+      fft.forward(workspace);
+      multiply_half_spectrum(workspace.spectrum(), k, n);
+      fft.inverse(workspace);
+      for (int x = 0; x < n; ++x) out.at(c, y, x) = workspace.real()[x] / n;
+    }
+  }
+  return out;
+}
+
+double max_abs_difference(const Image& a, const Image& b) {
+  EXPECT_EQ(a.data.size(), b.data.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < std::min(a.data.size(), b.data.size()); ++i) {
+    worst = std::max(worst, std::abs(a.data[i] - b.data[i]));
+  }
+  return worst;
+}
+
+ErrorKind geometry_error_kind(int width, int code_length, double velocity, double dt) {
+  try {
+    Geometry::compute(width, code_length, velocity, dt);
+  } catch (const Error& e) {
+    return e.kind();
+  }
+  ADD_FAILURE() << "Geometry::compute(" << width << ", " << code_length << ", " << velocity << ", "
+                << dt << ") did not throw";
+  return ErrorKind::kRuntime;
+}
+
+// ---------------------------------------------------------------------------
+// Geometry.
+
+TEST(Geometry, ReferenceCase) {
+  const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);
+  EXPECT_EQ(g.width, 512);
+  EXPECT_EQ(g.blur_length, 52);
+  EXPECT_EQ(g.half_blur, 26);
+  EXPECT_EQ(g.observed_width, 460);
+  EXPECT_EQ(g.mirror_width, 920);
+  EXPECT_EQ(g.output_width, 356);
+}
+
+TEST(Geometry, SlowMotionKeepsTheCodeLength) {
+  for (const double v : {0.0, 0.5, -0.5, -1.0}) {
+    const Geometry g = Geometry::compute(512, 52, v, 1.0);
+    EXPECT_EQ(g.blur_length, 52) << "v = " << v;
+    EXPECT_EQ(g.output_width, 356) << "v = " << v;
+  }
+  // |v| dt = 0.5 * 2 = 1: still the code length.
+  EXPECT_EQ(Geometry::compute(512, 52, 0.5, 2.0).blur_length, 52);
+}
+
+TEST(Geometry, FastMotionLengthensTheBlur) {
+  for (const double v : {2.0, -2.0}) {
+    const Geometry g = Geometry::compute(512, 52, v, 1.0);
+    EXPECT_EQ(g.blur_length, 104) << "v = " << v;  // |v| dt L = 104
+    EXPECT_EQ(g.half_blur, 52) << "v = " << v;
+    EXPECT_EQ(g.observed_width, 408) << "v = " << v;
+    EXPECT_EQ(g.mirror_width, 816) << "v = " << v;
+    EXPECT_EQ(g.output_width, 200) << "v = " << v;
+  }
+  // |v| dt L = 1 * 1.5 * 52 = 78
+  EXPECT_EQ(Geometry::compute(512, 52, 1.0, 1.5).blur_length, 78);
+}
+
+TEST(Geometry, BlurLengthIsRoundedUp) {
+  const Geometry g = Geometry::compute(512, 52, 1.01, 1.0);
+  EXPECT_EQ(g.blur_length, 53);  // ceil(52.52)
+  EXPECT_EQ(g.half_blur, 26);
+  EXPECT_EQ(g.observed_width, 459);
+  EXPECT_EQ(g.mirror_width, 918);
+  EXPECT_EQ(g.output_width, 512 - 159);
+}
+
+TEST(Geometry, NarrowestWidthThatHasAnOutput) {
+  const Geometry g = Geometry::compute(157, 52, 1.0, 1.0);
+  EXPECT_EQ(g.output_width, 1);
+}
+
+TEST(Geometry, TooNarrowIsAUsageError) {
+  EXPECT_EQ(geometry_error_kind(156, 52, 1.0, 1.0), ErrorKind::kUsage);  // Wo = 0
+  EXPECT_EQ(geometry_error_kind(100, 52, 1.0, 1.0), ErrorKind::kUsage);
+  EXPECT_EQ(geometry_error_kind(52, 52, 1.0, 1.0), ErrorKind::kUsage);
+  EXPECT_EQ(geometry_error_kind(10, 52, 1.0, 1.0), ErrorKind::kUsage);
+  EXPECT_EQ(geometry_error_kind(311, 52, 2.0, 1.0), ErrorKind::kUsage);   // 3B = 312
+  EXPECT_EQ(geometry_error_kind(512, 52, 10.0, 1.0), ErrorKind::kUsage);  // blur 520 > W
+  EXPECT_EQ(geometry_error_kind(512, 0, 1.0, 1.0), ErrorKind::kUsage);    // no gains
+}
+
+// ---------------------------------------------------------------------------
+// Mirror extension.
+
+TEST(MirrorExtend, MatchesItsDefinition) {
+  const Image crop = random_image(7, 3, 2, 11);
+  const Image m = mirror_extend(crop);
+  ASSERT_EQ(m.width, 14);
+  ASSERT_EQ(m.height, 3);
+  ASSERT_EQ(m.channels, 2);
+  const int wa = crop.width;
+  for (int c = 0; c < 2; ++c) {
+    for (int y = 0; y < 3; ++y) {
+      for (int j = 0; j < 2 * wa; ++j) {
+        const int source = j < wa ? j : 2 * wa - 1 - j;
+        EXPECT_EQ(m.at(c, y, j), crop.at(c, y, source)) << "c " << c << " y " << y << " j " << j;
+      }
+    }
+  }
+}
+
+TEST(MirrorExtend, SingleColumn) {
+  Image crop(1, 2, 1);
+  crop.data = {4.0, 5.0};
+  const Image m = mirror_extend(crop);
+  ASSERT_EQ(m.width, 2);
+  EXPECT_EQ(m.data, (std::vector<double>{4.0, 4.0, 5.0, 5.0}));
+}
+
+// ---------------------------------------------------------------------------
+// Inverse filter: exact on a mirror-symmetric row convolved on its own grid.
+// (A mirror-symmetric row of even length has no Nyquist component, so the
+// real-row handling of that bin plays no part and the inversion is exact.)
+
+struct ExactCase {
+  const char* name;
+  std::vector<double> gains;
+  double velocity;
+  double dt;
+};
+
+class InverseFilterExact : public ::testing::TestWithParam<int> {};
+
+TEST_P(InverseFilterExact, RecoversTheMirroredRow) {
+  const std::vector<ExactCase> cases = {
+      {"raskar v=1", raskar(), 1.0, 1.0},
+      {"random v=0.7 dt=1.3", random_code(), 0.7, 1.3},
+      {"raskar v=-1", raskar(), -1.0, 1.0},
+  };
+  const ExactCase& c = cases[GetParam()];
+  SCOPED_TRACE(c.name);
+  ASSERT_TRUE(analyze_kernel(c.gains, c.velocity, c.dt).invertible);
+  const Image m = mirror_extend(random_image(460, 4, 2, 5 + GetParam()));
+  const Image observed = convolve_on_own_grid(m, c.gains, c.velocity, c.dt);
+  const Deconvolution d = inverse_filter(observed, c.gains, c.velocity, c.dt, 2);
+  EXPECT_EQ(d.zero_bins, 0);
+  ASSERT_EQ(d.image.width, 920);
+  ASSERT_EQ(d.image.height, 4);
+  ASSERT_EQ(d.image.channels, 2);
+  // Round-off of two FFT pairs on values <= 255 amplified by max|K| / min|K|
+  // stays far below 1e-9.
+  EXPECT_LT(max_abs_difference(d.image, m), 1e-9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Codes, InverseFilterExact, ::testing::Values(0, 1, 2));
+
+TEST(InverseFilter, ThreadCountDoesNotChangeTheResult) {
+  const Image m = mirror_extend(random_image(100, 9, 1, 3));
+  const Image observed = convolve_on_own_grid(m, raskar(), 1.0, 1.0);
+  const Deconvolution one = inverse_filter(observed, raskar(), 1.0, 1.0, 1);
+  const Deconvolution three = inverse_filter(observed, raskar(), 1.0, 1.0, 3);
+  EXPECT_EQ(one.image.data, three.image.data);
+}
+
+TEST(InverseFilter, CountsAndZeroesBinsWhereKIsZero) {
+  // v = 0: K = dt sum alpha at every bin; a code summing to 0 makes every bin 0.
+  const std::vector<double> gains = {1.0, -1.0};
+  const Image row = mirror_extend(random_image(8, 1, 1, 2));
+  const Deconvolution d = inverse_filter(row, gains, 0.0, 1.0, 1);
+  EXPECT_EQ(d.zero_bins, 9);  // bins 0 .. N/2 of N = 16
+  for (const double v : d.image.data) EXPECT_EQ(v, 0.0);
+}
+
+// ---------------------------------------------------------------------------
+// restore(): crops and alignment.
+
+class RestoreCrops : public ::testing::TestWithParam<double> {};
+
+TEST_P(RestoreCrops, OutputsAreTheDocumentedColumns) {
+  const double v = GetParam();
+  const std::vector<double> gains = raskar();
+  const int width = 340;
+  const Geometry g = Geometry::compute(width, 52, v, 1.0);
+  const int h = g.half_blur;
+  const int wo = g.output_width;
+  // Observation and input deliberately unrelated: restore() only crops them.
+  const Image observation = random_image(width, 5, 2, 21);
+  const Image input = random_image(width, 5, 2, 22);
+  const Restoration r = restore(observation, input, g, gains, v, 1.0, 2);
+  for (const Image* image : {&r.restored, &r.observed, &r.groundtruth}) {
+    EXPECT_EQ(image->width, wo);
+    EXPECT_EQ(image->height, 5);
+    EXPECT_EQ(image->channels, 2);
+  }
+  const Deconvolution d = inverse_filter(
+      mirror_extend(crop_columns(observation, h, g.observed_width)), gains, v, 1.0, 1);
+  for (int c = 0; c < 2; ++c) {
+    for (int y = 0; y < 5; ++y) {
+      for (int x = 0; x < wo; ++x) {
+        ASSERT_EQ(r.groundtruth.at(c, y, x), input.at(c, y, x + 3 * h)) << x;
+        ASSERT_EQ(r.observed.at(c, y, x), observation.at(c, y, x + 3 * h)) << x;
+        ASSERT_EQ(r.restored.at(c, y, x), d.image.at(c, y, x + 2 * h)) << x;
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Velocities, RestoreCrops, ::testing::Values(1.0, 1.01, -2.0));
+
+TEST(Restore, ConstantImageIsRestoredExactly) {
+  const std::vector<double> gains = raskar();
+  const Image input(512, 4, 1, 80.0);
+  ObservationParams params;
+  params.threads = 1;
+  const Image observation = convolve_rows(row_spectra(input, 1), gains, params);
+  const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);
+  const Restoration r = restore(observation, input, g, gains, 1.0, 1.0, 1);
+  // FFT round-off on values of order K(0) * 80 = 2080.
+  for (const double v : r.restored.data) ASSERT_NEAR(v, 80.0, 1e-9);
+  for (const double v : r.observed.data) ASSERT_NEAR(v, 26.0 * 80.0, 1e-9);
+}
+
+// The restoration of a noise-free observation is aligned with the ground
+// truth: shifting it by one column makes the error much larger.
+class RestoreAlignment : public ::testing::TestWithParam<double> {};
+
+TEST_P(RestoreAlignment, RestoredIsAlignedWithGroundTruth) {
+  const double v = GetParam();
+  const std::vector<double> gains = raskar();
+  const Image input = test::make_test_image(512, 16, 1, 4);
+  ObservationParams params;
+  params.velocity = v;
+  params.threads = 2;
+  const Image observation = convolve_rows(row_spectra(input, 2), gains, params);
+  const Geometry g = Geometry::compute(512, 52, v, 1.0);
+  const Restoration r = restore(observation, input, g, gains, v, 1.0, 2);
+  const int first = g.blur_length;
+  const int end = g.output_width - g.blur_length;
+  auto error_at_shift = [&](int shift) {
+    double sum = 0.0;
+    for (int y = 0; y < r.restored.height; ++y) {
+      for (int x = first; x < end; ++x) {
+        const double d = r.groundtruth.at(0, y, x) - r.restored.at(0, y, x + shift);
+        sum += d * d;
+      }
+    }
+    return std::sqrt(sum / ((end - first) * r.restored.height));
+  };
+  const double aligned = error_at_shift(0);
+  EXPECT_LT(aligned, 0.5 * error_at_shift(1)) << "v = " << v;
+  EXPECT_LT(aligned, 0.5 * error_at_shift(-1)) << "v = " << v;
+}
+
+INSTANTIATE_TEST_SUITE_P(Velocities, RestoreAlignment, ::testing::Values(1.0, -1.0, 0.5));
+
+}  // namespace
+}  // namespace fss

@@ -25,10 +25,11 @@ std::string format_spectrum_txt(const std::vector<double>& gains, double velocit
 nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);
 
 // The observed image as the 8-bit samples observed.png holds, collected row
-// by row through SimulationOptions::observed_row_callback (row_callback()),
-// so that a run can leave keep_observed false: one byte a sample instead of
-// a double. Rows may arrive concurrently; the width is that of the first.
-class ObservedPng8 {
+// by row as an ObservedRowSink (or through SimulationOptions::
+// observed_row_callback, row_callback()), so that a run can leave
+// keep_observed false: one byte a sample instead of a double. Rows may
+// arrive concurrently; the width is that of the first.
+class ObservedPng8 : public ObservedRowSink {
  public:
   ObservedPng8(int height, int channels);
   ObservedPng8(const ObservedPng8&) = delete;
@@ -38,6 +39,9 @@ class ObservedPng8 {
   // row that does not fit or is stored twice is a usage error.
   void store_row(int channel, int row, std::span<const double> values);
   std::function<void(int, int, std::span<const double>)> row_callback();
+  void consume_row(int channel, int row, std::span<const double> values) override {
+    store_row(channel, row, values);
+  }
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -178,4 +178,35 @@ std::filesystem::path fixture_path(const std::string& relative) {
   return std::filesystem::path(FSS_FIXTURES_DIR) / relative;
 }
 
+std::vector<double> paper_gains(const std::string& name) {
+  std::istringstream lines(read_file(fixture_path("paper_codes.txt")));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::size_t colon = line.find(':');
+    if (colon == std::string::npos || line.substr(0, colon) != name) continue;
+    std::vector<double> gains;
+    std::istringstream numbers(line.substr(colon + 1));
+    std::string token;
+    while (numbers >> token) gains.push_back(std::strtod(token.c_str(), nullptr));
+    return gains;
+  }
+  ADD_FAILURE() << "no code '" << name << "' in paper_codes.txt";
+  return {};
+}
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+    worst = std::max(worst, std::abs(a[i] - b[i]));
+  }
+  return worst;
+}
+
+double max_abs_difference(const Image& a, const Image& b) {
+  EXPECT_TRUE(a.width == b.width && a.height == b.height && a.channels == b.channels);
+  return max_abs_difference(a.data, b.data);
+}
+
 }  // namespace fss::test

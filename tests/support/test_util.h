@@ -4,10 +4,14 @@
 
 #include <png.h>
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fss/core/error.h"
@@ -61,6 +65,34 @@ std::optional<Error> error_of(F&& f) {
   }
   return std::nullopt;
 }
+
+// The one way tests expect an error: f() must throw an fss::Error of `kind`
+// whose message contains each of `parts`. Use as
+//   EXPECT_TRUE(test::throws_error([&] { ... }, ErrorKind::kUsage, {"dt", "> 0"}));
+template <typename F>
+::testing::AssertionResult throws_error(F&& f, ErrorKind kind,
+                                        std::initializer_list<std::string_view> parts = {}) {
+  const std::optional<Error> error = error_of(std::forward<F>(f));
+  if (!error) return ::testing::AssertionFailure() << "no fss::Error was thrown";
+  if (error->kind() != kind) {
+    return ::testing::AssertionFailure() << "wrong error kind for: " << error->what();
+  }
+  for (const std::string_view part : parts) {
+    if (std::string_view(error->what()).find(part) == std::string_view::npos) {
+      return ::testing::AssertionFailure() << "'" << part << "' is not in: " << error->what();
+    }
+  }
+  return ::testing::AssertionSuccess() << error->what();
+}
+
+// The gains of one of the paper's six codes (snapshot, accumulation, raskar,
+// random, mip, sinc) as tests/fixtures/paper_codes.txt lists them: the
+// published values, independent of the library's embedded codes/.
+std::vector<double> paper_gains(const std::string& name);
+
+// max |a - b| over all samples; a and b must have the same size.
+double max_abs_difference(const Image& a, const Image& b);
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
 
 // A path in single quotes, for a command line run by run_command.
 std::string quote(const std::filesystem::path& path);

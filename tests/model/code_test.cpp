@@ -1,5 +1,5 @@
 // Tests of fss/code.h: the code text format, the built-in codes of the paper
-// (SPEC 7), the gain sums and the shutter mode names.
+// (docs/method.md §7), the gain sums and the shutter mode names.
 
 #include "fss/model/code.h"
 
@@ -28,7 +28,7 @@ using Gains = std::vector<double>;
   return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
 }
 
-// The Agrawal-Raskar binary code as written in SPEC 7.
+// The Agrawal-Raskar binary code as written in docs/method.md §7.
 std::vector<double> raskar_gains() {
   const std::string bits = "1010000111000001010000110011110111010111001001100111";
   std::vector<double> gains;
@@ -242,7 +242,7 @@ TEST(BuiltinCodes, NormalizedL1MatchesSpec) {
   EXPECT_DOUBLE_EQ(normalized_l1(builtin_code("snapshot")->gains), 1.0);
   EXPECT_DOUBLE_EQ(normalized_l1(builtin_code("accumulation")->gains), 52.0);
   EXPECT_DOUBLE_EQ(normalized_l1(builtin_code("raskar")->gains), 26.0);
-  // SPEC 7 gives these to 4 decimals ("~6.0031", "~1.3364").
+  // docs/method.md §7 gives these to 4 decimals ("~6.0031", "~1.3364").
   EXPECT_NEAR(normalized_l1(builtin_code("mip")->gains), 6.0031, 1e-3);
   EXPECT_NEAR(normalized_l1(builtin_code("sinc")->gains), 1.3364, 1e-3);
 }

@@ -1,5 +1,5 @@
 // Tests of fss/kernel.h: invertibility of a code's transfer function and the
-// noise amplification M of the inverse filter (SPEC 6).
+// noise amplification M of the inverse filter (docs/method.md §6).
 
 #include "fss/model/kernel.h"
 
@@ -21,7 +21,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 std::vector<double> code_gains(const std::string& name) { return builtin_code(name)->gains; }
 
-// |K(xi)| written out from SPEC 1, independently of the library.
+// |K(xi)| written out from docs/method.md §1, independently of the library.
 double direct_abs_k(const std::vector<double>& gains, double velocity, double dt, double xi) {
   const double theta = xi * velocity * dt;
   const double sinc = theta == 0.0 ? 1.0 : std::sin(theta / 2.0) / (theta / 2.0);

@@ -1,5 +1,5 @@
 // Tests of fss/noise.h: the random streams, the Poisson variate of Algorithm 1
-// (SPEC 3) and PoissonSNR. Statistical checks use fixed seeds and a 5
+// (docs/method.md §3) and PoissonSNR. Statistical checks use fixed seeds and a 5
 // standard error band, so they are deterministic and fail only on a real bias.
 
 #include "fss/model/noise.h"

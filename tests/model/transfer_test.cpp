@@ -1,4 +1,4 @@
-// Tests of fss/transfer.h: sinc_h, the transfer function K of a code (SPEC 1),
+// Tests of fss/transfer.h: sinc_h, the transfer function K of a code (docs/method.md §1),
 // the DFT bin layout and K on the bins.
 
 #include "fss/model/transfer.h"

@@ -10,7 +10,7 @@
 
 namespace fss {
 
-// How the code is applied (SPEC 2): analog gains in [0, 1] modulate the light
+// How the code is applied (docs/method.md §2): analog gains in [0, 1] modulate the light
 // of one exposure; numerical gains (any real) weight a burst of L frames.
 enum class ShutterMode { kNumerical, kAnalog };
 std::string to_string(ShutterMode mode);

@@ -1,4 +1,4 @@
-// Photon noise (SPEC 3, the paper's Algorithm 1) and its random streams.
+// Photon noise (docs/method.md §3, the paper's Algorithm 1) and its random streams.
 //
 // Reproducibility: every (seed, channel, frame, row) has its own streams, so
 // a row's noise does not depend on which thread draws it or in what order.

@@ -1,4 +1,4 @@
-// The transfer function of a flutter shutter code (SPEC 1).
+// The transfer function of a flutter shutter code (docs/method.md §1).
 #pragma once
 
 #include <complex>

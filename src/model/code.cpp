@@ -44,6 +44,33 @@ std::string printable_token(std::string_view token) {
   if (used < token.size()) out += "...";
   return out;
 }
+
+// One gain of a code file; `where` names the file and line for messages.
+double parse_gain(std::string_view token, const std::string& where) {
+  // from_chars does not take a leading '+'; accept it as people write it.
+  std::string_view digits = token;
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  const bool whole = ptr == digits.data() + digits.size();
+  // (Appended rather than "'" + ...: GCC 12 warns wrongly on that form.)
+  std::string shown = "'";
+  shown += printable_token(token);
+  shown += "'";
+  if (ec == std::errc::result_out_of_range && whole) {
+    throw_runtime_error(where + ": gain " + shown +
+                        " is out of the range of double-precision numbers");
+  }
+  if (ec != std::errc() || !whole) {
+    throw_runtime_error(where + ": " + shown +
+                        " is not a number (expected gains separated by spaces, commas or "
+                        "semicolons)");
+  }
+  if (!std::isfinite(value)) {
+    throw_runtime_error(where + ": gain " + shown + " is not a finite number");
+  }
+  return value;
+}
 }  // namespace
 
 ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
@@ -63,30 +90,8 @@ ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
     } else {
       std::size_t end = i;
       while (end < text.size() && !is_separator(text[end]) && text[end] != '#') ++end;
-      const std::string_view token = text.substr(i, end - i);
-      // from_chars does not take a leading '+'; accept it as people write it.
-      std::string_view digits = token;
-      if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-') digits.remove_prefix(1);
-      double value = 0.0;
-      const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-      const std::string where = "code file '" + origin + "' line " + std::to_string(line);
-      // (Appended rather than "'" + ...: GCC 12 warns wrongly on that form.)
-      std::string shown = "'";
-      shown += printable_token(token);
-      shown += "'";
-      if (ec == std::errc::result_out_of_range && ptr == digits.data() + digits.size()) {
-        throw_runtime_error(where + ": gain " + shown +
-                            " is out of the range of double-precision numbers");
-      }
-      if (ec != std::errc() || ptr != digits.data() + digits.size()) {
-        throw_runtime_error(where + ": " + shown +
-                            " is not a number (expected gains separated by spaces, commas or "
-                            "semicolons)");
-      }
-      if (!std::isfinite(value)) {
-        throw_runtime_error(where + ": gain " + shown + " is not a finite number");
-      }
-      code.gains.push_back(value);
+      code.gains.push_back(parse_gain(text.substr(i, end - i),
+                                      "code file '" + origin + "' line " + std::to_string(line)));
       i = end;
     }
   }

@@ -93,6 +93,7 @@ check_runpath() {
   local prefix=$1 libdir=$2 runpath resolved
   runpath=$(readelf -d "$prefix/bin/fssim" | sed -n 's/.*(RUNPATH).*\[\(.*\)\]/\1/p')
   echo "RUNPATH: $runpath"
+  # shellcheck disable=SC2016 # the literal $ORIGIN
   [[ $runpath == *'$ORIGIN'* ]] || return 1
   resolved=$(env -u LD_LIBRARY_PATH ldd "$prefix/bin/fssim" | sed -n 's/.*libfss\.so[^ ]* => \([^ ]*\).*/\1/p')
   echo "libfss.so => $resolved"

@@ -36,11 +36,16 @@ _fssim_takes_value() {
   return 1
 }
 
-# Adds the files and directories (to walk into) that start with $1.
-_fssim_files() {
-  local IFS=$'\n'
+# _fssim_add WORDS CUR: adds the words of WORDS that start with CUR.
+_fssim_add() {
+  mapfile -t -O "${#COMPREPLY[@]}" COMPREPLY < <(compgen -W "$1" -- "$2")
+}
+
+# _fssim_paths -f|-d CUR: adds the files and directories (-f), or the
+# directories (-d), whose path starts with CUR.
+_fssim_paths() {
   compopt -o filenames 2>/dev/null
-  COMPREPLY+=($(compgen -f -- "$1"))
+  mapfile -t -O "${#COMPREPLY[@]}" COMPREPLY < <(compgen "$1" -- "$2")
 }
 
 _fssim() {
@@ -66,25 +71,23 @@ _fssim() {
   # The value of an option.
   case $prev in
     -c | --code)
-      COMPREPLY=($(compgen -W "$_fssim_codes" -- "$cur"))
-      _fssim_files "$cur"
+      _fssim_add "$_fssim_codes" "$cur"
+      _fssim_paths -f "$cur"
       return ;;
     -m | --mode)
-      COMPREPLY=($(compgen -W "numerical analog" -- "$cur"))
+      _fssim_add "numerical analog" "$cur"
       return ;;
     --noise)
-      COMPREPLY=($(compgen -W "poisson none" -- "$cur"))
+      _fssim_add "poisson none" "$cur"
       return ;;
     -i | --input | --json | --plot)
-      _fssim_files "$cur"
+      _fssim_paths -f "$cur"
       return ;;
     -o | --outdir | --output)
       if [[ $context == main ]]; then
-        local IFS=$'\n'
-        compopt -o filenames 2>/dev/null
-        COMPREPLY=($(compgen -d -- "$cur"))
+        _fssim_paths -d "$cur"  # --outdir
       else
-        _fssim_files "$cur"
+        _fssim_paths -f "$cur"
       fi
       return ;;
   esac
@@ -93,16 +96,16 @@ _fssim() {
   fi
 
   if [[ $cur == -* ]]; then
-    COMPREPLY=($(compgen -W "$(_fssim_options "$context")" -- "$cur"))
+    _fssim_add "$(_fssim_options "$context")" "$cur"
     return
   fi
   case $context in
-    main) COMPREPLY=($(compgen -W "spectra code sweep" -- "$cur")) ;;
-    code) COMPREPLY=($(compgen -W "generate analyze optimize" -- "$cur")) ;;
-    generate) COMPREPLY=($(compgen -W "sinc mip random snapshot accumulation" -- "$cur")) ;;
+    main) _fssim_add "spectra code sweep" "$cur" ;;
+    code) _fssim_add "generate analyze optimize" "$cur" ;;
+    generate) _fssim_add "sinc mip random snapshot accumulation" "$cur" ;;
     analyze | spectra)
-      COMPREPLY=($(compgen -W "$_fssim_codes" -- "$cur"))
-      _fssim_files "$cur" ;;
+      _fssim_add "$_fssim_codes" "$cur"
+      _fssim_paths -f "$cur" ;;
   esac
 }
 complete -F _fssim fssim

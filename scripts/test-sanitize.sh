@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the whole test suite with clang, AddressSanitizer and
-# UndefinedBehaviorSanitizer (CMake option FSS_SANITIZE) and runs it with CTest.
+# UndefinedBehaviorSanitizer (CMake option FSS_SANITIZE) and runs it with CTest
+# (all but the install test, which checks the package, not the code).
 # Usage: scripts/test-sanitize.sh [build-dir]   (default: build-asan)
 #
 # Any report fails: UBSan stops at the first error (-fno-sanitize-recover=all),
@@ -20,6 +21,6 @@ fi
 export ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DFSS_SANITIZE=ON >/dev/null
+  -DFSS_SANITIZE=ON -DFSS_BUILD_TESTS=ON >/dev/null
 cmake --build "$build" -j "$jobs"
 ctest --test-dir "$build" --output-on-failure -j "$jobs"

@@ -361,11 +361,10 @@ int run(int argc, char** argv) {
     std::optional<fss::ObservedPng8> observed_png8;
     if (!output_options.sheet) {
       observed_png8.emplace(image.height, image.channels);
-      options.keep_observed = false;
-      options.observed_row_callback = observed_png8->row_callback();
       output_options.observed_png8 = &*observed_png8;
     }
-    const fss::SimulationReport report = fss::Simulate(options, image, code);
+    const fss::SimulationReport report =
+        fss::Simulate(options, image, code, observed_png8 ? &*observed_png8 : nullptr);
     for (const auto& warning : report.warnings) {
       std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
     }

@@ -144,12 +144,6 @@ void ObservedPng8::store_row(int channel, int row, std::span<const double> value
   ++rows_stored_;
 }
 
-std::function<void(int, int, std::span<const double>)> ObservedPng8::row_callback() {
-  return [this](int channel, int row, std::span<const double> values) {
-    store_row(channel, row, values);
-  };
-}
-
 std::vector<std::uint8_t> ObservedPng8::encode() const {
   if (rows_stored_ != height_ * channels_) {
     throw_usage_error("observed.png: " + std::to_string(rows_stored_) + " of " +
@@ -205,7 +199,7 @@ const RunPlots& check_plots_match(const RunPlots& plots, const SimulationReport&
 
 std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Image& input) {
   if (r.observed.data.empty()) {
-    throw_usage_error("sheet.png needs the observed image: run with keep_observed = true");
+    throw_usage_error("sheet.png needs the observed image: run Simulate without an ObservedRowSink");
   }
   char parameters[160];
   std::snprintf(parameters, sizeof parameters,
@@ -314,7 +308,7 @@ void write_outputs(const std::filesystem::path& outdir, const SimulationReport& 
            return as_string(observed->encode());
          }
          throw_usage_error(
-             "observed.png: the report keeps no observed image (keep_observed = false) and "
+             "observed.png: the report keeps no observed image (its rows went to an ObservedRowSink) and "
              "OutputOptions::observed_png8 is not set");
        }},
       {"restored.png", [&] { return as_string(encode_png8(report.restored)); }},

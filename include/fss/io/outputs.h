@@ -25,9 +25,8 @@ std::string format_spectrum_txt(const std::vector<double>& gains, double velocit
 nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);
 
 // The observed image as the 8-bit samples observed.png holds, collected row
-// by row as an ObservedRowSink (or through SimulationOptions::
-// observed_row_callback, row_callback()), so that a run can leave
-// keep_observed false: one byte a sample instead of a double. Rows may
+// by row as the ObservedRowSink of Simulate, so that the report need not
+// keep the observed image: one byte a sample instead of a double. Rows may
 // arrive concurrently; the width is that of the first.
 class ObservedPng8 : public ObservedRowSink {
  public:
@@ -35,10 +34,9 @@ class ObservedPng8 : public ObservedRowSink {
   ObservedPng8(const ObservedPng8&) = delete;
   ObservedPng8& operator=(const ObservedPng8&) = delete;
 
-  // Stores one row; the callback to put in SimulationOptions calls this. A
-  // row that does not fit or is stored twice is a usage error.
+  // Stores one row; consume_row calls this. A row that does not fit or is
+  // stored twice is a usage error.
   void store_row(int channel, int row, std::span<const double> values);
-  std::function<void(int, int, std::span<const double>)> row_callback();
   void consume_row(int channel, int row, std::span<const double> values) override {
     store_row(channel, row, values);
   }
@@ -87,7 +85,7 @@ struct OutputOptions {
   // Files besides the input image that must never be overwritten (the code file).
   std::vector<std::string> other_inputs;
   // Where observed.png comes from when the report does not keep the observed
-  // image (SimulationOptions::keep_observed = false); it must then hold
+  // image (Simulate sent its rows to this sink); it must then hold
   // every row, at the size of the report's outputs. sheet.png needs the
   // kept image.
   const ObservedPng8* observed_png8 = nullptr;

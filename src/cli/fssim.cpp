@@ -24,13 +24,13 @@
 
 #include "cli_common.h"
 #include "code_commands.h"
-#include "fss/model/code.h"
 #include "fss/core/error.h"
-#include "fss/model/kernel.h"
-#include "fss/io/outputs.h"
 #include "fss/core/parallel.h"
+#include "fss/io/outputs.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/model/kernel.h"
 #include "fss/pipeline/simulate.h"
 #include "sweep_command.h"
 
@@ -361,10 +361,9 @@ int run(int argc, char** argv) {
     std::optional<fss::ObservedPng8> observed_png8;
     if (!output_options.sheet) {
       observed_png8.emplace(image.height, image.channels);
-      options.keep_observed = false;
-      options.observed_row_callback = observed_png8->row_callback();
     }
-    const fss::SimulationReport report = fss::Simulate(options, image, code);
+    const fss::SimulationReport report =
+        fss::Simulate(options, image, code, observed_png8 ? &*observed_png8 : nullptr);
     for (const auto& warning : report.warnings) {
       std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
     }

@@ -10,7 +10,7 @@
 
 #include "fss/core/error.h"
 #include "fss/model/kernel.h"
-#include "fss/pipeline/theory.h"
+#include "fss/pipeline/prediction.h"
 #include "fss/model/transfer.h"
 
 namespace fss {

@@ -41,12 +41,6 @@ void ObservedPng8::store_row(int channel, int row, std::span<const double> value
   ++rows_stored_;
 }
 
-std::function<void(int, int, std::span<const double>)> ObservedPng8::row_callback() {
-  return [this](int channel, int row, std::span<const double> values) {
-    store_row(channel, row, values);
-  };
-}
-
 std::vector<std::uint8_t> ObservedPng8::encode() const {
   if (rows_stored_ != height_ * channels_) {
     throw_usage_error("observed.png: " + std::to_string(rows_stored_) + " of " +

@@ -27,7 +27,8 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
 std::vector<std::uint8_t> encode_observed(const Image& kept, const SimulationReport& /*report*/) {
   if (kept.data.empty()) {
     throw_usage_error(
-        "observed.png: the report keeps no observed image (keep_observed = false) and no "
+        "observed.png: the report keeps no observed image (Simulate ran with an ObservedRowSink) "
+        "and no "
         "ObservedPng8 was given to write_outputs");
   }
   return encode_png8(kept);

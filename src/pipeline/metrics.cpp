@@ -270,6 +270,15 @@ class MidwayRanks {
 
 }  // namespace
 
+double row_squared_error(const double* a, const double* b, int first, int end) {
+  double sum = 0.0;
+  for (int x = first; x < end; ++x) {
+    const double d = a[x] - b[x];
+    sum += d * d;
+  }
+  return sum;
+}
+
 double rmse(const Image& a, const Image& b, int first, int end) {
   require_same_size(a, b);
   return rmse(a, 0, b, first, end);
@@ -283,14 +292,7 @@ double rmse(const Image& a, int a_offset, const Image& b, int first, int end) {
   double sum = 0.0;
   for (int c = 0; c < b.channels; ++c) {
     for (int y = 0; y < b.height; ++y) {
-      const double* pa = a.row(c, y) + a_offset;
-      const double* pb = b.row(c, y);
-      double row_sum = 0.0;
-      for (int x = first; x < end; ++x) {
-        const double d = pa[x] - pb[x];
-        row_sum += d * d;
-      }
-      sum += row_sum;
+      sum += row_squared_error(a.row(c, y) + a_offset, b.row(c, y), first, end);
     }
   }
   const double count = static_cast<double>(end - first) * b.height * b.channels;

@@ -7,30 +7,9 @@
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
 #include "fss/model/transfer.h"
+#include "pipeline/reference_paths.h"
 
 namespace fss {
-
-RowSpectra row_spectra(const Image& image, int threads) {
-  RowSpectra spectra;
-  spectra.width = image.width;
-  spectra.height = image.height;
-  spectra.channels = image.channels;
-  const int bins = spectra.spectrum_size();
-  const int rows = image.channels * image.height;
-  spectra.bins.resize(static_cast<std::size_t>(rows) * bins);
-  const RowFFT& fft = RowFFT::for_size(image.width);
-  parallel_for(rows, threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(image.width);
-    for (int r = begin; r < end; ++r) {
-      const double* src = image.data.data() + static_cast<std::size_t>(r) * image.width;
-      std::copy(src, src + image.width, workspace.real().begin());
-      fft.forward(workspace);
-      std::copy(workspace.spectrum().begin(), workspace.spectrum().end(),
-                spectra.bins.begin() + static_cast<std::ptrdiff_t>(r) * bins);
-    }
-  });
-  return spectra;
-}
 
 RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode mode,
                          const ObservationParams& params)
@@ -128,6 +107,31 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
     std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
     add_slot(k, scratch.shifted);
   }
+}
+
+// ---------------------------------------------------------------------------
+// Whole-image reference paths, for the tests (reference_paths.h).
+
+RowSpectra row_spectra(const Image& image, int threads) {
+  RowSpectra spectra;
+  spectra.width = image.width;
+  spectra.height = image.height;
+  spectra.channels = image.channels;
+  const int bins = spectra.spectrum_size();
+  const int rows = image.channels * image.height;
+  spectra.bins.resize(static_cast<std::size_t>(rows) * bins);
+  const RowFFT& fft = RowFFT::for_size(image.width);
+  parallel_for(rows, threads, [&](int begin, int end) {
+    RowFFT::Workspace workspace(image.width);
+    for (int r = begin; r < end; ++r) {
+      const double* src = image.data.data() + static_cast<std::size_t>(r) * image.width;
+      std::copy(src, src + image.width, workspace.real().begin());
+      fft.forward(workspace);
+      std::copy(workspace.spectrum().begin(), workspace.spectrum().end(),
+                spectra.bins.begin() + static_cast<std::ptrdiff_t>(r) * bins);
+    }
+  });
+  return spectra;
 }
 
 namespace {

@@ -9,50 +9,9 @@
 #include "fss/core/fft.h"
 #include "fss/core/parallel.h"
 #include "fss/model/transfer.h"
+#include "pipeline/reference_paths.h"
 
 namespace fss {
-
-Geometry Geometry::compute(int width, int code_length, double velocity, double dt) {
-  if (code_length < 1) throw_usage_error("the code must have at least one gain");
-  // B = max(L, ceil(|v| dt L))
-  const double motion = std::ceil(std::abs(velocity) * dt * code_length);
-  if (!(motion < static_cast<double>(width))) {
-    throw_usage_error("the blur of velocity " + format_number(velocity) + " over " +
-                      std::to_string(code_length) + " slots of dt " + format_number(dt) +
-                      " spans " + format_number(motion) + " pixels, more than the image width " +
-                      std::to_string(width));
-  }
-  Geometry g;
-  g.width = width;
-  g.blur_length = std::max(code_length, static_cast<int>(motion));
-  g.half_blur = g.blur_length / 2;
-  g.observed_width = width - g.blur_length;
-  g.mirror_width = 2 * g.observed_width;
-  g.output_width = width - 3 * g.blur_length;
-  if (g.output_width < 1) {
-    throw_usage_error(
-        "image width " + std::to_string(width) +
-        " is too narrow for blur length B = " + std::to_string(g.blur_length) +
-        ": any output needs a width of at least 3B + 1 = " + std::to_string(3 * g.blur_length + 1) +
-        ", the measurement windows at least 5B + 1 = " + std::to_string(5 * g.blur_length + 1) +
-        " (9B + 1 = " + std::to_string(9 * g.blur_length + 1) + " with the default RMSE margin)");
-  }
-  return g;
-}
-
-Image mirror_extend(const Image& crop) {
-  const int wa = crop.width;
-  Image out(2 * wa, crop.height, crop.channels);
-  for (int c = 0; c < crop.channels; ++c) {
-    for (int y = 0; y < crop.height; ++y) {
-      const double* src = crop.row(c, y);
-      double* dst = out.row(c, y);
-      std::copy(src, src + wa, dst);
-      std::reverse_copy(src, src + wa, dst + wa);  // column j >= Wa is 2 Wa - 1 - j
-    }
-  }
-  return out;
-}
 
 namespace {
 // 1 / K on the n-point grid; bins where K = 0 carry no information and are
@@ -79,6 +38,40 @@ void inverse_filter_row(const RowFFT& fft, const std::vector<Complex>& inverse,
 }
 }  // namespace
 
+RowRestorer::RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity,
+                         double dt)
+    : geometry_(geometry),
+      fft_(RowFFT::for_size(geometry.mirror_width)),
+      inverse_(inverse_transfer_bins(gains, velocity, dt, geometry.mirror_width, &zero_bins_)) {}
+
+void RowRestorer::restore(const double* observation, Scratch& scratch, double* restored) const {
+  const int wa = geometry_.observed_width;
+  const double* crop = observation + geometry_.half_blur;  // observed crop [h, h + Wa)
+  double* mirror = scratch.workspace.real().data();
+  std::copy(crop, crop + wa, mirror);
+  std::reverse_copy(crop, crop + wa, mirror + wa);  // column j >= Wa is 2 Wa - 1 - j
+  inverse_filter_row(fft_, inverse_, scratch.workspace);
+  const double* deconvolved = scratch.workspace.real().data() + 2 * geometry_.half_blur;
+  std::copy(deconvolved, deconvolved + geometry_.output_width, restored);
+}
+
+// ---------------------------------------------------------------------------
+// Whole-image reference paths, for the tests (reference_paths.h).
+
+Image mirror_extend(const Image& crop) {
+  const int wa = crop.width;
+  Image out(2 * wa, crop.height, crop.channels);
+  for (int c = 0; c < crop.channels; ++c) {
+    for (int y = 0; y < crop.height; ++y) {
+      const double* src = crop.row(c, y);
+      double* dst = out.row(c, y);
+      std::copy(src, src + wa, dst);
+      std::reverse_copy(src, src + wa, dst + wa);  // column j >= Wa is 2 Wa - 1 - j
+    }
+  }
+  return out;
+}
+
 Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
                              double dt, int threads) {
   const int n = mirrored.width;
@@ -98,23 +91,6 @@ Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gain
     }
   });
   return result;
-}
-
-RowRestorer::RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity,
-                         double dt)
-    : geometry_(geometry),
-      fft_(RowFFT::for_size(geometry.mirror_width)),
-      inverse_(inverse_transfer_bins(gains, velocity, dt, geometry.mirror_width, &zero_bins_)) {}
-
-void RowRestorer::restore(const double* observation, Scratch& scratch, double* restored) const {
-  const int wa = geometry_.observed_width;
-  const double* crop = observation + geometry_.half_blur;  // observed crop [h, h + Wa)
-  double* mirror = scratch.workspace.real().data();
-  std::copy(crop, crop + wa, mirror);
-  std::reverse_copy(crop, crop + wa, mirror + wa);  // column j >= Wa is 2 Wa - 1 - j
-  inverse_filter_row(fft_, inverse_, scratch.workspace);
-  const double* deconvolved = scratch.workspace.real().data() + 2 * geometry_.half_blur;
-  std::copy(deconvolved, deconvolved + geometry_.output_width, restored);
 }
 
 Restoration restore(const Image& observation, const Image& input, const Geometry& geometry,

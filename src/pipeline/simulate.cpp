@@ -1,18 +1,15 @@
 #include "fss/pipeline/simulate.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
 
 #include "fss/core/error.h"
-#include "fss/pipeline/metrics.h"
-#include "fss/pipeline/observe.h"
-#include "fss/core/parallel.h"
-#include "fss/pipeline/restore.h"
 #include "fss/model/transfer.h"
+#include "fss/pipeline/metrics.h"
+#include "pipeline/row_pipeline.h"
 
 namespace fss {
 
@@ -25,43 +22,34 @@ std::optional<NoiseModel> noise_model_from_string(std::string_view text) {
 }
 
 bool SimulationOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
+  // True, with the message, when `rule` (option_rules.h) is broken.
+  const auto broken = [&](const char* field, const std::string& value, const std::string& rule) {
+    if (rule.empty()) return false;
+    if (error) *error = std::string(field) + " = " + value + ": " + rule;
+    return true;
   };
-  if (!std::isfinite(velocity_px_per_slot)) {
-    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
-                ": must be a finite number");
+  if (broken("velocity_px_per_slot", format_number(velocity_px_per_slot),
+             velocity_rule(velocity_px_per_slot))) {
+    return false;
   }
-  if (restore_velocity_px_per_slot && !std::isfinite(*restore_velocity_px_per_slot)) {
-    return fail("restore_velocity_px_per_slot = " + format_number(*restore_velocity_px_per_slot) +
-                ": must be a finite number");
+  if (restore_velocity_px_per_slot &&
+      broken("restore_velocity_px_per_slot", format_number(*restore_velocity_px_per_slot),
+             velocity_rule(*restore_velocity_px_per_slot))) {
+    return false;
   }
-  if (!(std::isfinite(dt) && dt > 0.0)) {
-    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
+  // The sign of either scale is reported before the range of either.
+  for (const bool positive : {false, true}) {
+    if (scale_is_positive(dt) == positive && broken("dt", format_number(dt), scale_rule(dt))) {
+      return false;
+    }
+    if (scale_is_positive(snr) == positive && broken("snr", format_number(snr), scale_rule(snr))) {
+      return false;
+    }
   }
-  if (!(std::isfinite(snr) && snr > 0.0)) {
-    return fail("snr = " + format_number(snr) + ": must be finite and > 0");
-  }
-  // Far enough from the limits of double precision that K, lambda2 = snr^2 / 100
-  // and their products stay finite and nonzero.
-  if (!(dt >= kMinScale && dt <= kMaxScale)) {
-    return fail("dt = " + format_number(dt) + ": must lie in [1e-100, 1e100]");
-  }
-  if (!(snr >= kMinScale && snr <= kMaxScale)) {
-    return fail("snr = " + format_number(snr) + ": must lie in [1e-100, 1e100]");
-  }
-  if (rmse_margin_columns > kMaxMarginColumns) {
-    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
-                ": must be at most " + std::to_string(kMaxMarginColumns));
-  }
-  if (rmse_margin_columns < -1) {
-    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
-                ": must be >= 0 (or -1 for the default 3B)");
-  }
-  if (trials < 1) return fail("trials = " + std::to_string(trials) + ": must be >= 1");
-  if (threads < 0) return fail("threads = " + std::to_string(threads) + ": must be >= 0 (0: all)");
-  return true;
+  const std::string margin = std::to_string(rmse_margin_columns);
+  return !(broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
+           broken("trials", std::to_string(trials), trials_rule(trials)) ||
+           broken("threads", std::to_string(threads), threads_rule(threads)));
 }
 
 void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
@@ -84,54 +72,7 @@ void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
 
 namespace {
 
-struct Windows {
-  int rmse_first, rmse_end, ci_first, ci_end;
-};
-
-Windows metric_windows(const SimulationOptions& options, const Geometry& g) {
-  const int b = g.blur_length;
-  const int margin = options.rmse_margin_columns < 0 ? 3 * b : options.rmse_margin_columns;
-  Windows w{margin, g.output_width - margin, b, g.output_width - b};
-  // The RMSE_CI window [B, Wo - B) needs W > 5B whatever the margin.
-  if (w.ci_first >= w.ci_end) {
-    throw_usage_error(
-        "image width " + std::to_string(g.width) +
-        " is too narrow for blur length B = " + std::to_string(b) +
-        ": the contrast-invariant RMSE window [B, W - 4B) needs a width of at least " +
-        std::to_string(5 * b + 1) + " (5B + 1), which no --rmse-margin can change");
-  }
-  if (w.rmse_first >= w.rmse_end) {
-    const long long needed = 3LL * b + 2LL * margin + 1;
-    throw_usage_error("image width " + std::to_string(g.width) +
-                      " is too narrow for the RMSE window: blur length B = " + std::to_string(b) +
-                      " and margin " + std::to_string(margin) + " need a width of at least " +
-                      std::to_string(needed) + " (3B + 2 margin + 1); choose a margin below " +
-                      std::to_string((g.output_width + 1) / 2) + " with --rmse-margin");
-  }
-  return w;
-}
-
-double window_mean(const Image& image, int first, int end) {
-  // mean per channel, then averaged over channels (equal pixel counts)
-  double sum = 0.0;
-  for (int c = 0; c < image.channels; ++c) {
-    for (int y = 0; y < image.height; ++y) {
-      for (int x = first; x < end; ++x) sum += image.at(c, y, x);
-    }
-  }
-  return sum / (static_cast<double>(end - first) * image.height * image.channels);
-}
-
-double sample_sd(double sum, double sum_sq, int n) {
-  if (n < 2) return 0.0;
-  const double mean = sum / n;
-  return std::sqrt(std::max(0.0, (sum_sq - n * mean * mean) / (n - 1)));
-}
-
-}  // namespace
-
-SimulationReport Simulate(const SimulationOptions& options, const Image& input,
-                          const ShutterCode& code) {
+void check_inputs(const SimulationOptions& options, const Image& input, const ShutterCode& code) {
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);
   check_code_for_mode(code, options.mode);
@@ -139,42 +80,28 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
     throw_usage_error("input has " + std::to_string(input.channels) +
                       " channels, expected 1 (gray) or 3 (RGB)");
   }
+}
 
-  SimulationReport report;
-  report.options = options;
-  report.options.trial_callback = nullptr;
-  report.options.observed_row_callback = nullptr;
-  report.code_name = code.name;
-  report.gains = code.gains;
-  report.width = input.width;
-  report.height = input.height;
-  report.channels = input.channels;
-
-  const double v = options.velocity_px_per_slot;
-  // v_r: the velocity of the kernel the restoration inverts.
-  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
-  const double dt = options.dt;
-  const std::vector<double>& gains = code.gains;
-  const Geometry& g = report.geometry =
-      Geometry::compute(input.width, code.length(), std::max(std::abs(v), std::abs(v_r)), dt);
-  const Windows windows = metric_windows(options, g);
-  if (options.max_memory_bytes > 0) {
-    const std::size_t needed = estimate_working_memory_bytes(
-        input.width, input.height, input.channels, g, options.trials, options.keep_observed);
-    if (needed > options.max_memory_bytes) {
-      throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
-                        std::to_string(input.height) + " x " + std::to_string(input.channels) +
-                        " image needs about " + format_bytes(static_cast<double>(needed)) +
-                        " of memory, more than the memory limit of " +
-                        format_bytes(static_cast<double>(options.max_memory_bytes)));
-    }
+// Refuses, before anything is allocated, a run over options.max_memory_bytes.
+void check_memory(const SimulationOptions& options, const Image& input, const Geometry& g,
+                  const ObservedRowSink* observed_sink) {
+  if (options.max_memory_bytes == 0) return;
+  const std::size_t needed = estimate_working_memory_bytes(
+      input.width, input.height, input.channels, g, options.trials, observed_sink);
+  if (needed > options.max_memory_bytes) {
+    throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
+                      std::to_string(input.height) + " x " + std::to_string(input.channels) +
+                      " image needs about " + format_bytes(static_cast<double>(needed)) +
+                      " of memory, more than the memory limit of " +
+                      format_bytes(static_cast<double>(options.max_memory_bytes)));
   }
-  report.rmse_first = windows.rmse_first;
-  report.rmse_end = windows.rmse_end;
-  report.rmse_ci_first = windows.ci_first;
-  report.rmse_ci_end = windows.ci_end;
+}
 
-  report.kernel = analyze_kernel(gains, v_r, dt);
+// The kernel the restoration inverts, K at the restore velocity v_r
+// (docs/method.md §1), the divisor of the observed image, and their warnings.
+void analyze_restoration_kernel(const ShutterCode& code, double v_r, SimulationReport& report) {
+  const double dt = report.options.dt;
+  report.kernel = analyze_kernel(code.gains, v_r, dt);
   if (!report.kernel.invertible) {
     report.warnings.push_back("code '" + code.name + "' is not invertible at velocity " +
                               format_number(v_r) +
@@ -185,166 +112,174 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   }
   report.observed_divisor = report.kernel.k0;
   if (report.observed_divisor == 0.0) {
-    report.observed_divisor = dt * gain_max_abs(gains);
+    report.observed_divisor = dt * gain_max_abs(code.gains);
     report.warnings.push_back(
         "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max |gain| = " +
         format_number(report.observed_divisor) + " instead");
   }
+}
 
-  // Row-streamed pipeline: each row goes input -> DFT -> observation ->
-  // observed crop, mirror, inverse filter -> restored row, so the working
-  // memory beyond the outputs is a few rows per thread.
-  ObservationParams params;
-  params.velocity = v;
-  params.dt = dt;
-  params.snr = options.snr;
-  const RowObserver observer(input.width, gains, options.mode, params);
-  const RowRestorer restorer(g, gains, v_r, dt);
-  report.zero_bins = restorer.zero_bins();
-  if (report.zero_bins > 0) {
+// The plan of a run: geometry and metric windows (docs/method.md §4, §5),
+// the memory guard, the kernel and its warnings. Nothing is allocated yet.
+SimulationReport plan(const SimulationOptions& options, const Image& input, const ShutterCode& code,
+                      const ObservedRowSink* observed_sink) {
+  SimulationReport report;
+  report.options = options;
+  report.options.trial_callback = nullptr;
+  report.code_name = code.name;
+  report.gains = code.gains;
+  report.width = input.width;
+  report.height = input.height;
+  report.channels = input.channels;
+  const double v = options.velocity_px_per_slot;
+  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
+  // The blur length B covers both velocities.
+  report.geometry = Geometry::compute(input.width, code.length(),
+                                      std::max(std::abs(v), std::abs(v_r)), options.dt);
+  const MetricWindows windows = metric_windows(report.geometry, options.rmse_margin_columns);
+  check_memory(options, input, report.geometry, observed_sink);
+  report.rmse_first = windows.rmse_first;
+  report.rmse_end = windows.rmse_end;
+  report.rmse_ci_first = windows.ci_first;
+  report.rmse_ci_end = windows.ci_end;
+  analyze_restoration_kernel(code, v_r, report);
+  return report;
+}
+
+// RMSE and RMSE_CI of one restoration over the report's windows
+// (docs/method.md §5).
+Metrics measure(const SimulationReport& report, const Image& input, const Image& restored) {
+  const int offset = report.output_first_column();
+  Metrics m;
+  m.rmse = rmse(input, offset, restored, report.rmse_first, report.rmse_end);
+  m.psnr = psnr(m.rmse);
+  m.rmse_ci = rmse_contrast_invariant(input, offset, restored, report.rmse_ci_first,
+                                      report.rmse_ci_end, report.options.threads);
+  m.psnr_ci = psnr(m.rmse_ci);
+  return m;
+}
+
+double sample_sd(double sum, double sum_sq, int n) {
+  if (n < 2) return 0.0;
+  const double mean = sum / n;
+  return std::sqrt(std::max(0.0, (sum_sq - n * mean * mean) / (n - 1)));
+}
+
+// Sums of the trials' metrics, for their means and sample deviations.
+struct TrialSums {
+  double rmse = 0.0, rmse_sq = 0.0, ci = 0.0, ci_sq = 0.0;
+
+  void add(const Metrics& m) {
+    rmse += m.rmse;
+    rmse_sq += m.rmse * m.rmse;
+    ci += m.rmse_ci;
+    ci_sq += m.rmse_ci * m.rmse_ci;
+  }
+  TrialStatistics statistics(int n) const {
+    return {n, rmse / n, sample_sd(rmse, rmse_sq, n), ci / n, sample_sd(ci, ci_sq, n)};
+  }
+};
+
+// Without noise every trial is the same run: run it once. False when an
+// observed value is not finite.
+bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& options,
+                    const Image& input, SimulationReport& report, ObservedRowSink* observed) {
+  const bool observed_finite = pipeline.restore_all(std::nullopt, report.restored, observed);
+  report.metrics = measure(report, input, report.restored);
+  report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
+  if (options.trial_callback) options.trial_callback(options.trials, options.trials);
+  return observed_finite;
+}
+
+// Trial t has the noise of seed + t; the first one's images and metrics are
+// the report's. False when an observed value is not finite.
+bool run_trials(const RowPipeline& pipeline, const SimulationOptions& options, const Image& input,
+                SimulationReport& report, ObservedRowSink* observed) {
+  const int n = options.trials;
+  Image later_trial;  // restoration of the trials after the first, when there are any
+  TrialSums sums;
+  bool observed_finite = true;
+  for (int t = 0; t < n; ++t) {
+    if (t == 1) later_trial = Image(report.restored.width, input.height, input.channels);
+    Image& restored = t == 0 ? report.restored : later_trial;
+    const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
+    observed_finite =
+        pipeline.restore_all(seed, restored, t == 0 ? observed : nullptr) && observed_finite;
+    const Metrics m = measure(report, input, restored);
+    if (t == 0) report.metrics = m;
+    sums.add(m);
+    if (options.trial_callback) options.trial_callback(t + 1, n);
+  }
+  report.trials = sums.statistics(n);
+  return observed_finite;
+}
+
+// Extreme gains (1e-320, 1e308) can leave the range of doubles: an error,
+// never a silent NaN.
+void check_finite(const SimulationReport& report, const ShutterCode& code, bool observed_finite) {
+  const auto finite = [](double value) { return std::isfinite(value); };
+  if (finite(report.metrics.rmse) && finite(report.metrics.rmse_ci) &&
+      finite(report.trials.rmse_mean) && observed_finite &&
+      std::all_of(report.restored.data.begin(), report.restored.data.end(), finite)) {
+    return;
+  }
+  double smallest = 0.0;
+  for (const double gain : code.gains) {
+    if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
+  }
+  throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
+                    format_number(report.metrics.rmse) + "): the gains of code '" + code.name +
+                    "' (|gain| from " + format_number(smallest) + " to " +
+                    format_number(gain_max_abs(code.gains)) + "), dt " +
+                    format_number(report.options.dt) + " or snr " +
+                    format_number(report.options.snr) + " are too extreme");
+}
+
+}  // namespace
+
+SimulationReport Simulate(const SimulationOptions& options, const Image& input,
+                          const ShutterCode& code, ObservedRowSink* observed_sink) {
+  check_inputs(options, input, code);
+  // Plan: geometry, metric windows, memory guard, kernel and warnings.
+  SimulationReport report = plan(options, input, code, observed_sink);
+
+  // Row pipeline: observe -> noise -> restore, row by row.
+  const RowPipeline pipeline(input, code, options, report.geometry, report.observed_divisor);
+  if (pipeline.zero_bins() > 0) {
+    report.zero_bins = pipeline.zero_bins();
     report.warnings.push_back(std::to_string(report.zero_bins) +
                               " frequencies have K = 0 exactly on the deconvolution grid; they "
                               "are left at 0 in the restoration");
   }
-  const int offset = report.output_first_column();
-  const int rows = input.channels * input.height;
-  // One pass over all rows. `restored` (Wo wide) may be null when only the
-  // squared errors over the RMSE window are wanted (per row, summed in row
-  // order so that the total does not depend on the threads).
-  // With `observed`, the observed rows go to report.observed (when kept) and
-  // to the row callback, and their finiteness is checked.
-  std::atomic<bool> observed_finite{true};
-  auto run_pass = [&](bool noisy, std::uint64_t seed, Image* restored, bool observed,
-                      std::vector<double>* row_errors) {
-    parallel_for(rows, options.threads, [&](int begin, int end) {
-      RowObserver::Scratch observer_scratch(observer);
-      RowRestorer::Scratch restorer_scratch(restorer);
-      std::vector<double> observation(static_cast<std::size_t>(g.width));
-      std::vector<double> own_row(restored ? 0 : static_cast<std::size_t>(g.output_width));
-      std::vector<double> observed_row(observed ? static_cast<std::size_t>(g.output_width) : 0);
-      for (int r = begin; r < end; ++r) {
-        const int c = r / input.height;
-        const int y = r % input.height;
-        observer.load_row(input.row(c, y), observer_scratch);
-        observer.observe(noisy, seed, c, y, observer_scratch, observation);
-        if (observed) {
-          bool finite = true;
-          for (int x = 0; x < g.output_width; ++x) {
-            observed_row[x] = observation[offset + x] / report.observed_divisor;
-            finite = finite && std::isfinite(observed_row[x]);
-          }
-          if (!finite) observed_finite = false;
-          if (options.keep_observed) {
-            std::copy(observed_row.begin(), observed_row.end(), report.observed.row(c, y));
-          }
-          if (options.observed_row_callback) options.observed_row_callback(c, y, observed_row);
-        }
-        double* out = restored ? restored->row(c, y) : own_row.data();
-        restorer.restore(observation.data(), restorer_scratch, out);
-        if (row_errors) {
-          const double* truth = input.row(c, y) + offset;
-          double sum = 0.0;  // as rmse() sums a row
-          for (int x = windows.rmse_first; x < windows.rmse_end; ++x) {
-            const double d = truth[x] - out[x];
-            sum += d * d;
-          }
-          (*row_errors)[r] = sum;
-        }
-      }
-    });
-  };
-  auto measure = [&](const Image& restored) {
-    Metrics m;
-    m.rmse = rmse(input, offset, restored, windows.rmse_first, windows.rmse_end);
-    m.psnr = psnr(m.rmse);
-    m.rmse_ci = rmse_contrast_invariant(input, offset, restored, windows.ci_first, windows.ci_end,
-                                        options.threads);
-    m.psnr_ci = psnr(m.rmse_ci);
-    return m;
-  };
+  const int wo = report.geometry.output_width;
+  ImageRowSink kept_observed(report.observed);
+  if (observed_sink == nullptr) {
+    report.observed = Image(wo, input.height, input.channels);
+    observed_sink = &kept_observed;
+  }
+  report.restored = Image(wo, input.height, input.channels);
 
-  if (options.keep_observed) report.observed = Image(g.output_width, input.height, input.channels);
-  report.restored = Image(g.output_width, input.height, input.channels);
+  // Metrics of the first trial and over all trials, and RMSE_0.
   double rmse_noise_free = 0.0;
+  bool observed_finite = true;
   if (options.noise == NoiseModel::kNone) {
-    // The noise-free run is every trial: run it once.
-    run_pass(false, 0, &report.restored, true, nullptr);
-    report.metrics = measure(report.restored);
+    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink);
     rmse_noise_free = report.metrics.rmse;
-    report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
-    if (options.trial_callback) options.trial_callback(options.trials, options.trials);
   } else {
-    // RMSE_0 of the prediction: the same pipeline on the expected observation.
-    std::vector<double> row_errors(static_cast<std::size_t>(rows));
-    run_pass(false, 0, nullptr, false, &row_errors);
-    double total = 0.0;
-    for (const double e : row_errors) total += e;
-    rmse_noise_free =
-        std::sqrt(total / (static_cast<double>(windows.rmse_end - windows.rmse_first) *
-                           input.height * input.channels));
-
-    Image later_trial;  // restoration of trials after the first, when there are any
-    double sum = 0.0, sum_sq = 0.0, sum_ci = 0.0, sum_ci_sq = 0.0;
-    for (int t = 0; t < options.trials; ++t) {
-      const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
-      if (t == 1) later_trial = Image(g.output_width, input.height, input.channels);
-      Image& restored = t == 0 ? report.restored : later_trial;
-      run_pass(true, seed, &restored, t == 0, nullptr);
-      const Metrics m = measure(restored);
-      if (t == 0) report.metrics = m;
-      sum += m.rmse;
-      sum_sq += m.rmse * m.rmse;
-      sum_ci += m.rmse_ci;
-      sum_ci_sq += m.rmse_ci * m.rmse_ci;
-      if (options.trial_callback) options.trial_callback(t + 1, options.trials);
-    }
-    const int n = options.trials;
-    report.trials = {n, sum / n, sample_sd(sum, sum_sq, n), sum_ci / n,
-                     sample_sd(sum_ci, sum_ci_sq, n)};
+    rmse_noise_free = pipeline.noise_free_rmse(report.rmse_first, report.rmse_end);
+    observed_finite = run_trials(pipeline, options, input, report, observed_sink);
   }
+  check_finite(report, code, observed_finite);
 
-  // Extreme gains (1e-320, 1e308) can leave the range of doubles: an error,
-  // never a silent NaN.
-  const auto all_finite = [](const Image& image) {
-    return std::all_of(image.data.begin(), image.data.end(),
-                       [](double value) { return std::isfinite(value); });
-  };
-  if (!(std::isfinite(report.metrics.rmse) && std::isfinite(report.metrics.rmse_ci) &&
-        std::isfinite(report.trials.rmse_mean) && observed_finite && all_finite(report.restored))) {
-    double smallest = 0.0;
-    for (const double gain : gains) {
-      if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
-    }
-    throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
-                      format_number(report.metrics.rmse) + "): the gains of code '" + code.name +
-                      "' (|gain| from " + format_number(smallest) + " to " +
-                      format_number(gain_max_abs(gains)) + "), dt " + format_number(dt) +
-                      " or snr " + format_number(options.snr) + " are too extreme");
-  }
-
-  // Prediction (SPEC 6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.
-  Prediction& p = report.prediction;
-  p.finite = report.kernel.invertible;
-  p.window_mean = window_mean(input, offset + windows.rmse_first, offset + windows.rmse_end);
-  p.q = noise_gain(gains, dt, options.mode);
-  p.m_amplification = p.finite ? mean_inverse_power(gains, v_r, dt, g.mirror_width)
-                               : std::numeric_limits<double>::infinity();
-  p.rmse_noise_free = rmse_noise_free;
-  p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
-  p.sigma = options.noise == NoiseModel::kNone
-                ? 0.0
-                : noise_sigma(p.window_mean, p.q, p.m_amplification, options.snr);
-  p.rmse = std::sqrt(rmse_noise_free * rmse_noise_free + p.sigma * p.sigma);
-  if (!p.finite) {
-    p.sigma = std::numeric_limits<double>::infinity();
-    p.rmse = std::numeric_limits<double>::infinity();
-  }
+  // Prediction (docs/method.md §6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.
+  report.prediction = predict(report, input, rmse_noise_free);
   return report;
 }
 
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
-                                          bool keep_observed) {
+                                          const ObservedRowSink* observed_sink) {
+  const bool keep_observed = observed_sink == nullptr;
   const auto w = static_cast<std::size_t>(width);
   const auto h = static_cast<std::size_t>(height);
   const auto c = static_cast<std::size_t>(channels);

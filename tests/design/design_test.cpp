@@ -18,7 +18,7 @@
 #include "fss/model/kernel.h"
 #include "fss/io/png_io.h"
 #include "fss/pipeline/simulate.h"
-#include "fss/pipeline/theory.h"
+#include "fss/pipeline/prediction.h"
 #include "fss/model/transfer.h"
 #include "support/test_util.h"
 

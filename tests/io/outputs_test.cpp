@@ -478,16 +478,16 @@ namespace fss {
 namespace {
 
 // A run that streams its observed rows into an ObservedPng8 instead of
-// keeping them, as fssim does; `keep` also keeps them for comparison.
+// keeping them, as fssim does; `keep` also keeps them for comparison (a
+// second run of the same options keeps the same rows).
 struct StreamedRun {
   explicit StreamedRun(const Image& input, bool keep = false, int threads = 2)
       : observed(input.height, input.channels) {
     SimulationOptions options;
     options.seed = 11;
     options.threads = threads;
-    options.keep_observed = keep;
-    options.observed_row_callback = observed.row_callback();
-    report = Simulate(options, input, *builtin_code("raskar"));
+    report = Simulate(options, input, *builtin_code("raskar"), &observed);
+    if (keep) report.observed = Simulate(options, input, *builtin_code("raskar")).observed;
   }
   ObservedPng8 observed;
   SimulationReport report;

@@ -16,10 +16,10 @@
 #include <utility>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/error.h"
-#include "fss/pipeline/metrics.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/metrics.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -140,7 +140,7 @@ const Image* CameraRaskar::camera_ = nullptr;
 const SimulationReport* CameraRaskar::report_ = nullptr;
 
 TEST_F(CameraRaskar, MetricsMatchTheReferenceProgram) {
-  // Tolerance of SPEC 8; reference figures from
+  // Tolerance of docs/method.md §8; reference figures from
   // tests/fixtures/camera_numerical_raskar_v1_noisefree/README.md.
   EXPECT_NEAR(report_->metrics.rmse, 0.417289, 1e-3);
   EXPECT_NEAR(report_->metrics.rmse_ci, 1.005121, 1e-3);
@@ -199,7 +199,7 @@ TEST_F(CameraRaskar, NoiseFreePredictionIsTheMeasuredError) {
 }
 
 TEST_F(CameraRaskar, NoisyRunMatchesTheExactErrorTable) {
-  // SPEC 6 table, raskar row: m = 123.67, sigma 2.311, predicted 2.348; the
+  // docs/method.md §6 table, raskar row: m = 123.67, sigma 2.311, predicted 2.348; the
   // reference tool measured 2.352 +/- 0.013 over 12 runs.
   SimulationOptions options;
   options.seed = 1;
@@ -221,13 +221,9 @@ TEST_F(CameraRaskar, NoisyRunMatchesTheExactErrorTable) {
 TEST(Simulate, AnalogModeRefusesTheSincCode) {
   SimulationOptions options;
   options.mode = ShutterMode::kAnalog;
-  const auto error =
-      error_of([&] { Simulate(options, test::make_test_image(480, 4, 1), code("sinc")); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
-  EXPECT_THAT(error->what(), HasSubstr("gain"));
-  EXPECT_THAT(error->what(), HasSubstr("sinc"));
-  EXPECT_THAT(error->what(), HasSubstr("analog"));
+  EXPECT_TRUE(
+      test::throws_error([&] { Simulate(options, test::make_test_image(480, 4, 1), code("sinc")); },
+                         ErrorKind::kUsage, {"gain", "sinc", "analog"}));
 }
 
 TEST(Simulate, AnalogModeRunsABinaryCode) {
@@ -241,12 +237,13 @@ TEST(Simulate, AnalogModeRunsABinaryCode) {
 
 TEST(Simulate, AllZeroCodeIsAUsageError) {
   for (const auto& gains : {std::vector<double>(52, 0.0), std::vector<double>{}}) {
-    const auto error = error_of([&] {
-      Simulate(SimulationOptions(), test::make_test_image(480, 4, 1), ShutterCode{"zeros", gains});
-    });
-    ASSERT_TRUE(error.has_value()) << gains.size() << " gains";
-    EXPECT_EQ(error->kind(), ErrorKind::kUsage);
-    EXPECT_THAT(error->what(), HasSubstr("zeros"));
+    EXPECT_TRUE(test::throws_error(
+        [&] {
+          Simulate(SimulationOptions(), test::make_test_image(480, 4, 1),
+                   ShutterCode{"zeros", gains});
+        },
+        ErrorKind::kUsage, {"zeros"}))
+        << gains.size() << " gains";
   }
 }
 
@@ -284,23 +281,19 @@ TEST(Simulate, ZeroSumCodeDividesObservedByTheLargestGain) {
 }
 
 TEST(Simulate, TooNarrowImageSaysWhatWidthIsNeeded) {
-  const auto error = error_of(
-      [&] { Simulate(SimulationOptions(), test::make_test_image(400, 8, 1), code("raskar")); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
-  EXPECT_THAT(error->what(), HasSubstr("469"));  // 9B + 1 with B = 52
-  EXPECT_THAT(error->what(), HasSubstr("--rmse-margin"));
+  // 9B + 1 = 469 with B = 52
+  EXPECT_TRUE(test::throws_error(
+      [&] { Simulate(SimulationOptions(), test::make_test_image(400, 8, 1), code("raskar")); },
+      ErrorKind::kUsage, {"469", "--rmse-margin"}));
 }
 
 TEST(Simulate, ImageNoMarginCanRescueSaysTheWidthNeeded) {
   // W = 230 <= 5B: the RMSE_CI window [B, Wo - B) is empty whatever the
   // margin, so the message must give the width needed (5B + 1 = 261) rather
   // than send the user to --rmse-margin, which cannot help.
-  const auto error = error_of(
-      [&] { Simulate(SimulationOptions(), test::make_test_image(230, 4, 1), code("raskar")); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
-  EXPECT_THAT(error->what(), HasSubstr("261")) << error->what();
+  EXPECT_TRUE(test::throws_error(
+      [&] { Simulate(SimulationOptions(), test::make_test_image(230, 4, 1), code("raskar")); },
+      ErrorKind::kUsage, {"261"}));
 }
 
 TEST(Simulate, NarrowImageRunsWithASmallerMargin) {
@@ -428,10 +421,24 @@ TEST(Simulate, TrialsUseConsecutiveSeeds) {
 namespace fss {
 namespace {
 
-// The observed rows reach the callback exactly as the kept image holds them,
-// each row once, whatever the thread count; keep_observed = false only
-// leaves the image out.
-TEST(Simulate, ObservedRowCallbackSeesTheKeptImage) {
+// Records the rows an ObservedRowSink receives, and how often each came.
+class RecordingSink : public ObservedRowSink {
+ public:
+  RecordingSink(int width, int height, int channels)
+      : image(width, height, channels, -1.0), calls(static_cast<std::size_t>(height) * channels) {}
+  void consume_row(int c, int y, std::span<const double> values) override {
+    ASSERT_EQ(values.size(), static_cast<std::size_t>(image.width));
+    std::copy(values.begin(), values.end(), image.row(c, y));
+    ++calls[static_cast<std::size_t>(c) * image.height + y];
+  }
+  Image image;
+  std::vector<std::atomic<int>> calls;
+};
+
+// The observed rows reach the sink exactly as the kept image holds them,
+// each row once, whatever the thread count; the sink only leaves the image
+// out of the report.
+TEST(Simulate, ObservedRowSinkSeesTheKeptImage) {
   const Image input = test::make_test_image(480, 10, 3, 4);
   for (const NoiseModel noise : {NoiseModel::kPoisson, NoiseModel::kNone}) {
     SimulationOptions options;
@@ -441,21 +448,13 @@ TEST(Simulate, ObservedRowCallbackSeesTheKeptImage) {
     const SimulationReport kept = Simulate(options, input, code("raskar"));
     ASSERT_EQ(kept.observed.channels, 3);
 
-    Image seen(kept.observed.width, kept.observed.height, kept.observed.channels, -1.0);
-    std::vector<std::atomic<int>> calls(static_cast<std::size_t>(3 * input.height));
-    options.keep_observed = false;
+    RecordingSink sink(kept.observed.width, kept.observed.height, kept.observed.channels);
     options.threads = 2;
-    options.observed_row_callback = [&](int c, int y, std::span<const double> values) {
-      ASSERT_EQ(values.size(), static_cast<std::size_t>(seen.width));
-      std::copy(values.begin(), values.end(), seen.row(c, y));
-      ++calls[static_cast<std::size_t>(c) * input.height + y];
-    };
-    const SimulationReport streamed = Simulate(options, input, code("raskar"));
+    const SimulationReport streamed = Simulate(options, input, code("raskar"), &sink);
     EXPECT_TRUE(streamed.observed.data.empty());
     EXPECT_EQ(streamed.observed.width, 0);
-    EXPECT_FALSE(streamed.options.observed_row_callback);  // not kept in the report
-    for (const auto& n : calls) EXPECT_EQ(n, 1);
-    expect_same_image(seen, kept.observed, "observed rows");
+    for (const auto& n : sink.calls) EXPECT_EQ(n, 1);
+    expect_same_image(sink.image, kept.observed, "observed rows");
     expect_same_image(streamed.restored, kept.restored, "restored");
     EXPECT_EQ(streamed.metrics.rmse, kept.metrics.rmse);
     EXPECT_EQ(streamed.metrics.rmse_ci, kept.metrics.rmse_ci);
@@ -473,21 +472,17 @@ TEST(MemoryLimit, EstimateCoversTheBuffersAndTheLimitIsEnforced) {
   EXPECT_GT(estimate_working_memory_bytes(512, 512, 1, g, 2), estimate);
   EXPECT_GE(estimate_working_memory_bytes(512, 512, 3, g, 1),
             3u * (512u * 512u + 2u * 356u * 512u) * sizeof(double));
-  // An observed image not kept costs one byte a sample instead of eight.
-  EXPECT_EQ(estimate - estimate_working_memory_bytes(512, 512, 1, g, 1, false),
+  // Observed rows sent to a sink cost one byte a sample instead of eight.
+  RecordingSink sink(356, 512, 1);
+  EXPECT_EQ(estimate - estimate_working_memory_bytes(512, 512, 1, g, 1, &sink),
             356u * 512u * (sizeof(double) - 1));
 
   SimulationOptions options;
   options.noise = NoiseModel::kNone;
   options.max_memory_bytes = estimate - 1;
   const Image input = test::make_test_image(512, 512, 1, 2);
-  try {
-    Simulate(options, input, *builtin_code("raskar"));
-    FAIL() << "a run over the memory limit was accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::kLimit);
-    EXPECT_NE(std::string(e.what()).find("memory limit"), std::string::npos) << e.what();
-  }
+  EXPECT_TRUE(test::throws_error([&] { Simulate(options, input, *builtin_code("raskar")); },
+                                 ErrorKind::kLimit, {"memory limit"}));
   options.max_memory_bytes = estimate;
   EXPECT_NO_THROW(Simulate(options, input, *builtin_code("raskar")));
 }
@@ -570,36 +565,143 @@ TEST(IsValid, BoundsDtSnrAndTheMargin) {
 TEST(Simulate, ResultsOutsideDoublePrecisionAreAnErrorNotANaN) {
   // Gains this small make K underflow: the restoration divides by 0.
   const ShutterCode tiny{"tiny", std::vector<double>(52, 1e-320)};
-  for (const bool keep_observed : {true, false}) {
+  for (const bool to_sink : {false, true}) {
     SimulationOptions options;
-    options.keep_observed = keep_observed;
-    try {
-      Simulate(options, test::make_test_image(480, 4, 1), tiny);
-      FAIL() << "a NaN result was accepted";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), ErrorKind::kUsage);
-      EXPECT_NE(std::string(e.what()).find("range of double-precision"), std::string::npos)
-          << e.what();
-    }
+    RecordingSink sink(480 - 3 * 52, 4, 1);
+    EXPECT_TRUE(test::throws_error(
+        [&] {
+          Simulate(options, test::make_test_image(480, 4, 1), tiny, to_sink ? &sink : nullptr);
+        },
+        ErrorKind::kUsage, {"range of double-precision"}));
   }
 }
 
 TEST(Geometry, MessagesAreShortAndGiveTheWidthsNeeded) {
-  try {
-    Geometry::compute(512, 200, 1.0, 1.0);
-    FAIL();
-  } catch (const Error& e) {
-    const std::string text = e.what();
-    EXPECT_NE(text.find("3B + 1 = 601"), std::string::npos) << text;
-    EXPECT_NE(text.find("9B + 1 = 1801"), std::string::npos) << text;
+  EXPECT_TRUE(test::throws_error([] { Geometry::compute(512, 200, 1.0, 1.0); }, ErrorKind::kUsage,
+                                 {"3B + 1 = 601", "9B + 1 = 1801"}));
+  EXPECT_TRUE(test::throws_error([] { Geometry::compute(512, 52, 1e300, 1.0); }, ErrorKind::kUsage,
+                                 {"1e+300"}));
+  EXPECT_LT(too_narrow_reason(512, 52, 1e300, 1.0, -1).size(), 200u);
+}
+
+}  // namespace
+}  // namespace fss
+
+namespace fss {
+namespace {
+
+// ---------------------------------------------------------------------------
+// option_rules.h: the one source of the option rules
+
+TEST(OptionRules, FineValuesBreakNoRule) {
+  EXPECT_EQ(velocity_rule(-3.5), "");
+  EXPECT_EQ(scale_rule(kMinScale), "");
+  EXPECT_EQ(scale_rule(kMaxScale), "");
+  EXPECT_EQ(margin_rule(-1), "");
+  EXPECT_EQ(margin_rule(0), "");
+  EXPECT_EQ(margin_rule(kMaxMarginColumns), "");
+  EXPECT_EQ(trials_rule(1), "");
+  EXPECT_EQ(threads_rule(0), "");
+}
+
+TEST(OptionRules, BrokenRulesAreNamed) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(velocity_rule(std::nan("")), "must be a finite number");
+  EXPECT_EQ(velocity_rule(-inf), "must be a finite number");
+  for (const double bad : {0.0, -1.0, inf, std::nan("")}) {
+    EXPECT_EQ(scale_rule(bad), "must be finite and > 0") << bad;
+    EXPECT_FALSE(scale_is_positive(bad)) << bad;
   }
-  try {
-    Geometry::compute(512, 52, 1e300, 1.0);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_LT(std::string(e.what()).size(), 200u) << e.what();
-    EXPECT_NE(std::string(e.what()).find("1e+300"), std::string::npos) << e.what();
+  for (const double far : {1e-200, 1e200, kMinScale / 2, kMaxScale * 2}) {
+    EXPECT_EQ(scale_rule(far), "must lie in [1e-100, 1e100]") << far;
+    EXPECT_TRUE(scale_is_positive(far)) << far;
   }
+  EXPECT_EQ(margin_rule(kMaxMarginColumns + 1LL), "must be at most 65536");
+  EXPECT_EQ(margin_rule(1LL << 40), "must be at most 65536");
+  EXPECT_EQ(margin_rule(-2), "must be >= 0 (or -1 for the default 3B)");
+  EXPECT_EQ(trials_rule(0), "must be >= 1");
+  EXPECT_EQ(threads_rule(-1), "must be >= 0 (0: all)");
+}
+
+TEST(OptionRules, IsValidSaysFieldValueAndRule) {
+  auto message = [](const SimulationOptions& options) {
+    std::string error;
+    EXPECT_FALSE(options.IsValid(&error));
+    return error;
+  };
+  SimulationOptions options;
+  options.dt = 1e-200;
+  EXPECT_EQ(message(options), "dt = 1e-200: must lie in [1e-100, 1e100]");
+  // The sign of either scale comes before the range of either.
+  options.snr = -1.0;
+  EXPECT_EQ(message(options), "snr = -1: must be finite and > 0");
+  options = SimulationOptions();
+  options.restore_velocity_px_per_slot = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(options), "restore_velocity_px_per_slot = inf: must be a finite number");
+  options = SimulationOptions();
+  options.rmse_margin_columns = -2;
+  EXPECT_EQ(message(options), "rmse_margin_columns = -2: " + margin_rule(-2));
+  options = SimulationOptions();
+  options.trials = 0;
+  EXPECT_EQ(message(options), "trials = 0: must be >= 1");
+  options = SimulationOptions();
+  options.threads = -3;
+  EXPECT_EQ(message(options), "threads = -3: must be >= 0 (0: all)");
+}
+
+// ---------------------------------------------------------------------------
+// geometry.h: too_narrow_reason is the message Simulate throws
+
+TEST(TooNarrowReason, IsSimulatesMessageOrEmptyWhenTheRunFits) {
+  struct Case {
+    int width;
+    double velocity;
+    int margin;
+  };
+  // B = 52 for raskar at v <= 1; B = 104 at v = 2.
+  for (const Case& c : std::vector<Case>{{480, 1.0, -1},
+                                         {468, 1.0, -1},
+                                         {469, 1.0, -1},
+                                         {300, 1.0, 10},
+                                         {230, 1.0, 0},
+                                         {156, 1.0, -1},
+                                         {480, 2.0, 0},
+                                         {480, 10.0, -1}}) {
+    SimulationOptions options;
+    options.noise = NoiseModel::kNone;
+    options.velocity_px_per_slot = c.velocity;
+    options.rmse_margin_columns = c.margin;
+    int blur_length = 0;
+    const std::string reason =
+        too_narrow_reason(c.width, 52, c.velocity, options.dt, c.margin, &blur_length);
+    const auto error =
+        error_of([&] { Simulate(options, test::make_test_image(c.width, 2, 1), code("raskar")); });
+    if (reason.empty()) {
+      EXPECT_FALSE(error.has_value()) << c.width << " " << error->what();
+    } else {
+      ASSERT_TRUE(error.has_value()) << c.width;
+      EXPECT_EQ(reason, error->what());
+    }
+    if (c.velocity * 52 >= c.width) {
+      EXPECT_EQ(blur_length, -1);
+    } else {
+      EXPECT_EQ(blur_length, c.velocity <= 1.0 ? 52 : static_cast<int>(c.velocity * 52));
+    }
+  }
+}
+
+TEST(MetricWindows, FollowTheMarginAndTheBlurLength) {
+  const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);  // Wo = 356
+  const MetricWindows standard = metric_windows(g, -1);
+  EXPECT_EQ(standard.rmse_first, 156);
+  EXPECT_EQ(standard.rmse_end, 200);
+  EXPECT_EQ(standard.ci_first, 52);
+  EXPECT_EQ(standard.ci_end, 304);
+  const MetricWindows narrow = metric_windows(g, 7);
+  EXPECT_EQ(narrow.rmse_first, 7);
+  EXPECT_EQ(narrow.rmse_end, 349);
+  EXPECT_TRUE(test::throws_error([&] { metric_windows(g, 178); }, ErrorKind::kUsage,
+                                 {"margin 178", "below 178"}));
 }
 
 }  // namespace

@@ -14,9 +14,8 @@
 namespace fss {
 
 // The observed image as the 8-bit samples observed.png holds, collected row
-// by row as an ObservedRowSink (or through SimulationOptions::
-// observed_row_callback, row_callback()), so that a run can leave
-// keep_observed false: one byte a sample instead of a double. Rows may
+// by row as the ObservedRowSink of Simulate, so that the report need not keep
+// the observed image: one byte a sample instead of a double. Rows may
 // arrive concurrently; the width is that of the first. write_outputs takes
 // it in place of the report's observed image.
 class ObservedPng8 : public ObservedRowSink {
@@ -25,10 +24,9 @@ class ObservedPng8 : public ObservedRowSink {
   ObservedPng8(const ObservedPng8&) = delete;
   ObservedPng8& operator=(const ObservedPng8&) = delete;
 
-  // Stores one row; the callback to put in SimulationOptions calls this. A
+  // Stores one row; consume_row calls this. A
   // row that does not fit or is stored twice is a usage error.
   void store_row(int channel, int row, std::span<const double> values);
-  std::function<void(int, int, std::span<const double>)> row_callback();
   void consume_row(int channel, int row, std::span<const double> values) override {
     store_row(channel, row, values);
   }

@@ -16,6 +16,11 @@ double rmse(const Image& a, const Image& b, int first, int end);
 // be the input and b the Wo-wide restoration: no crop is copied).
 double rmse(const Image& a, int a_offset, const Image& b, int first, int end);
 
+// sum over x in [first, end) of (a[x] - b[x])^2, in column order: the sum of
+// one row in rmse(), shared with Simulate, which sums the rows of RMSE_0 as
+// they stream by; rmse() adds the row sums in row order, so the same bits.
+double row_squared_error(const double* a, const double* b, int first, int end);
+
 // 10 log10(255^2 / rmse^2).
 double psnr(double rmse_value);
 

@@ -10,11 +10,12 @@
 #include <string_view>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/image.h"
+#include "fss/model/code.h"
 #include "fss/model/kernel.h"
-#include "fss/pipeline/restore.h"
-#include "fss/pipeline/theory.h"
+#include "fss/pipeline/geometry.h"
+#include "fss/pipeline/option_rules.h"
+#include "fss/pipeline/prediction.h"
 
 namespace fss {
 
@@ -22,17 +23,12 @@ enum class NoiseModel { kPoisson, kNone };
 std::string to_string(NoiseModel noise);
 std::optional<NoiseModel> noise_model_from_string(std::string_view text);
 
-// Bounds of SimulationOptions::dt and ::snr, and of the RMSE margin.
-inline constexpr double kMinScale = 1e-100;
-inline constexpr double kMaxScale = 1e100;
-inline constexpr int kMaxMarginColumns = 1 << 16;
-
 // Receives the observed rows of the first trial as Simulate computes them,
 // for a caller that stores them in its own form (fssim encodes them to 8 bits:
 // ObservedPng8, io/outputs.h) instead of a Wo x H x C image of doubles.
 // consume_row is called once per row, with the Wo values
-// SimulationReport::observed would hold, from the worker threads,
-// concurrently for different rows.
+// SimulationReport::observed would hold, from the worker threads (the
+// calling thread when there is one), concurrently for different rows.
 class ObservedRowSink {
  public:
   virtual ~ObservedRowSink() = default;
@@ -60,21 +56,13 @@ struct SimulationOptions {
   // Refuse, before allocating, a run whose estimated peak memory
   // (estimate_working_memory_bytes) exceeds this; 0 means no limit.
   std::size_t max_memory_bytes = 0;
-  // Called after each trial with (done, total); may be empty.
+  // Called after each trial with (done, total); may be empty. Not kept in
+  // the report.
   std::function<void(int, int)> trial_callback;
-  // Receives each row of the first trial's observed image as soon as it is
-  // computed: channel, row and its Wo values, as SimulationReport::observed
-  // holds them. Called from the worker threads (the calling thread when
-  // there is one), concurrently for different rows, once per row; may be
-  // empty. Neither callback is kept in the report.
-  std::function<void(int channel, int row, std::span<const double> values)> observed_row_callback;
-  // False leaves SimulationReport::observed empty (0 x 0): a caller that
-  // takes the rows from observed_row_callback (fssim encodes them to 8 bits
-  // as they come) saves a Wo x H x C image of doubles.
-  bool keep_observed = true;
 
-  // False, with a message naming the field, its value and the rule, when an
-  // option is out of range on its own (image and code checks are in Simulate).
+  // False, with a message naming the field, its value and the rule
+  // (option_rules.h), when an option is out of range on its own (image and
+  // code checks are in Simulate).
   bool IsValid(std::string* error) const;
 };
 
@@ -123,7 +111,7 @@ struct SimulationReport {
   // truth and the residual display are derived from the input on demand
   // (groundtruth_image, residual_image) rather than kept: for a large image
   // each of them would be as big as the input.
-  Image observed;  // divided by observed_divisor; empty unless options.keep_observed
+  Image observed;  // divided by observed_divisor; empty (0 x 0) when Simulate had a sink
   Image restored;
 
   int output_first_column() const { return 3 * geometry.half_blur; }
@@ -138,20 +126,22 @@ void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
 
 // Runs the simulation of `code` on `input`. Throws a usage fss::Error for a
 // combination that cannot run (invalid options, analog gains outside [0, 1],
-// an all-zero code, an image too narrow for the RMSE window).
+// an all-zero code, an image too narrow for the RMSE window). With an
+// `observed_sink`, the first trial's observed rows go to it and
+// SimulationReport::observed stays empty, saving a Wo x H x C image of
+// doubles.
 SimulationReport Simulate(const SimulationOptions& options, const Image& input,
-                          const ShutterCode& code);
+                          const ShutterCode& code, ObservedRowSink* observed_sink = nullptr);
 
 // Estimated peak memory of Simulate plus write_outputs, in bytes, the input
 // image included: the input, the observed (as doubles, or as 8-bit samples
-// when not kept) and restored outputs (one more restoration buffer when
-// trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel
-// of one channel's window and the sorter's buffers, metrics.h) and the PNG
-// encoding buffers. Rows in flight are a few kilobytes a thread and are not
-// counted.
+// when its rows go to an `observed_sink`, as Simulate's) and restored outputs (one more restoration
+// buffer when trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel of one
+// channel's window and the sorter's buffers, metrics.h) and the PNG encoding buffers. Rows in
+// flight are a few kilobytes a thread and are not counted.
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
-                                          bool keep_observed = true);
+                                          const ObservedRowSink* observed_sink = nullptr);
 
 // The ground truth aligned with report.restored: input columns
 // [output_first_column(), output_first_column() + Wo).

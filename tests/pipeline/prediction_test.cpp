@@ -1,14 +1,15 @@
-// The exact error prediction (SPEC 6) against the measured error of many
+// The exact error prediction (docs/method.md §6) against the measured error of many
 // noise realizations, and against the reference program's published means.
-#include "fss/pipeline/theory.h"
+#include "fss/pipeline/prediction.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "fss/model/code.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/model/kernel.h"
 #include "fss/pipeline/simulate.h"
 #include "support/test_util.h"
 
@@ -46,7 +47,43 @@ TEST(NoiseSigma, ClosedForm) {
   EXPECT_EQ(snr_level100(1.0, INFINITY, 37.0), 0.0);
 }
 
-// SPEC 6's table: the reference program on camera.png, numerical, v = 1,
+// predict() fills every field from the run's report: m over the RMSE window,
+// Q, M on the deconvolution grid, sigma, and sqrt(RMSE_0^2 + sigma^2).
+TEST(Predict, FollowsTheFormulaFromTheReport) {
+  const Image input = test::make_test_image(480, 6, 3, 9);
+  SimulationOptions options;
+  options.snr = 40.0;
+  options.dt = 0.75;
+  options.restore_velocity_px_per_slot = 1.25;
+  const ShutterCode code = *builtin_code("raskar");
+  const SimulationReport r = Simulate(options, input, code);
+  const Prediction p = predict(r, input, 0.5);
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    for (int y = 0; y < 6; ++y) {
+      for (int x = r.rmse_first; x < r.rmse_end; ++x) {
+        sum += input.at(c, y, r.output_first_column() + x);
+      }
+    }
+  }
+  EXPECT_DOUBLE_EQ(p.window_mean, sum / (3.0 * 6.0 * (r.rmse_end - r.rmse_first)));
+  EXPECT_TRUE(p.finite);
+  EXPECT_DOUBLE_EQ(p.q, 0.75 * 26.0);  // dt sum alpha_k^2, binary code
+  EXPECT_EQ(p.m_amplification, mean_inverse_power(code.gains, 1.25, 0.75, r.geometry.mirror_width));
+  EXPECT_DOUBLE_EQ(p.sigma, noise_sigma(p.window_mean, p.q, p.m_amplification, 40.0));
+  EXPECT_EQ(p.rmse_noise_free, 0.5);
+  EXPECT_DOUBLE_EQ(p.rmse, std::sqrt(0.25 + p.sigma * p.sigma));
+  EXPECT_DOUBLE_EQ(p.snr_level100, snr_level100(p.q, p.m_amplification, 40.0));
+  // Simulate's own prediction is this one with its measured RMSE_0.
+  EXPECT_EQ(predict(r, input, r.prediction.rmse_noise_free).rmse, r.prediction.rmse);
+  // Without noise only RMSE_0 is left.
+  SimulationReport noiseless = r;
+  noiseless.options.noise = NoiseModel::kNone;
+  EXPECT_EQ(predict(noiseless, input, 0.5).sigma, 0.0);
+  EXPECT_EQ(predict(noiseless, input, 0.5).rmse, 0.5);
+}
+
+// The table of docs/method.md §6: the reference program on camera.png, numerical, v = 1,
 // snr = 100, mean and sd of 12 runs.
 struct ReferenceRow {
   const char* code;
@@ -68,7 +105,7 @@ TEST_P(PaperCodes, PredictionMatchesSpecTable) {
   const ReferenceRow& row = GetParam();
   const SimulationReport r = run_trials(camera(), row.code, ShutterMode::kNumerical, 1);
   ASSERT_TRUE(r.prediction.finite);
-  EXPECT_NEAR(r.prediction.window_mean, 123.67, 0.005);  // SPEC 6, printed to 2 decimals
+  EXPECT_NEAR(r.prediction.window_mean, 123.67, 0.005);  // docs/method.md §6, printed to 2 decimals
   // The table is printed to 3 decimals.
   EXPECT_NEAR(r.prediction.sigma, row.sigma, 0.0005 + 1e-9);
   EXPECT_NEAR(r.prediction.rmse_noise_free, row.rmse_noise_free, 0.0005 + 1e-9);
@@ -110,7 +147,7 @@ TEST(Analog, MeasuredMatchesPrediction) {
 
 TEST(ConstantLandscape, MeasuredSnrMatchesLevel100Snr) {
   // A constant landscape at level 100, no motion, snapshot code: the restored
-  // image is the observation, whose SNR is the snr parameter (SPEC 3).
+  // image is the observation, whose SNR is the snr parameter (docs/method.md §3).
   const Image flat(512, 256, 1, 100.0);
   for (const double snr : {100.0, 30.0}) {
     SimulationOptions options;

@@ -1,12 +1,15 @@
-// The exact (theoretical) error of the restoration (SPEC 6):
+// The exact (theoretical) error of the restoration (docs/method.md §6):
 //   E[RMSE^2] = RMSE_0^2 + sigma^2,  sigma^2 = m Q (100 / snr^2) M.
 #pragma once
 
 #include <span>
 
+#include "fss/core/image.h"
 #include "fss/model/code.h"
 
 namespace fss {
+
+struct SimulationReport;  // simulate.h
 
 // Q = dt sum alpha_k^2 (numerical) or dt sum alpha_k (analog): the variance
 // of the observation of a unit landscape, in units of 100 / snr^2.
@@ -29,5 +32,11 @@ struct Prediction {
   double rmse = 0.0;             // sqrt(RMSE_0^2 + sigma^2)
   double snr_level100 = 0.0;
 };
+
+// The prediction for the run `report` describes (its options, code, geometry,
+// RMSE window and kernel) on `input`, given RMSE_0, the RMSE of the
+// noise-free restoration. sigma is 0 without noise; sigma and the RMSE are
+// infinite for a kernel that is not invertible.
+Prediction predict(const SimulationReport& report, const Image& input, double rmse_noise_free);
 
 }  // namespace fss

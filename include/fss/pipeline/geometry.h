@@ -1,0 +1,43 @@
+// Every width and window of a simulation, computed in one place
+// (docs/method.md §4 and §5). Conventions: image.h.
+#pragma once
+
+#include <string>
+
+namespace fss {
+
+struct Geometry {
+  int width = 0;           // W, input and observation width
+  int blur_length = 0;     // B = max(L, ceil(|v| dt L))
+  int half_blur = 0;       // h = floor(B / 2)
+  int observed_width = 0;  // Wa = W - B, observed crop [h, h + Wa)
+  int mirror_width = 0;    // 2 Wa, the deconvolution grid
+  int output_width = 0;    // Wo = W - 3 B
+
+  // Throws a usage fss::Error when the image is too narrow for any output.
+  static Geometry compute(int width, int code_length, double velocity, double dt);
+};
+
+// The measurement windows, in output columns: the RMSE window
+// [margin, Wo - margin) (margin 3B by default) and the RMSE_CI window
+// [B, Wo - B).
+struct MetricWindows {
+  int rmse_first = 0;
+  int rmse_end = 0;
+  int ci_first = 0;
+  int ci_end = 0;
+};
+
+// margin_columns < 0 means 3B. Throws a usage fss::Error, giving the width
+// needed, when a window is empty.
+MetricWindows metric_windows(const Geometry& geometry, int margin_columns);
+
+// Why a run cannot have its outputs and both windows: the message Simulate
+// would throw from Geometry::compute or metric_windows, "" when it can.
+// `velocity` is the larger of |v| and |v_r| (Simulate's blur covers both).
+// *blur_length (when not null) receives B, or -1 when the blur is wider than
+// the image or the code is empty.
+std::string too_narrow_reason(int width, int code_length, double velocity, double dt,
+                              int margin_columns, int* blur_length = nullptr);
+
+}  // namespace fss

@@ -1,0 +1,119 @@
+#include "pipeline/row_pipeline.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <vector>
+
+#include "fss/core/parallel.h"
+#include "fss/pipeline/metrics.h"
+
+namespace fss {
+
+void ImageRowSink::consume_row(int channel, int row, std::span<const double> values) {
+  std::copy(values.begin(), values.end(), image_.row(channel, row));
+}
+
+namespace {
+
+ObservationParams observation_params(const SimulationOptions& options) {
+  ObservationParams params;
+  params.velocity = options.velocity_px_per_slot;
+  params.dt = options.dt;
+  params.snr = options.snr;
+  return params;
+}
+
+}  // namespace
+
+RowPipeline::RowPipeline(const Image& input, const ShutterCode& code,
+                         const SimulationOptions& options, const Geometry& geometry,
+                         double observed_divisor)
+    : input_(input),
+      geometry_(geometry),
+      threads_(options.threads),
+      observed_divisor_(observed_divisor),
+      observer_(input.width, code.gains, options.mode, observation_params(options)),
+      restorer_(geometry, code.gains,
+                options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
+                options.dt) {}
+
+// The buffers of one thread and the three steps of a row.
+class RowPipeline::Worker {
+ public:
+  explicit Worker(const RowPipeline& pipeline)
+      : pipeline_(pipeline),
+        observer_scratch_(pipeline.observer_),
+        restorer_scratch_(pipeline.restorer_),
+        observation_(static_cast<std::size_t>(pipeline.geometry_.width)),
+        row_(static_cast<std::size_t>(pipeline.geometry_.output_width)) {}
+
+  // observation = o (noisy) or E[o] (no seed) of input row (c, y).
+  void observe(int c, int y, std::optional<std::uint64_t> noise_seed) {
+    pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
+    pipeline_.observer_.observe(noise_seed.has_value(), noise_seed.value_or(0), c, y,
+                                observer_scratch_, observation_);
+  }
+
+  // Sends observation columns [3h, 3h + Wo) / divisor to `sink`; false when
+  // one is not finite.
+  bool send_observed(int c, int y, ObservedRowSink& sink) {
+    const double* observed = observation_.data() + 3 * pipeline_.geometry_.half_blur;
+    bool finite = true;
+    for (std::size_t x = 0; x < row_.size(); ++x) {
+      row_[x] = observed[x] / pipeline_.observed_divisor_;
+      finite = finite && std::isfinite(row_[x]);
+    }
+    sink.consume_row(c, y, row_);
+    return finite;
+  }
+
+  // restored[0 .. Wo) from the observation; by default into the worker's row.
+  const double* restore(double* restored = nullptr) {
+    double* out = restored != nullptr ? restored : row_.data();
+    pipeline_.restorer_.restore(observation_.data(), restorer_scratch_, out);
+    return out;
+  }
+
+ private:
+  const RowPipeline& pipeline_;
+  RowObserver::Scratch observer_scratch_;
+  RowRestorer::Scratch restorer_scratch_;
+  std::vector<double> observation_;  // W values
+  std::vector<double> row_;          // Wo values: an observed or restored row
+};
+
+template <typename PerRow>
+void RowPipeline::for_each_row(const PerRow& per_row) const {
+  const int height = input_.height;
+  parallel_for(input_.channels * height, threads_, [&](int begin, int end) {
+    Worker worker(*this);
+    for (int r = begin; r < end; ++r) per_row(worker, r / height, r % height, r);
+  });
+}
+
+bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
+                              ObservedRowSink* observed) const {
+  std::atomic<bool> observed_finite{true};
+  for_each_row([&](Worker& worker, int c, int y, int /*r*/) {
+    worker.observe(c, y, noise_seed);
+    if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
+    worker.restore(restored.row(c, y));
+  });
+  return observed_finite;
+}
+
+double RowPipeline::noise_free_rmse(int first, int end) const {
+  std::vector<double> row_errors(static_cast<std::size_t>(input_.channels) * input_.height);
+  const int offset = 3 * geometry_.half_blur;
+  for_each_row([&](Worker& worker, int c, int y, int r) {
+    worker.observe(c, y, std::nullopt);
+    row_errors[r] = row_squared_error(input_.row(c, y) + offset, worker.restore(), first, end);
+  });
+  double total = 0.0;
+  for (const double e : row_errors) total += e;
+  // sqrt(mean (truth - restored)^2), as rmse() divides
+  return std::sqrt(total / (static_cast<double>(end - first) * input_.height * input_.channels));
+}
+
+}  // namespace fss

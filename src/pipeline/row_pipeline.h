@@ -1,0 +1,73 @@
+// The row pipeline of Simulate (docs/method.md §2-§4): each row of the input
+// goes DFT -> observation (one noise realization, or its expectation) ->
+// observed crop, mirror extension, inverse filter -> restored row, so that
+// the working memory beyond the outputs is a few rows per thread. Rows are
+// independent: the results do not depend on the thread count. Internal to
+// the library.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "fss/core/image.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/geometry.h"
+#include "fss/pipeline/observe.h"
+#include "fss/pipeline/restore.h"
+#include "fss/pipeline/simulate.h"
+
+namespace fss {
+
+// An ObservedRowSink that stores the rows in a Wo x H x C image
+// (SimulationReport::observed when the caller gives no sink).
+class ImageRowSink : public ObservedRowSink {
+ public:
+  explicit ImageRowSink(Image& image) : image_(image) {}
+  void consume_row(int channel, int row, std::span<const double> values) override;
+
+ private:
+  Image& image_;
+};
+
+class RowPipeline {
+ public:
+  // Observes `input` through `code` at the options' velocity, dt, snr and
+  // mode, and restores with the kernel at the restore velocity (the true one
+  // unless set). Observed rows are divided by `observed_divisor`.
+  RowPipeline(const Image& input, const ShutterCode& code, const SimulationOptions& options,
+              const Geometry& geometry, double observed_divisor);
+
+  // Frequencies of the deconvolution grid where K = 0, left at 0.
+  int zero_bins() const { return restorer_.zero_bins(); }
+
+  // Observes every row, with the noise of `noise_seed` or, when it is empty,
+  // the expectation E[o], and restores it into `restored` (Wo x H x C). When
+  // `observed` is not null, it receives each observed row: observation
+  // columns [3h, 3h + Wo) divided by the observed divisor. False when an
+  // observed value is not finite.
+  bool restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
+                   ObservedRowSink* observed) const;
+
+  // RMSE_0: the RMSE of the noise-free restoration over output columns
+  // [first, end), computed as the rows stream by, without storing the
+  // restoration: each row's squared error (row_squared_error, metrics.h) is
+  // kept and the rows are summed in order, so the bits are rmse()'s.
+  double noise_free_rmse(int first, int end) const;
+
+ private:
+  class Worker;
+
+  // per_row(worker, channel, row, row index) for every row, on the threads.
+  template <typename PerRow>
+  void for_each_row(const PerRow& per_row) const;
+
+  const Image& input_;
+  Geometry geometry_;
+  int threads_;
+  double observed_divisor_;
+  RowObserver observer_;
+  RowRestorer restorer_;
+};
+
+}  // namespace fss

@@ -236,20 +236,7 @@ int CodeCommands::RunGenerate() const {
 int CodeCommands::RunAnalyze() const {
   const fss::ShutterCode code = fss::load_code(analyze_code_);
   const fss::ShutterMode mode = *fss::shutter_mode_from_string(analyze_mode_);
-  if (mode == fss::ShutterMode::kAnalog && !admissible(code.gains, mode, false)) {
-    for (std::size_t k = 0; k < code.gains.size(); ++k) {
-      const double g = code.gains[k];
-      if (!(g >= 0.0 && g <= 1.0)) {
-        fss::throw_usage_error("code '" + code.name + "' cannot be used in analog mode: gain " +
-                               std::to_string(k) + " is " + format_number(g) +
-                               ", analog gains must lie in [0, 1] (use --mode numerical)");
-      }
-    }
-  }
-  if (fss::gain_max_abs(code.gains) == 0.0) {
-    fss::throw_usage_error("code '" + code.name + "' has only zero gains: nothing is observed");
-  }
-  const fss::CodeAnalysis a = fss::analyze_code(code.gains, analyze_velocity_, analyze_dt_,
+  const fss::CodeAnalysis a = fss::analyze_code(code, analyze_velocity_, analyze_dt_,
                                                 analyze_snr_, mode, analyze_grid_);
   if (!analyze_json_.empty()) {
     write_file_atomically(analyze_json_, analysis_json(code, a).dump(2) + "\n");
@@ -320,12 +307,13 @@ int CodeCommands::RunOptimize() const {
               options.min_light_slots > 0.0 ? " and the light budget" : "");
   std::string skipped;
   for (const std::string& name : fss::builtin_code_names()) {
-    const std::vector<double> gains = fss::builtin_code(name)->gains;
+    const fss::ShutterCode paper_code = *fss::builtin_code(name);
+    const std::vector<double>& gains = paper_code.gains;
     if (!admissible(gains, options.mode, options.binary, options.min_light_slots)) {
       skipped += (skipped.empty() ? "" : ", ") + name;
       continue;
     }
-    const fss::CodeAnalysis paper = fss::analyze_code(gains, options.velocity_px_per_slot,
+    const fss::CodeAnalysis paper = fss::analyze_code(paper_code, options.velocity_px_per_slot,
                                                       options.dt, options.snr, options.mode);
     if (paper.invertible) {
       std::printf("  %-13s SNR at level 100 %9.4f  (optimized / paper: %.4f)\n", name.c_str(),

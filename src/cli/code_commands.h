@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <string>
 
-#include "fss/design/design.h"
+#include "fss/design/analyze.h"
+#include "fss/design/generate.h"
+#include "fss/design/optimize.h"
 
 namespace fssim {
 

@@ -11,12 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "fss/model/code.h"
-#include "fss/design/design.h"
 #include "fss/core/error.h"
 #include "fss/core/image.h"
+#include "fss/design/analyze.h"
+#include "fss/design/generate.h"
+#include "fss/design/optimize.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
 #include "range.h"
 #include "support/test_util.h"
 
@@ -172,7 +174,7 @@ TEST_F(CodeCli, AnalyzePrintsTheFiguresOfMerit) {
   EXPECT_THAT(r.out, HasSubstr("\nInvertible: yes\n"));
   EXPECT_THAT(r.out, HasSubstr("Min |K| on the band: "));
   const CodeAnalysis a =
-      analyze_code(builtin_code("raskar")->gains, 1.0, 1.0, 100.0, ShutterMode::kNumerical);
+      analyze_code(*builtin_code("raskar"), 1.0, 1.0, 100.0, ShutterMode::kNumerical);
   EXPECT_NEAR(value_after(r.out, "SNR at level 100"), a.snr_level100, 1e-6);
   EXPECT_NEAR(value_after(r.out, "Snapshot SNR at level 100"), 84.932180, 1e-6);
   EXPECT_NEAR(value_after(r.out, "Ratio to the snapshot"), a.ratio_to_snapshot, 1e-6);
@@ -232,11 +234,10 @@ TEST_F(CodeCli, OptimizeWritesACodeThatBeatsThePaperCodes) {
   const ShutterCode code = load_code(file.string());
   ASSERT_EQ(code.length(), 52);
   const CodeAnalysis ours =
-      analyze_code(code.gains, 1.0, 1.0, 100.0, ShutterMode::kAnalog);  // analog-admissible
+      analyze_code(code, 1.0, 1.0, 100.0, ShutterMode::kAnalog);  // analog-admissible
   for (const char* name : {"snapshot", "accumulation", "raskar"}) {
-    EXPECT_GE(
-        ours.snr_level100,
-        analyze_code(builtin_code(name)->gains, 1.0, 1.0, 100.0, ShutterMode::kAnalog).snr_level100)
+    EXPECT_GE(ours.snr_level100,
+              analyze_code(*builtin_code(name), 1.0, 1.0, 100.0, ShutterMode::kAnalog).snr_level100)
         << name;
   }
   // The optimized code runs through the simulator.

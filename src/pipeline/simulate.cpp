@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "fss/core/error.h"
+#include "fss/core/parallel.h"
+#include "fss/model/transfer.h"
 #include "fss/pipeline/metrics.h"
 #include "fss/pipeline/observe.h"
-#include "fss/core/parallel.h"
 #include "fss/pipeline/restore.h"
-#include "fss/model/transfer.h"
 
 namespace fss {
 
@@ -25,43 +25,34 @@ std::optional<NoiseModel> noise_model_from_string(std::string_view text) {
 }
 
 bool SimulationOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
+  // True, with the message, when `rule` (option_rules.h) is broken.
+  const auto broken = [&](const char* field, const std::string& value, const std::string& rule) {
+    if (rule.empty()) return false;
+    if (error) *error = std::string(field) + " = " + value + ": " + rule;
+    return true;
   };
-  if (!std::isfinite(velocity_px_per_slot)) {
-    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
-                ": must be a finite number");
+  if (broken("velocity_px_per_slot", format_number(velocity_px_per_slot),
+             velocity_rule(velocity_px_per_slot))) {
+    return false;
   }
-  if (restore_velocity_px_per_slot && !std::isfinite(*restore_velocity_px_per_slot)) {
-    return fail("restore_velocity_px_per_slot = " + format_number(*restore_velocity_px_per_slot) +
-                ": must be a finite number");
+  if (restore_velocity_px_per_slot &&
+      broken("restore_velocity_px_per_slot", format_number(*restore_velocity_px_per_slot),
+             velocity_rule(*restore_velocity_px_per_slot))) {
+    return false;
   }
-  if (!(std::isfinite(dt) && dt > 0.0)) {
-    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
+  // The sign of either scale is reported before the range of either.
+  for (const bool positive : {false, true}) {
+    if (scale_is_positive(dt) == positive && broken("dt", format_number(dt), scale_rule(dt))) {
+      return false;
+    }
+    if (scale_is_positive(snr) == positive && broken("snr", format_number(snr), scale_rule(snr))) {
+      return false;
+    }
   }
-  if (!(std::isfinite(snr) && snr > 0.0)) {
-    return fail("snr = " + format_number(snr) + ": must be finite and > 0");
-  }
-  // Far enough from the limits of double precision that K, lambda2 = snr^2 / 100
-  // and their products stay finite and nonzero.
-  if (!(dt >= kMinScale && dt <= kMaxScale)) {
-    return fail("dt = " + format_number(dt) + ": must lie in [1e-100, 1e100]");
-  }
-  if (!(snr >= kMinScale && snr <= kMaxScale)) {
-    return fail("snr = " + format_number(snr) + ": must lie in [1e-100, 1e100]");
-  }
-  if (rmse_margin_columns > kMaxMarginColumns) {
-    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
-                ": must be at most " + std::to_string(kMaxMarginColumns));
-  }
-  if (rmse_margin_columns < -1) {
-    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) +
-                ": must be >= 0 (or -1 for the default 3B)");
-  }
-  if (trials < 1) return fail("trials = " + std::to_string(trials) + ": must be >= 1");
-  if (threads < 0) return fail("threads = " + std::to_string(threads) + ": must be >= 0 (0: all)");
-  return true;
+  const std::string margin = std::to_string(rmse_margin_columns);
+  return !(broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
+           broken("trials", std::to_string(trials), trials_rule(trials)) ||
+           broken("threads", std::to_string(threads), threads_rule(threads)));
 }
 
 void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {

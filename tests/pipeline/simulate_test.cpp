@@ -16,10 +16,10 @@
 #include <utility>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/error.h"
-#include "fss/pipeline/metrics.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/metrics.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -600,6 +600,71 @@ TEST(Geometry, MessagesAreShortAndGiveTheWidthsNeeded) {
     EXPECT_LT(std::string(e.what()).size(), 200u) << e.what();
     EXPECT_NE(std::string(e.what()).find("1e+300"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace fss
+
+namespace fss {
+namespace {
+
+// ---------------------------------------------------------------------------
+// option_rules.h: the one source of the option rules
+
+TEST(OptionRules, FineValuesBreakNoRule) {
+  EXPECT_EQ(velocity_rule(-3.5), "");
+  EXPECT_EQ(scale_rule(kMinScale), "");
+  EXPECT_EQ(scale_rule(kMaxScale), "");
+  EXPECT_EQ(margin_rule(-1), "");
+  EXPECT_EQ(margin_rule(0), "");
+  EXPECT_EQ(margin_rule(kMaxMarginColumns), "");
+  EXPECT_EQ(trials_rule(1), "");
+  EXPECT_EQ(threads_rule(0), "");
+}
+
+TEST(OptionRules, BrokenRulesAreNamed) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(velocity_rule(std::nan("")), "must be a finite number");
+  EXPECT_EQ(velocity_rule(-inf), "must be a finite number");
+  for (const double bad : {0.0, -1.0, inf, std::nan("")}) {
+    EXPECT_EQ(scale_rule(bad), "must be finite and > 0") << bad;
+    EXPECT_FALSE(scale_is_positive(bad)) << bad;
+  }
+  for (const double far : {1e-200, 1e200, kMinScale / 2, kMaxScale * 2}) {
+    EXPECT_EQ(scale_rule(far), "must lie in [1e-100, 1e100]") << far;
+    EXPECT_TRUE(scale_is_positive(far)) << far;
+  }
+  EXPECT_EQ(margin_rule(kMaxMarginColumns + 1LL), "must be at most 65536");
+  EXPECT_EQ(margin_rule(1LL << 40), "must be at most 65536");
+  EXPECT_EQ(margin_rule(-2), "must be >= 0 (or -1 for the default 3B)");
+  EXPECT_EQ(trials_rule(0), "must be >= 1");
+  EXPECT_EQ(threads_rule(-1), "must be >= 0 (0: all)");
+}
+
+TEST(OptionRules, IsValidSaysFieldValueAndRule) {
+  auto message = [](const SimulationOptions& options) {
+    std::string error;
+    EXPECT_FALSE(options.IsValid(&error));
+    return error;
+  };
+  SimulationOptions options;
+  options.dt = 1e-200;
+  EXPECT_EQ(message(options), "dt = 1e-200: must lie in [1e-100, 1e100]");
+  // The sign of either scale comes before the range of either.
+  options.snr = -1.0;
+  EXPECT_EQ(message(options), "snr = -1: must be finite and > 0");
+  options = SimulationOptions();
+  options.restore_velocity_px_per_slot = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(options), "restore_velocity_px_per_slot = inf: must be a finite number");
+  options = SimulationOptions();
+  options.rmse_margin_columns = -2;
+  EXPECT_EQ(message(options), "rmse_margin_columns = -2: " + margin_rule(-2));
+  options = SimulationOptions();
+  options.trials = 0;
+  EXPECT_EQ(message(options), "trials = 0: must be >= 1");
+  options = SimulationOptions();
+  options.threads = -3;
+  EXPECT_EQ(message(options), "threads = -3: must be >= 0 (0: all)");
 }
 
 }  // namespace

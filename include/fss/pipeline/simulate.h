@@ -10,9 +10,10 @@
 #include <string_view>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/image.h"
+#include "fss/model/code.h"
 #include "fss/model/kernel.h"
+#include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/restore.h"
 #include "fss/pipeline/theory.h"
 
@@ -21,11 +22,6 @@ namespace fss {
 enum class NoiseModel { kPoisson, kNone };
 std::string to_string(NoiseModel noise);
 std::optional<NoiseModel> noise_model_from_string(std::string_view text);
-
-// Bounds of SimulationOptions::dt and ::snr, and of the RMSE margin.
-inline constexpr double kMinScale = 1e-100;
-inline constexpr double kMaxScale = 1e100;
-inline constexpr int kMaxMarginColumns = 1 << 16;
 
 // Receives the observed rows of the first trial as Simulate computes them,
 // for a caller that stores them in its own form (fssim encodes them to 8 bits:
@@ -73,8 +69,9 @@ struct SimulationOptions {
   // as they come) saves a Wo x H x C image of doubles.
   bool keep_observed = true;
 
-  // False, with a message naming the field, its value and the rule, when an
-  // option is out of range on its own (image and code checks are in Simulate).
+  // False, with a message naming the field, its value and the rule
+  // (option_rules.h), when an option is out of range on its own (image and
+  // code checks are in Simulate).
   bool IsValid(std::string* error) const;
 };
 

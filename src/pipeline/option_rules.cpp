@@ -1,0 +1,31 @@
+#include "fss/pipeline/option_rules.h"
+
+#include <cmath>
+
+namespace fss {
+
+std::string velocity_rule(double velocity) {
+  return std::isfinite(velocity) ? std::string() : "must be a finite number";
+}
+
+bool scale_is_positive(double value) { return std::isfinite(value) && value > 0.0; }
+
+std::string scale_rule(double value) {
+  if (!scale_is_positive(value)) return "must be finite and > 0";
+  if (!(value >= kMinScale && value <= kMaxScale)) return "must lie in [1e-100, 1e100]";
+  return {};
+}
+
+std::string margin_rule(long long columns) {
+  if (columns > kMaxMarginColumns) return "must be at most " + std::to_string(kMaxMarginColumns);
+  if (columns < -1) return "must be >= 0 (or -1 for the default 3B)";
+  return {};
+}
+
+std::string trials_rule(long long trials) { return trials < 1 ? "must be >= 1" : std::string(); }
+
+std::string threads_rule(long long threads) {
+  return threads < 0 ? "must be >= 0 (0: all)" : std::string();
+}
+
+}  // namespace fss

@@ -152,24 +152,23 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
     observed_png8.emplace(image.height, image.channels);
     options.keep_observed = false;
     options.observed_row_callback = observed_png8->row_callback();
-    output_options.observed_png8 = &*observed_png8;
   }
   const fss::SimulationReport report = fss::Simulate(options, image, code);
   for (const auto& warning : report.warnings) {
     std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
   }
   context->activity = "drawing the plots";
-  std::optional<fss::RunPlots> rendered_plots;  // else write_outputs draws them
-  if (plots.valid()) {
-    rendered_plots = plots.get();
-    output_options.rendered_plots = &*rendered_plots;
-  }
+  if (plots.valid()) output_options.rendered_plots = plots.get();  // else drawn when written
   context->activity = "writing the outputs to '" + outdir_ + "'";
   const std::vector<std::string> builtins = fss::builtin_code_names();
   if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {
     output_options.other_inputs.push_back(code_name);  // an input too: never overwritten
   }
-  fss::write_outputs(outdir_, report, image, input_, output_options);
+  if (observed_png8) {
+    fss::write_outputs(outdir_, report, *observed_png8, image, input_, output_options);
+  } else {
+    fss::write_outputs(outdir_, report, image, input_, output_options);
+  }
   print_results(report, options, outdir_);
   return flush_results();
 }

@@ -11,10 +11,10 @@
 #include <string>
 #include <string_view>
 
+#include "core/text_util.h"
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
 #include "fss/model/transfer.h"
-#include "core/text_util.h"
 
 namespace fss {
 namespace {

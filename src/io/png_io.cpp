@@ -309,7 +309,9 @@ std::vector<std::uint8_t> encode_png8(
     for (int c = 0; c < channels; ++c) {
       fill_row(c, y, row.data());
       std::uint8_t* out = pixels.data() + static_cast<std::size_t>(y) * width * channels + c;
-      for (int x = 0; x < width; ++x) out[static_cast<std::size_t>(x) * channels] = png8_sample(row[x]);
+      for (int x = 0; x < width; ++x) {
+        out[static_cast<std::size_t>(x) * channels] = png8_sample(row[x]);
+      }
     }
   }
   return encode_png8_samples(width, height, channels, pixels, compression);

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/io/outputs.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
 #include "fss/pipeline/simulate.h"
 #include "support/test_util.h"
 

@@ -1,9 +1,8 @@
 // Tests of the output files of a run (outputs.h): spectrum.txt, report.json,
-// the optional plots, sheet and page, and the all-or-nothing writing of the
-// output directory.
+// the optional plots, sheet and page, the observed rows collected as 8-bit
+// samples, and the all-or-nothing writing of the output directory.
 #include "fss/io/outputs.h"
 
-#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,11 +16,14 @@
 #include <string>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/error.h"
 #include "fss/io/html_report.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
+#include "fss/io/report_json.h"
+#include "fss/io/run_text.h"
+#include "fss/io/sheet.h"
+#include "fss/model/code.h"
 #include "fss/model/transfer.h"
 #include "support/test_util.h"
 
@@ -30,14 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using ::testing::HasSubstr;
-
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
 
 std::vector<std::string> sorted(std::vector<std::string> names) {
   std::sort(names.begin(), names.end());
@@ -83,15 +77,13 @@ std::vector<std::pair<std::string, std::string>> expected_files(const Simulation
   };
 }
 
-using test::error_of;
-
 // ---------------------------------------------------------------------------
 // spectrum.txt
 
 TEST(FormatSpectrumTxt, HundredSamplesOfAbsK) {
   const std::vector<double> gains = builtin_code("random").value().gains;
   const double v = 0.8, dt = 1.2;
-  const std::vector<std::string> lines = split_lines(format_spectrum_txt(gains, v, dt));
+  const std::vector<std::string> lines = test::lines_of(format_spectrum_txt(gains, v, dt));
   ASSERT_EQ(lines.size(), 100u);
   EXPECT_EQ(lines[0].substr(0, 9), "-3.14159 ");
   for (int j = 0; j < 100; ++j) {
@@ -110,8 +102,8 @@ TEST(FormatSpectrumTxt, HundredSamplesOfAbsK) {
 
 TEST(FormatSpectrumTxt, MatchesTheReferenceProgramForRaskar) {
   const std::vector<std::string> ours =
-      split_lines(format_spectrum_txt(builtin_code("raskar").value().gains, 1.0, 1.0));
-  const std::vector<std::string> reference = split_lines(
+      test::lines_of(format_spectrum_txt(builtin_code("raskar").value().gains, 1.0, 1.0));
+  const std::vector<std::string> reference = test::lines_of(
       test::read_file(test::fixture_path("camera_numerical_raskar_v1_noisefree/spectrum.txt")));
   ASSERT_EQ(ours.size(), reference.size());
   for (std::size_t j = 0; j < ours.size(); ++j) {
@@ -272,13 +264,10 @@ TEST(WriteFileAtomically, WritesReplacesAndLeavesNoTemporary) {
   EXPECT_EQ(test::read_file(dir / "a.png"), "second");
   EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{"a.png"});
   fs::create_directory(dir / "d.png");
-  const auto error = error_of([&] { write_file_atomically(dir / "d.png", "x"); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
-  EXPECT_THAT(error->what(), HasSubstr("d.png"));
-  const auto missing = error_of([&] { write_file_atomically(dir / "no/such/dir/x.png", "x"); });
-  ASSERT_TRUE(missing.has_value());
-  EXPECT_THAT(missing->what(), HasSubstr("x.png"));
+  EXPECT_TRUE(test::throws_error([&] { write_file_atomically(dir / "d.png", "x"); },
+                                 ErrorKind::kRuntime, {"d.png", "it is a directory"}));
+  EXPECT_TRUE(test::throws_error([&] { write_file_atomically(dir / "no/such/dir/x.png", "x"); },
+                                 ErrorKind::kRuntime, {"x.png"}));
   EXPECT_EQ(test::list_directory(dir.path()), (std::vector<std::string>{"a.png", "d.png"}));
 }
 
@@ -354,10 +343,8 @@ TEST_F(WriteOutputs, WritesIntoAnExistingEmptyDirectory) {
 TEST_F(WriteOutputs, OutdirThatIsARegularFileIsRefused) {
   const fs::path file = dir_ / "not-a-directory";
   test::write_file(file, "precious content\n");
-  const auto error = error_of([&] { write_outputs(file, report(), small_input(), "input.png"); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
-  EXPECT_THAT(error->what(), HasSubstr(file.string()));
+  EXPECT_TRUE(test::throws_error([&] { write_outputs(file, report(), small_input(), "input.png"); },
+                                 ErrorKind::kRuntime, {file.string(), "is not a directory"}));
   EXPECT_EQ(test::read_file(file), "precious content\n");
   EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"not-a-directory"});
 }
@@ -375,11 +362,10 @@ TEST_F(WriteOutputs, RefusesToOverwriteTheInput) {
     // Named references: clang 14 cannot capture structured bindings in a lambda.
     const fs::path& outdir = spelling.first;
     const std::string& input_path = spelling.second;
-    const auto error =
-        error_of([&] { write_outputs(outdir, report(), small_input(), input_path); });
-    ASSERT_TRUE(error.has_value()) << outdir << " / " << input_path;
-    EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
-    EXPECT_THAT(error->what(), HasSubstr(input_path));
+    EXPECT_TRUE(
+        test::throws_error([&] { write_outputs(outdir, report(), small_input(), input_path); },
+                           ErrorKind::kRuntime, {"refusing to overwrite the input", input_path}))
+        << outdir << " / " << input_path;
     EXPECT_TRUE(test::read_file(dir_ / "observed.png") == input_bytes);
     EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"observed.png"});
   }
@@ -412,10 +398,9 @@ TEST_F(WriteOutputs, KeepsPreviousOutputsOnFailure) {
     if (name != "report.json") test::write_file(dir_ / name, "old " + name);
   }
   fs::create_directory(dir_ / "report.json");
-  const auto error =
-      error_of([&] { write_outputs(dir_.path(), report(), small_input(), "input.png"); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
+  EXPECT_TRUE(
+      test::throws_error([&] { write_outputs(dir_.path(), report(), small_input(), "input.png"); },
+                         ErrorKind::kRuntime, {"report.json", "it is a directory"}));
   for (const std::string& name : output_file_names()) {
     if (name != "report.json") EXPECT_EQ(test::read_file(dir_ / name), "old " + name) << name;
   }
@@ -425,10 +410,11 @@ TEST_F(WriteOutputs, KeepsPreviousOutputsOnFailure) {
 
 TEST_F(WriteOutputs, KeepsPreviousOutputsWhenTheInputIsInTheWay) {
   for (const std::string& name : output_file_names()) test::write_file(dir_ / name, "old " + name);
-  const auto error = error_of([&] {
-    write_outputs(dir_.path(), report(), small_input(), (dir_ / "restored.png").string());
-  });
-  ASSERT_TRUE(error.has_value());
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        write_outputs(dir_.path(), report(), small_input(), (dir_ / "restored.png").string());
+      },
+      ErrorKind::kRuntime, {"refusing to overwrite the input"}));
   for (const std::string& name : output_file_names()) {
     EXPECT_EQ(test::read_file(dir_ / name), "old " + name) << name;
   }
@@ -440,14 +426,11 @@ TEST_F(WriteOutputs, RefusesToOverwriteAnotherInputSuchAsTheCodeFile) {
   test::write_file(dir_ / "code.txt", hand_written);
   test::write_file(dir_ / "restored.png", "old restored.png");
   const std::string code_path = (dir_ / "code.txt").string();
-  const auto error = error_of([&] {
-    OutputOptions options;
-    options.other_inputs = {code_path};
-    write_outputs(dir_.path(), report(), small_input(), "input.png", options);
-  });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kRuntime);
-  EXPECT_THAT(error->what(), HasSubstr(code_path));
+  OutputOptions options;
+  options.other_inputs = {code_path};
+  EXPECT_TRUE(test::throws_error(
+      [&] { write_outputs(dir_.path(), report(), small_input(), "input.png", options); },
+      ErrorKind::kRuntime, {"refusing to overwrite the input", code_path}));
   EXPECT_EQ(test::read_file(dir_ / "code.txt"), hand_written);
   EXPECT_EQ(test::read_file(dir_ / "restored.png"), "old restored.png");
   EXPECT_EQ(test::list_directory(dir_.path()),
@@ -484,9 +467,8 @@ TEST_F(WriteOutputs, StagingNeverReplacesOrRemovesOtherFiles) {
 }
 
 TEST_F(WriteOutputs, EmptyOutdirIsAUsageError) {
-  const auto error = error_of([&] { write_outputs("", report(), small_input(), "input.png"); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
+  EXPECT_TRUE(test::throws_error([&] { write_outputs("", report(), small_input(), "input.png"); },
+                                 ErrorKind::kUsage, {"output directory"}));
 }
 
 }  // namespace
@@ -537,19 +519,21 @@ TEST(ObservedPng8, RefusesRowsThatDoNotFitAndIncompleteImages) {
   ObservedPng8 observed(2, 1);
   const std::vector<double> row(5, 1.0);
   observed.store_row(0, 0, row);
-  EXPECT_THROW(observed.store_row(0, 1, std::vector<double>(4, 1.0)), Error);  // width
-  EXPECT_THROW(observed.store_row(0, 2, row), Error);                          // row
-  EXPECT_THROW(observed.store_row(1, 0, row), Error);                          // channel
-  const auto incomplete = test::error_of([&] { observed.encode(); });
-  ASSERT_TRUE(incomplete.has_value());
-  EXPECT_THAT(incomplete->what(), HasSubstr("1 of 2 observed rows"));
+  const std::vector<double> short_row(4, 1.0);
+  EXPECT_TRUE(test::throws_error([&] { observed.store_row(0, 1, short_row); }, ErrorKind::kUsage,
+                                 {"row 1 of channel 0 with 4 values does not fit a 5 x 2 x 1"}));
+  EXPECT_TRUE(test::throws_error([&] { observed.store_row(0, 2, row); }, ErrorKind::kUsage,
+                                 {"row 2 of channel 0", "does not fit"}));
+  EXPECT_TRUE(test::throws_error([&] { observed.store_row(1, 0, row); }, ErrorKind::kUsage,
+                                 {"row 0 of channel 1", "does not fit"}));
+  EXPECT_TRUE(
+      test::throws_error([&] { observed.encode(); }, ErrorKind::kUsage, {"1 of 2 observed rows"}));
   observed.store_row(0, 1, row);
   EXPECT_NO_THROW(observed.encode());
-  const auto twice = test::error_of([&] { observed.store_row(0, 1, row); });
-  ASSERT_TRUE(twice.has_value());
-  EXPECT_THAT(twice->what(), HasSubstr("row 1 of channel 0 was stored twice"));
-  EXPECT_THROW(ObservedPng8(0, 1), Error);
-  EXPECT_THROW(ObservedPng8(3, 2), Error);
+  EXPECT_TRUE(test::throws_error([&] { observed.store_row(0, 1, row); }, ErrorKind::kUsage,
+                                 {"row 1 of channel 0 was stored twice"}));
+  EXPECT_TRUE(test::throws_error([] { ObservedPng8(0, 1); }, ErrorKind::kUsage, {"height 0"}));
+  EXPECT_TRUE(test::throws_error([] { ObservedPng8(3, 2); }, ErrorKind::kUsage, {"2 channels"}));
 }
 
 TEST(ObservedPng8, WriteOutputsGivesTheSameFilesWithoutTheKeptImage) {
@@ -559,9 +543,7 @@ TEST(ObservedPng8, WriteOutputsGivesTheSameFilesWithoutTheKeptImage) {
   ASSERT_TRUE(streamed.report.observed.data.empty());
   test::TempDir dir;
   write_outputs(dir / "kept", kept.report, input, "input.png");
-  OutputOptions options;
-  options.observed_png8 = &streamed.observed;
-  write_outputs(dir / "streamed", streamed.report, input, "input.png", options);
+  write_outputs(dir / "streamed", streamed.report, streamed.observed, input, "input.png");
   for (const std::string& name : output_file_names()) {
     EXPECT_TRUE(test::read_file(dir / "kept" / name) == test::read_file(dir / "streamed" / name))
         << name;
@@ -572,29 +554,24 @@ TEST(ObservedPng8, WithoutEitherObservedImageNothingIsWritten) {
   const Image input = test::make_test_image(480, 4, 1, 6);
   const StreamedRun streamed(input);
   test::TempDir dir;
-  const auto error =
-      test::error_of([&] { write_outputs(dir / "out", streamed.report, input, "input.png"); });
-  ASSERT_TRUE(error.has_value());
-  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
-  EXPECT_THAT(error->what(), HasSubstr("observed_png8"));
+  EXPECT_TRUE(test::throws_error(
+      [&] { write_outputs(dir / "out", streamed.report, input, "input.png"); }, ErrorKind::kUsage,
+      {"observed.png: the report keeps no observed image", "ObservedPng8"}));
   EXPECT_FALSE(fs::exists(dir / "out"));
   // Rows of another image are refused.
   const StreamedRun other(test::make_test_image(480, 5, 1, 6));
-  OutputOptions mismatched;
-  mismatched.observed_png8 = &other.observed;
-  const auto size_error = test::error_of(
-      [&] { write_outputs(dir / "out", streamed.report, input, "input.png", mismatched); });
-  ASSERT_TRUE(size_error.has_value());
-  EXPECT_THAT(size_error->what(), HasSubstr("x 5 x 1 image, the report's outputs are"));
+  EXPECT_TRUE(test::throws_error(
+      [&] { write_outputs(dir / "out", streamed.report, other.observed, input, "input.png"); },
+      ErrorKind::kUsage, {"x 5 x 1 image, the report's outputs are"}));
   EXPECT_FALSE(fs::exists(dir / "out"));
   // The sheet shows the observed image: it needs the kept one.
   OutputOptions sheet;
   sheet.sheet = true;
-  sheet.observed_png8 = &streamed.observed;
-  const auto sheet_error = test::error_of(
-      [&] { write_outputs(dir / "out", streamed.report, input, "input.png", sheet); });
-  ASSERT_TRUE(sheet_error.has_value());
-  EXPECT_THAT(sheet_error->what(), HasSubstr("keep_observed"));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        write_outputs(dir / "out", streamed.report, streamed.observed, input, "input.png", sheet);
+      },
+      ErrorKind::kUsage, {"sheet.png needs the observed image"}));
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
@@ -619,7 +596,7 @@ TEST(RenderRunPlots, AreTheBytesWriteOutputsDraws) {
     test::TempDir dir;
     write_outputs(dir / "drawn", report, input, "input.png");
     OutputOptions given;
-    given.rendered_plots = &plots;
+    given.rendered_plots = plots;
     write_outputs(dir / "given", report, input, "input.png", given);
     for (const char* name : {"code.png", "spectrum.png"}) {
       const std::string drawn = test::read_file(dir / "drawn" / name);
@@ -655,12 +632,10 @@ TEST(RenderRunPlots, PlotsOfAnotherRunAreRefused) {
   for (const auto& [what, plots] : wrong) {
     test::TempDir dir;
     OutputOptions given;
-    given.rendered_plots = &plots;
-    const auto error =
-        test::error_of([&] { write_outputs(dir / "out", report, input, "input.png", given); });
-    ASSERT_TRUE(error.has_value()) << what;
-    EXPECT_EQ(error->kind(), ErrorKind::kUsage) << what;
-    EXPECT_THAT(error->what(), HasSubstr("not for the report's run: drawn for " + what));
+    given.rendered_plots = plots;
+    EXPECT_TRUE(
+        test::throws_error([&] { write_outputs(dir / "out", report, input, "input.png", given); },
+                           ErrorKind::kUsage, {"not for the report's run: drawn for " + what}));
     EXPECT_FALSE(fs::exists(dir / "out")) << what;
   }
 }

@@ -14,10 +14,10 @@
 #include <thread>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/error.h"
-#include "fss/model/kernel.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/model/kernel.h"
 #include "support/test_util.h"
 
 namespace fss {

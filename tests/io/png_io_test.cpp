@@ -245,8 +245,7 @@ TEST(EncodePng8, CompressionsAndSampleInputKeepThePixels) {
   const Image expected = decode(encode_png8(image));
   for (const PngCompression compression : {PngCompression::kImage, PngCompression::kGraphics}) {
     EXPECT_EQ(decode(encode_png8(image, compression)).data, expected.data);
-    EXPECT_EQ(decode(encode_png8_samples(37, 11, 3, samples, compression)).data,
-              expected.data);
+    EXPECT_EQ(decode(encode_png8_samples(37, 11, 3, samples, compression)).data, expected.data);
   }
   EXPECT_TRUE(encode_png8_samples(37, 11, 3, samples) == encode_png8(image));
   EXPECT_THROW(encode_png8_samples(37, 11, 3, std::span(samples).first(100)), Error);

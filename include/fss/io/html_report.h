@@ -16,7 +16,8 @@
 namespace fss {
 
 // A picture of the page and the colour of the frame drawn around it, so that
-// it can be told apart from the others on a rendered page.
+// it can be told apart from the others on a rendered page (the figure
+// columns of run_files.h).
 struct ReportFigure {
   const char* file;
   const char* caption;
@@ -31,7 +32,8 @@ const std::vector<ReportFigure>& report_figures();
 
 // The page for `report`, whose input was `input_path`. `output_files` are the
 // names of the files written next to it: the page shows the figures among
-// them and links every one of them, and refers to no other file.
+// them, links every one of them (with what it holds, from run_files.h), and
+// refers to no other file.
 std::string html_report(const SimulationReport& report, const std::string& input_path,
                         const std::vector<std::string>& output_files);
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "fss/model/code.h"
 #include "fss/core/image.h"
+#include "fss/model/code.h"
 #include "fss/model/kernel.h"
 
 namespace fss {

@@ -1,0 +1,22 @@
+// report.json of a run: every parameter and result (README, "Outputs").
+// The only io header that includes nlohmann/json.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "fss/pipeline/simulate.h"
+
+namespace fss {
+
+// report.json content; `input_path` is recorded as given. Infinite and NaN
+// values are null.
+nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);
+
+// The bytes of report.json: report_json indented by 2 and a line end. Paths
+// are bytes: one that is not UTF-8 is kept with U+FFFD in place of its
+// invalid bytes rather than failing the run.
+std::string report_json_text(const SimulationReport& report, const std::string& input_path);
+
+}  // namespace fss

@@ -1,0 +1,89 @@
+#include "fss/io/report_json.h"
+
+#include <cmath>
+
+#include "fss/model/code.h"
+
+namespace fss {
+
+namespace {
+
+using nlohmann::json;
+
+// JSON has no infinity: an infinite or NaN value is written as null.
+json finite_or_null(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+
+json parameters_json(const SimulationReport& r) {
+  const SimulationOptions& o = r.options;
+  return {{"code", r.code_name},
+          {"code_length", r.gains.size()},
+          {"mode", to_string(o.mode)},
+          {"velocity", o.velocity_px_per_slot},
+          {"restore_velocity", o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot)},
+          {"dt", o.dt},
+          {"snr", o.snr},
+          {"seed", o.seed},
+          {"noise", to_string(o.noise)},
+          {"trials", o.trials}};
+}
+
+json geometry_json(const SimulationReport& r) {
+  return {{"blur_length", r.geometry.blur_length},
+          {"observed_width", r.geometry.observed_width},
+          {"mirror_width", r.geometry.mirror_width},
+          {"output_width", r.geometry.output_width},
+          {"output_first_input_column", 3 * r.geometry.half_blur},
+          {"rmse_columns", {r.rmse_first, r.rmse_end}},
+          {"rmse_ci_columns", {r.rmse_ci_first, r.rmse_ci_end}}};
+}
+
+// The predicted error, docs/method.md §6.
+json prediction_json(const SimulationReport& r) {
+  return {{"finite", r.prediction.finite},
+          {"rmse_noise_free", finite_or_null(r.prediction.rmse_noise_free)},
+          {"sigma", finite_or_null(r.prediction.sigma)},
+          {"rmse", finite_or_null(r.prediction.rmse)},
+          {"snr_level100", finite_or_null(r.prediction.snr_level100)},
+          {"window_mean", r.prediction.window_mean},
+          {"q", r.prediction.q},
+          {"m", finite_or_null(r.prediction.m_amplification)}};
+}
+
+}  // namespace
+
+json report_json(const SimulationReport& r, const std::string& input_path) {
+  json j;
+  j["input"] = {
+      {"path", input_path}, {"width", r.width}, {"height", r.height}, {"channels", r.channels}};
+  j["parameters"] = parameters_json(r);
+  j["code"] = {{"name", r.code_name},
+               {"gains", r.gains},
+               {"sum", gain_sum(r.gains)},
+               {"square_sum", gain_square_sum(r.gains)},
+               {"normalized_l1", normalized_l1(r.gains)}};
+  j["geometry"] = geometry_json(r);
+  j["metrics"] = {{"rmse", finite_or_null(r.metrics.rmse)},
+                  {"psnr", finite_or_null(r.metrics.psnr)},
+                  {"rmse_ci", finite_or_null(r.metrics.rmse_ci)},
+                  {"psnr_ci", finite_or_null(r.metrics.psnr_ci)}};
+  j["kernel"] = {{"k0", r.kernel.k0},
+                 {"min_abs", r.kernel.min_abs},
+                 {"min_abs_xi", r.kernel.min_abs_xi},
+                 {"invertible", r.kernel.invertible},
+                 {"observed_divisor", r.observed_divisor},
+                 {"zero_bins", r.zero_bins}};
+  j["prediction"] = prediction_json(r);
+  j["trials"] = {{"n", r.trials.n},
+                 {"rmse_mean", finite_or_null(r.trials.rmse_mean)},
+                 {"rmse_sd", finite_or_null(r.trials.rmse_sd)},
+                 {"rmse_ci_mean", finite_or_null(r.trials.rmse_ci_mean)},
+                 {"rmse_ci_sd", finite_or_null(r.trials.rmse_ci_sd)}};
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+std::string report_json_text(const SimulationReport& report, const std::string& input_path) {
+  return report_json(report, input_path).dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace fss

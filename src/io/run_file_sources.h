@@ -1,0 +1,33 @@
+// What the files of a run are made from: the argument of RunFile::make
+// (fss/io/run_files.h), filled in by write_outputs.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "fss/core/image.h"
+#include "fss/io/observed_png8.h"
+#include "fss/io/run_files.h"
+#include "fss/io/run_plots.h"
+#include "fss/pipeline/simulate.h"
+
+namespace fss {
+
+// Where observed.png comes from: the observed image the report kept, or
+// the rows an ObservedPng8 collected while the run kept none.
+using ObservedSource =
+    std::variant<std::reference_wrapper<const Image>, std::reference_wrapper<const ObservedPng8>>;
+
+struct RunFileSources {
+  const SimulationReport& report;
+  const Image& input;             // the image the report was made from
+  const std::string& input_path;  // as given, for report.json and report.html
+  ObservedSource observed;
+  const std::optional<RunPlots>& plots_drawn_ahead;
+  const std::vector<std::string>& names;  // every file written, in order
+};
+
+}  // namespace fss

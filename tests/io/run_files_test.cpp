@@ -1,0 +1,122 @@
+// Tests of the table of a run's files (run_files.h): it is consistent, it
+// drives output_file_names and report.html's figures, and the README's
+// "Outputs" table lists the same files under the same conditions.
+#include "fss/io/run_files.h"
+
+#include <gtest/gtest.h>
+
+#include <ostream>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fss/io/html_report.h"
+#include "fss/io/outputs.h"
+#include "support/test_util.h"
+
+namespace fss {
+
+// Readable conditions in failure messages.
+void PrintTo(RunFileCondition when, std::ostream* out) {
+  constexpr const char* kNames[] = {"always", "plots", "sheet", "html_report"};
+  *out << kNames[static_cast<int>(when)];
+}
+
+namespace {
+
+using enum RunFileCondition;
+
+// (name, condition) of every row, in order.
+std::vector<std::pair<std::string, RunFileCondition>> table_rows() {
+  std::vector<std::pair<std::string, RunFileCondition>> rows;
+  for (const RunFile& file : run_files()) rows.emplace_back(file.name, file.when);
+  return rows;
+}
+
+// How the README says when a file is written, at the end of its content.
+RunFileCondition readme_condition(const std::string& content) {
+  const std::vector<std::pair<std::string, RunFileCondition>> markers = {
+      {"(not with `--no-plots`)", kPlots}, {"(`--sheet`)", kSheet}, {"(`--report`)", kHtmlReport}};
+  RunFileCondition found = kAlways;
+  int count = 0;
+  for (const auto& [marker, condition] : markers) {
+    if (content.find(marker) != std::string::npos) {
+      found = condition;
+      ++count;
+    }
+  }
+  EXPECT_LE(count, 1) << "more than one condition in: " << content;
+  return found;
+}
+
+// (name, condition) of every row of the table under the README's
+// "## Outputs" heading, in order.
+std::vector<std::pair<std::string, RunFileCondition>> readme_rows() {
+  std::vector<std::pair<std::string, RunFileCondition>> rows;
+  bool in_section = false;
+  for (const std::string& line : test::lines_of(test::read_file(test::source_path("README.md")))) {
+    if (line.rfind("## ", 0) == 0) in_section = line == "## Outputs";
+    if (!in_section || line.rfind("| `", 0) != 0) continue;
+    const std::size_t name_end = line.find('`', 3);
+    const std::size_t content = line.find('|', name_end);
+    if (name_end == std::string::npos || content == std::string::npos) {
+      ADD_FAILURE() << "cannot read the README row: " << line;
+      continue;
+    }
+    rows.emplace_back(line.substr(3, name_end - 3), readme_condition(line.substr(content)));
+  }
+  return rows;
+}
+
+TEST(RunFiles, RowsAreCompleteAndNamesUnique) {
+  std::set<std::string> names;
+  for (const RunFile& file : run_files()) {
+    SCOPED_TRACE(file.name);
+    EXPECT_TRUE(names.insert(file.name).second) << "listed twice";
+    EXPECT_NE(file.make, nullptr);
+    EXPECT_NE(std::string(file.content), "");
+    EXPECT_EQ(std::string(file.caption).empty(), file.figure == RunFileFigure::kNone);
+  }
+}
+
+TEST(RunFiles, TheReadmeListsTheSameFilesUnderTheSameConditions) {
+  EXPECT_EQ(readme_rows(), table_rows());
+}
+
+TEST(RunFiles, OutputFileNamesAreTheRowsTheOptionsSelectInOrder) {
+  EXPECT_EQ(output_file_names({true, true, true}),
+            (std::vector<std::string>{"observed.png", "restored.png", "groundtruth.png",
+                                      "residual.png", "code.txt", "spectrum.txt", "report.json",
+                                      "code.png", "spectrum.png", "sheet.png", "report.html"}));
+  for (const bool plots : {false, true}) {
+    for (const bool sheet : {false, true}) {
+      for (const bool html : {false, true}) {
+        const OutputOptions options{plots, sheet, html};
+        std::vector<std::string> expected;
+        for (const auto& [name, when] : table_rows()) {
+          if (when == kAlways || (when == kPlots && plots) || (when == kSheet && sheet) ||
+              (when == kHtmlReport && html)) {
+            expected.push_back(name);
+          }
+        }
+        EXPECT_EQ(output_file_names(options), expected) << plots << sheet << html;
+      }
+    }
+  }
+}
+
+TEST(RunFiles, ReportFiguresAreTheFigureRows) {
+  std::vector<std::string> figures;
+  for (const RunFile& file : run_files()) {
+    if (file.figure != RunFileFigure::kNone) figures.emplace_back(file.name);
+  }
+  std::vector<std::string> shown;
+  for (const ReportFigure& figure : report_figures()) shown.emplace_back(figure.file);
+  EXPECT_EQ(shown, figures);
+  EXPECT_EQ(shown, (std::vector<std::string>{"observed.png", "restored.png", "groundtruth.png",
+                                             "residual.png", "code.png", "spectrum.png"}));
+}
+
+}  // namespace
+}  // namespace fss

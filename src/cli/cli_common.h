@@ -1,30 +1,42 @@
-// Pieces shared by fssim's main command and its subcommands: exit codes,
-// option validators, error reporting and atomic file writes.
+// Pieces shared by fssim's commands: exit codes, option validators, the one
+// error reporter and atomic file writes.
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <cmath>
-#include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 
 #include "fss/core/error.h"
 #include "fss/io/outputs.h"
 
 namespace fssim {
 
-inline constexpr int kExitRuntime = 1;
-inline constexpr int kExitUsage = 2;
+// Exit statuses of every command.
+inline constexpr int kExitSuccess = 0;
+inline constexpr int kExitRuntime = 1;  // a file, the memory limit, anything at run time
+inline constexpr int kExitUsage = 2;    // the command line asks for something not acceptable
 
 // CLI11 validators, made on demand so that nothing can throw during static
-// initialization: finite numbers (CLI11 itself accepts "nan" and "inf"), and
-// numbers > 0.
+// initialization. Their messages follow the option's name: "--dt: value 0
+// must be > 0".
+// A finite number (CLI11 itself accepts "nan" and "inf").
 CLI::Validator finite();
+// A number > 0.
 CLI::Validator positive();
-
-// Integer option of at least `minimum`, with a short message (CLI11's own
-// range checks print the largest double in full).
+// dt and snr of the simulation: finite, > 0 and within the library's range
+// (fss::scale_rule).
+CLI::Validator scale();
+// An integer of at least `minimum`, with a short message (CLI11's own range
+// checks print the largest double in full).
 CLI::Validator at_least(long long minimum);
+// An integer in [minimum, maximum].
+CLI::Validator integer_in(long long minimum, long long maximum);
+// Decimal digits of an unsigned 64-bit integer (CLI11 itself wraps "-1" and
+// saturates values above 2^64 - 1 without a word).
+CLI::Validator seed_value();
+// A path that is not empty.
+CLI::Validator not_empty();
 
 // "fssim code analyze --help": the help command of the deepest subcommand
 // selected on the command line, for error messages.
@@ -35,11 +47,25 @@ std::string help_hint(const CLI::App& app);
 // are not counted.
 std::string first_given_option(const CLI::App& app);
 
-// Runs `body` and turns an exception into one "fssim: error: ..." line on
-// stderr and the exit status: 2 for a usage fss::Error, 1 otherwise.
-int run_reporting_errors(const std::function<int()>& body);
+// The one error reporter: "fssim: error: MESSAGE" on stderr, control
+// characters escaped so that the message stays on one line.
+void report_error(std::string_view message);
 
-using fss::format_number;          // fss/error.h
-using fss::write_file_atomically;  // fss/outputs.h
+// What run_reporting_errors adds to a message.
+struct ErrorContext {
+  // Appended to an error of kind kLimit, e.g. " (raise it with --max-memory)".
+  std::string limit_hint;
+  // What the command is doing, for a failure that does not say it: "out of
+  // memory while ACTIVITY", "MESSAGE (while ACTIVITY)". Empty: nothing added.
+  std::string activity;
+};
+
+// Runs `body` and turns an exception into one reported error and the exit
+// status: kExitUsage for a usage fss::Error, kExitRuntime otherwise. `context`
+// (may be null) is read when the exception arrives, so the body may update it.
+int run_reporting_errors(const std::function<int()>& body, const ErrorContext* context = nullptr);
+
+using fss::format_number;          // fss/core/error.h
+using fss::write_file_atomically;  // fss/io/outputs.h
 
 }  // namespace fssim

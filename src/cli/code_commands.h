@@ -1,14 +1,65 @@
 // `fssim code generate | analyze | optimize`: shutter code design on the
-// command line, over fss/design.h.
+// command line, over fss/design/. One class per command, each in its own file
+// (code_generate.cpp, code_analyze.cpp, code_optimize.cpp); CodeCommands adds
+// them under `code` and runs the one selected.
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <cstdint>
 #include <string>
 
-#include "fss/design/design.h"
+#include "fss/design/analyze.h"
+#include "fss/design/generate.h"
+#include "fss/design/optimize.h"
 
 namespace fssim {
+
+// `code generate FAMILY --length L ...`: writes a generated code.
+class CodeGenerateCommand {
+ public:
+  explicit CodeGenerateCommand(CLI::App& code);
+  bool parsed() const { return app_->parsed(); }
+  int Run() const;
+
+ private:
+  CLI::App* app_ = nullptr;
+  std::string family_;
+  fss::GenerateOptions options_;
+  std::string output_;
+};
+
+// `code analyze CODE ...`: the figures of merit of a code.
+class CodeAnalyzeCommand {
+ public:
+  explicit CodeAnalyzeCommand(CLI::App& code);
+  bool parsed() const { return app_->parsed(); }
+  int Run() const;
+
+ private:
+  CLI::App* app_ = nullptr;
+  std::string code_;
+  double velocity_ = 1.0;
+  double dt_ = 1.0;
+  double snr_ = 100.0;
+  std::string mode_ = "numerical";
+  int grid_ = 0;
+  std::string json_;
+};
+
+// `code optimize --length L --velocity V ...`: the best code of a length.
+class CodeOptimizeCommand {
+ public:
+  explicit CodeOptimizeCommand(CLI::App& code);
+  bool parsed() const { return app_->parsed(); }
+  int Run() const;
+
+ private:
+  void WriteCode(const fss::OptimizeOptions& options, const fss::OptimizationResult& result) const;
+
+  CLI::App* app_ = nullptr;
+  fss::OptimizeOptions options_;
+  std::string mode_ = "numerical";
+  std::string output_;
+};
 
 class CodeCommands {
  public:
@@ -24,33 +75,14 @@ class CodeCommands {
   int Run() const;
 
  private:
-  int RunGenerate() const;
-  int RunAnalyze() const;
-  int RunOptimize() const;
-
   CLI::App* code_ = nullptr;
-  CLI::App* generate_ = nullptr;
-  CLI::App* analyze_ = nullptr;
-  CLI::App* optimize_ = nullptr;
-
-  // generate
-  std::string family_;
-  fss::GenerateOptions generate_options_;
-  std::string generate_output_;
-
-  // analyze
-  std::string analyze_code_;
-  double analyze_velocity_ = 1.0;
-  double analyze_dt_ = 1.0;
-  double analyze_snr_ = 100.0;
-  std::string analyze_mode_ = "numerical";
-  int analyze_grid_ = 0;
-  std::string analyze_json_;
-
-  // optimize
-  fss::OptimizeOptions optimize_options_;
-  std::string optimize_mode_ = "numerical";
-  std::string optimize_output_;
+  CodeGenerateCommand generate_;
+  CodeAnalyzeCommand analyze_;
+  CodeOptimizeCommand optimize_;
 };
+
+// Usage error unless 0 < |v| dt < 2, naming --velocity and --dt; `what` is
+// what needs the band ("the sinc code", "the optimizer").
+void check_design_band(double velocity, double dt, const std::string& what);
 
 }  // namespace fssim

@@ -53,6 +53,7 @@ std::vector<double> parse_range(const std::string& text, const std::string& opti
                            " values; use a larger step");
   }
   std::vector<double> values;
+  values.reserve(static_cast<std::size_t>(count));
   for (int i = 0; i < static_cast<int>(count); ++i) values.push_back(start + i * step);
   return values;
 }

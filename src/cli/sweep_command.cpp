@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
-#include <vector>
 
 #include "cli_common.h"
-#include "fss/model/code.h"
 #include "fss/core/error.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/simulate.h"
 #include "range.h"
 
@@ -22,20 +23,19 @@ const char kCsvHeader[] =
     "velocity,snr,blur_length,rmse_mean,rmse_sd,predicted_rmse,noise_free_rmse,snr_level100,"
     "invertible,status\n";
 
-// A CSV number: 10 significant digits for the swept values (so that 0.1 steps
-// read 0.3, not 0.30000000000000004), full precision for the results; "inf"
-// for an infinite one.
-std::string csv_number(double value, int digits = 17) {
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
-  return buffer;
+// CSV numbers: 10 significant digits for the swept values (so that 0.1 steps
+// read 0.3, not 0.30000000000000004), full precision for the results.
+constexpr int kSettingDigits = 10;
+constexpr int kResultDigits = 17;
+
+std::string csv_number(double value, int digits = kResultDigits) {
+  return format_number(value, digits);
 }
 
-// SPEC 4 and 5: blur length B = max(L, ceil(|v| dt L)); the outputs are
-// W - 3B wide; the RMSE window [margin, W - 3B - margin) and the RMSE_CI
-// window [B, W - 4B) must not be empty. Returns "" when the setting fits,
-// otherwise why it does not.
+// docs/method.md §4 and §5: blur length B = max(L, ceil(|v| dt L)); the
+// outputs are W - 3B wide; the RMSE window [margin, W - 3B - margin) and the
+// RMSE_CI window [B, W - 4B) must not be empty. Returns "" when the setting
+// fits, otherwise why it does not.
 std::string too_narrow_reason(int width, int length, double velocity, double dt, int margin,
                               int* blur_length) {
   const double motion = std::ceil(std::abs(velocity) * dt * length);
@@ -57,6 +57,84 @@ std::string too_narrow_reason(int width, int length, double velocity, double dt,
   return {};
 }
 
+// The swept values and the results, for --plot (NaN where a setting has none).
+struct Curves {
+  std::vector<double> x, measured, predicted;
+};
+
+// One setting: its CSV row and its console line; the curves get its point.
+class SweepRunner {
+ public:
+  SweepRunner(const fss::SimulationOptions& options, const fss::Image& image,
+              const fss::ShutterCode& code, bool by_velocity)
+      : options_(options), image_(image), code_(code), by_velocity_(by_velocity) {}
+
+  std::string Row(double velocity, double snr);
+  const Curves& curves() const { return curves_; }
+
+ private:
+  std::string TooNarrowRow(double velocity, double snr, const std::string& reason, int blur_length);
+
+  fss::SimulationOptions options_;
+  const fss::Image& image_;
+  const fss::ShutterCode& code_;
+  bool by_velocity_;
+  Curves curves_;
+};
+
+std::string SweepRunner::TooNarrowRow(double velocity, double snr, const std::string& reason,
+                                      int blur_length) {
+  std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": " << reason
+            << "; row marked too-narrow (see --rmse-margin)\n";
+  curves_.x.push_back(by_velocity_ ? velocity : snr);
+  curves_.measured.push_back(std::nan(""));
+  curves_.predicted.push_back(std::nan(""));
+  std::printf("velocity %g, snr %g: too narrow\n", velocity, snr);
+  return (blur_length > 0 ? std::to_string(blur_length) : "") + ",,,,,,,too-narrow\n";
+}
+
+std::string SweepRunner::Row(double velocity, double snr) {
+  options_.velocity_px_per_slot = velocity;
+  options_.snr = snr;
+  const std::string setting =
+      csv_number(velocity, kSettingDigits) + "," + csv_number(snr, kSettingDigits) + ",";
+  int blur_length = 0;
+  const std::string reason = too_narrow_reason(image_.width, code_.length(), velocity, options_.dt,
+                                               options_.rmse_margin_columns, &blur_length);
+  if (!reason.empty()) return setting + TooNarrowRow(velocity, snr, reason, blur_length);
+  const fss::SimulationReport r = fss::Simulate(options_, image_, code_);
+  const fss::Prediction& p = r.prediction;
+  curves_.x.push_back(by_velocity_ ? velocity : snr);
+  curves_.measured.push_back(r.trials.rmse_mean);
+  curves_.predicted.push_back(p.finite ? p.rmse : std::nan(""));
+  if (p.finite) {
+    std::printf("velocity %g, snr %g: RMSE %f (sd %f, %d trials), predicted %f\n", velocity, snr,
+                r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n, p.rmse);
+  } else {
+    std::printf("velocity %g, snr %g: RMSE %g (%d trials), not invertible\n", velocity, snr,
+                r.trials.rmse_mean, r.trials.n);
+  }
+  return setting + std::to_string(r.geometry.blur_length) + "," + csv_number(r.trials.rmse_mean) +
+         "," + csv_number(r.trials.rmse_sd) + "," + csv_number(p.rmse) + "," +
+         csv_number(p.rmse_noise_free) + "," + csv_number(p.snr_level100) + "," +
+         (r.kernel.invertible ? "true" : "false") + "," +
+         (r.kernel.invertible ? "ok" : "not-invertible") + "\n";
+}
+
+[[noreturn]] void refuse_snr(const std::string& text, const std::string& rule, double snr) {
+  fss::throw_usage_error("--snr '" + text + "': every value " + rule + ", got " +
+                         format_number(snr));
+}
+
+// Every value of --snr 'TEXT' as the simulator's rule has it (> 0, within
+// the library's range).
+void check_snr_values(const std::vector<double>& snrs, const std::string& text) {
+  for (const double snr : snrs) {
+    const std::string rule = snr > 0.0 ? fss::scale_rule(snr) : "must be > 0";
+    if (!rule.empty()) refuse_snr(text, rule, snr);
+  }
+}
+
 }  // namespace
 
 SweepCommand::SweepCommand(CLI::App& app) {
@@ -65,39 +143,19 @@ SweepCommand::SweepCommand(CLI::App& app) {
       "simulate over a range of velocities and/or snr values and write one CSV row per setting "
       "(measured and predicted RMSE)");
   sweep_->add_option("-i,--input", input_, "input PNG image")->required();
-  sweep_
-      ->add_option(
-          "-c,--code", code_name_,
-          "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
-      ->capture_default_str();
-  sweep_
-      ->add_option("-m,--mode", mode_,
-                   "numerical (burst of frames, any real gains) or analog (gains in [0,1])")
-      ->check(CLI::IsMember({"numerical", "analog"}))
-      ->capture_default_str();
+  flags_.AddCode(*sweep_);
+  flags_.AddMode(*sweep_);
   sweep_
       ->add_option("-v,--velocity", velocity_,
                    "velocity V, or a range start:stop:step (inclusive stop), pixels per slot")
       ->capture_default_str();
   sweep_->add_option("--snr", snr_, "snr S, or a range start:stop:step; values > 0")
       ->capture_default_str();
-  sweep_->add_option("--dt", options_.dt, "time slot length, > 0")
-      ->check(finite() & positive())
-      ->capture_default_str();
-  sweep_->add_option("--trials", options_.trials, "noise realizations per setting")
-      ->check(at_least(1))
-      ->capture_default_str();
-  sweep_
-      ->add_option("--seed", options_.seed,
-                   "seed of the noise; every setting uses the same seeds (seed, seed+1, ...)")
-      ->capture_default_str();
-  sweep_
-      ->add_option("--rmse-margin", options_.rmse_margin_columns,
-                   "columns left out at each side of the output for the RMSE (default 3B)")
-      ->check(at_least(0));
-  sweep_->add_option("--threads", options_.threads, "worker threads, 0 = all cores")
-      ->check(at_least(0))
-      ->capture_default_str();
+  flags_.AddDt(*sweep_);
+  flags_.AddTrials(*sweep_);
+  flags_.AddSeed(*sweep_);
+  flags_.AddRmseMargin(*sweep_);
+  flags_.AddThreads(*sweep_);
   sweep_->add_option("-o,--output", output_, "CSV file to write")->required();
   sweep_->add_option("--plot", plot_,
                      "also draw measured and predicted RMSE against the swept parameter into "
@@ -107,29 +165,27 @@ SweepCommand::SweepCommand(CLI::App& app) {
 bool SweepCommand::parsed() const { return sweep_->parsed(); }
 
 int SweepCommand::Run() const {
-  return run_reporting_errors([this] { return RunSweep(); });
+  return run_reporting_errors([this] { return Sweep(); });
 }
 
-int SweepCommand::RunSweep() const {
-  const std::vector<double> velocities = parse_range(velocity_, "--velocity");
-  const std::vector<double> snrs = parse_range(snr_, "--snr");
-  for (const double snr : snrs) {
-    if (!(snr > 0.0)) {
-      fss::throw_usage_error("--snr '" + snr_ + "': every value must be > 0, got " +
-                             format_number(snr));
-    }
-  }
-  if (velocities.size() * snrs.size() > static_cast<std::size_t>(kMaxRangePoints)) {
+SweepCommand::Grid SweepCommand::ParseGrid() const {
+  Grid grid{parse_range(velocity_, "--velocity"), parse_range(snr_, "--snr")};
+  check_snr_values(grid.snrs, snr_);
+  const std::size_t settings = grid.velocities.size() * grid.snrs.size();
+  if (settings > static_cast<std::size_t>(kMaxRangePoints)) {
     fss::throw_usage_error("--velocity '" + velocity_ + "' and --snr '" + snr_ + "' make " +
-                           std::to_string(velocities.size() * snrs.size()) +
-                           " settings, more than " + std::to_string(kMaxRangePoints));
+                           std::to_string(settings) + " settings, more than " +
+                           std::to_string(kMaxRangePoints));
   }
-  const bool by_velocity = velocities.size() > 1;
-  if (!plot_.empty() && velocities.size() > 1 && snrs.size() > 1) {
+  if (!plot_.empty() && grid.velocities.size() > 1 && grid.snrs.size() > 1) {
     fss::throw_usage_error(
         "--plot draws one curve: give a range to --velocity or to --snr, not "
         "to both");
   }
+  return grid;
+}
+
+void SweepCommand::CheckPaths() const {
   std::error_code ec;
   if (!plot_.empty() && (std::filesystem::equivalent(input_, plot_, ec) || plot_ == output_)) {
     fss::throw_runtime_error("--plot '" + plot_ + "' must differ from the input and the CSV");
@@ -137,56 +193,24 @@ int SweepCommand::RunSweep() const {
   if (std::filesystem::equivalent(input_, output_, ec)) {
     fss::throw_runtime_error("refusing to write the CSV '" + output_ + "' over the input");
   }
-  const fss::ShutterCode code = fss::load_code(code_name_);
-  const fss::Image image = fss::read_png(input_);
+}
 
-  fss::SimulationOptions options = options_;
-  options.mode = *fss::shutter_mode_from_string(mode_);
+int SweepCommand::Sweep() const {
+  const Grid grid = ParseGrid();
+  CheckPaths();
+  const fss::ShutterCode code = fss::load_code(flags_.code_name());
+  const fss::Image image = fss::read_png(input_);
+  const fss::SimulationOptions options = flags_.Options();
   // Refuse a code the mode cannot use before any row runs (Simulate would, at
   // the first setting that fits the image).
   fss::check_code_for_mode(code, options.mode);
+  SweepRunner runner(options, image, code, grid.by_velocity());
   std::string csv = kCsvHeader;
   int rows = 0;
-  // For --plot: the swept values, the measured mean and the prediction (NaN
-  // where a setting has none).
-  std::vector<double> plot_x, plot_measured, plot_predicted;
-  for (const double velocity : velocities) {
-    for (const double snr : snrs) {
-      options.velocity_px_per_slot = velocity;
-      options.snr = snr;
-      const std::string setting = csv_number(velocity, 10) + "," + csv_number(snr, 10) + ",";
-      int blur_length = 0;
-      const std::string reason = too_narrow_reason(image.width, code.length(), velocity, options.dt,
-                                                   options.rmse_margin_columns, &blur_length);
+  for (const double velocity : grid.velocities) {
+    for (const double snr : grid.snrs) {
+      csv += runner.Row(velocity, snr);
       ++rows;
-      if (!reason.empty()) {
-        std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": " << reason
-                  << "; row marked too-narrow (see --rmse-margin)\n";
-        csv +=
-            setting + (blur_length > 0 ? std::to_string(blur_length) : "") + ",,,,,,,too-narrow\n";
-        plot_x.push_back(by_velocity ? velocity : snr);
-        plot_measured.push_back(std::nan(""));
-        plot_predicted.push_back(std::nan(""));
-        std::printf("velocity %g, snr %g: too narrow\n", velocity, snr);
-        continue;
-      }
-      const fss::SimulationReport r = fss::Simulate(options, image, code);
-      const fss::Prediction& p = r.prediction;
-      plot_x.push_back(by_velocity ? velocity : snr);
-      plot_measured.push_back(r.trials.rmse_mean);
-      plot_predicted.push_back(p.finite ? p.rmse : std::nan(""));
-      csv += setting + std::to_string(r.geometry.blur_length) + "," +
-             csv_number(r.trials.rmse_mean) + "," + csv_number(r.trials.rmse_sd) + "," +
-             csv_number(p.rmse) + "," + csv_number(p.rmse_noise_free) + "," +
-             csv_number(p.snr_level100) + "," + (r.kernel.invertible ? "true" : "false") + "," +
-             (r.kernel.invertible ? "ok" : "not-invertible") + "\n";
-      if (p.finite) {
-        std::printf("velocity %g, snr %g: RMSE %f (sd %f, %d trials), predicted %f\n", velocity,
-                    snr, r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n, p.rmse);
-      } else {
-        std::printf("velocity %g, snr %g: RMSE %g (%d trials), not invertible\n", velocity, snr,
-                    r.trials.rmse_mean, r.trials.n);
-      }
     }
   }
   std::vector<std::uint8_t> png;
@@ -194,17 +218,17 @@ int SweepCommand::RunSweep() const {
     const std::string trials =
         std::to_string(options.trials) + (options.trials == 1 ? " realization" : " realizations");
     fss::PlotOptions plot_options;
-    plot_options.title = "RMSE of code " + code.name + " on " +
-                         std::filesystem::path(input_).filename().string() + ", " +
-                         fss::to_string(options.mode) +
-                         (by_velocity ? ", snr " + format_number(snrs.front())
-                                      : ", velocity " + format_number(velocities.front()));
-    png =
-        fss::plot_curves_png(plot_x,
-                             {{"measured (mean of " + trials + ")", plot_measured, false, true},
-                              {"predicted, sqrt(RMSE_0^2 + sigma^2)", plot_predicted, true, false}},
-                             by_velocity ? "velocity (pixels per time slot)" : "snr",
-                             "RMSE (gray levels)", plot_options);
+    plot_options.title =
+        "RMSE of code " + code.name + " on " + std::filesystem::path(input_).filename().string() +
+        ", " + fss::to_string(options.mode) +
+        (grid.by_velocity() ? ", snr " + format_number(grid.snrs.front())
+                            : ", velocity " + format_number(grid.velocities.front()));
+    const Curves& c = runner.curves();
+    png = fss::plot_curves_png(c.x,
+                               {{"measured (mean of " + trials + ")", c.measured, false, true},
+                                {"predicted, sqrt(RMSE_0^2 + sigma^2)", c.predicted, true, false}},
+                               grid.by_velocity() ? "velocity (pixels per time slot)" : "snr",
+                               "RMSE (gray levels)", plot_options);
   }
   write_file_atomically(output_, csv);
   std::printf("Wrote %d rows to %s\n", rows, output_.c_str());
@@ -212,7 +236,7 @@ int SweepCommand::RunSweep() const {
     write_file_atomically(plot_, std::string(png.begin(), png.end()));
     std::printf("Plot: %s\n", plot_.c_str());
   }
-  return 0;
+  return kExitSuccess;
 }
 
 }  // namespace fssim

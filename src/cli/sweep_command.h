@@ -4,8 +4,9 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
-#include "fss/pipeline/simulate.h"
+#include "simulation_flags.h"
 
 namespace fssim {
 
@@ -21,17 +22,23 @@ class SweepCommand {
   int Run() const;
 
  private:
-  int RunSweep() const;
+  // The swept values of --velocity and --snr, checked.
+  struct Grid {
+    std::vector<double> velocities;
+    std::vector<double> snrs;
+    bool by_velocity() const { return velocities.size() > 1; }
+  };
+  Grid ParseGrid() const;
+  void CheckPaths() const;
+  int Sweep() const;
 
   CLI::App* sweep_ = nullptr;
+  SimulationFlags flags_;
   std::string input_;
-  std::string code_name_ = "raskar";
-  std::string mode_ = "numerical";
   std::string velocity_ = "1";
   std::string snr_ = "100";
   std::string output_;
   std::string plot_;  // --plot: PNG of measured and predicted RMSE, or empty
-  fss::SimulationOptions options_;
 };
 
 }  // namespace fssim

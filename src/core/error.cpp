@@ -26,10 +26,10 @@ std::string format_bytes(double bytes) {
   return buffer;
 }
 
-std::string format_number(double value) {
+std::string format_number(double value, int significant_digits) {
   if (std::isnan(value)) return "nan";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g", value);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, value);
   return buffer;
 }
 

@@ -10,14 +10,14 @@
 
 namespace fss {
 
-namespace {
-std::uint64_t splitmix64(std::uint64_t& x) {
-  std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += kSplitmix64Gamma);
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
   return z ^ (z >> 31);
 }
 
+namespace {
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
 // lambda2 = snr^2 / 100, refused unless it is a finite normal number: 0 or

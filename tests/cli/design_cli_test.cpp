@@ -11,12 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "fss/model/code.h"
-#include "fss/design/design.h"
 #include "fss/core/error.h"
 #include "fss/core/image.h"
+#include "fss/design/analyze.h"
+#include "fss/design/generate.h"
+#include "fss/design/optimize.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
+#include "fss/model/code.h"
 #include "range.h"
 #include "support/test_util.h"
 
@@ -98,14 +100,9 @@ TEST(Range, ErrorsNameTheOptionAndTheRule) {
       {"1:x:1", "finite"},
   };
   for (const Case& c : cases) {
-    try {
-      fssim::parse_range(c.text, "--velocity");
-      ADD_FAILURE() << "'" << c.text << "' was accepted";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), ErrorKind::kUsage);
-      EXPECT_THAT(e.what(), HasSubstr("--velocity")) << c.text;
-      EXPECT_THAT(e.what(), HasSubstr(c.rule)) << c.text;
-    }
+    EXPECT_TRUE(test::throws_error([&] { fssim::parse_range(c.text, "--velocity"); },
+                                   ErrorKind::kUsage, {"--velocity", c.rule}))
+        << "'" << c.text << "'";
   }
   // 10000 values is the limit, not an error.
   EXPECT_EQ(fssim::parse_range("1:10000:1", "--snr").size(), 10000u);
@@ -134,7 +131,7 @@ TEST_F(CodeCli, GenerateWritesAFileTheSimulatorAccepts) {
   const CommandResult sim = run_fssim("--input " + camera() + " --code " + quote(file) +
                                       " --noise none --outdir " + quote(dir_ / "out"));
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
-  // Noise-free RMSE of the paper's sinc code on camera.png (SPEC 6: 0.357).
+  // Noise-free RMSE of the paper's sinc code on camera.png (docs/method.md §6: 0.357).
   const double rmse = std::stod(lines_of(sim.out).at(0).substr(6));
   EXPECT_NEAR(rmse, 0.357, 0.002);
 }
@@ -172,7 +169,7 @@ TEST_F(CodeCli, AnalyzePrintsTheFiguresOfMerit) {
   EXPECT_THAT(r.out, HasSubstr("\nInvertible: yes\n"));
   EXPECT_THAT(r.out, HasSubstr("Min |K| on the band: "));
   const CodeAnalysis a =
-      analyze_code(builtin_code("raskar")->gains, 1.0, 1.0, 100.0, ShutterMode::kNumerical);
+      analyze_code(*builtin_code("raskar"), 1.0, 1.0, 100.0, ShutterMode::kNumerical);
   EXPECT_NEAR(value_after(r.out, "SNR at level 100"), a.snr_level100, 1e-6);
   EXPECT_NEAR(value_after(r.out, "Snapshot SNR at level 100"), 84.932180, 1e-6);
   EXPECT_NEAR(value_after(r.out, "Ratio to the snapshot"), a.ratio_to_snapshot, 1e-6);
@@ -232,11 +229,10 @@ TEST_F(CodeCli, OptimizeWritesACodeThatBeatsThePaperCodes) {
   const ShutterCode code = load_code(file.string());
   ASSERT_EQ(code.length(), 52);
   const CodeAnalysis ours =
-      analyze_code(code.gains, 1.0, 1.0, 100.0, ShutterMode::kAnalog);  // analog-admissible
+      analyze_code(code, 1.0, 1.0, 100.0, ShutterMode::kAnalog);  // analog-admissible
   for (const char* name : {"snapshot", "accumulation", "raskar"}) {
-    EXPECT_GE(
-        ours.snr_level100,
-        analyze_code(builtin_code(name)->gains, 1.0, 1.0, 100.0, ShutterMode::kAnalog).snr_level100)
+    EXPECT_GE(ours.snr_level100,
+              analyze_code(*builtin_code(name), 1.0, 1.0, 100.0, ShutterMode::kAnalog).snr_level100)
         << name;
   }
   // The optimized code runs through the simulator.
@@ -460,6 +456,38 @@ TEST(DesignCli, HelpListsTheSubcommands) {
   const CommandResult sweep_help = run_fssim("sweep --help");
   EXPECT_EQ(sweep_help.exit_code, 0);
   EXPECT_THAT(sweep_help.out, HasSubstr("start:stop:step"));
+}
+
+// Every command checks --dt (and the simulator's other options) with the
+// library's rules, in the simulator's words.
+TEST(DesignCli, EveryCommandChecksDtAsTheSimulatorDoes) {
+  const std::string rule = "--dt: value 1e-200 is out of range: it must lie in [1e-100, 1e100]";
+  const struct {
+    const char* arguments;
+    const char* help;
+  } commands[] = {
+      {"--input x.png --dt 1e-200", "fssim --help"},
+      {"spectra -o x.png raskar --dt 1e-200", "fssim spectra --help"},
+      {"code generate sinc -L 8 --dt 1e-200", "fssim code generate --help"},
+      {"code analyze raskar --dt 1e-200", "fssim code analyze --help"},
+      {"code optimize -L 8 -v 1 --dt 1e-200", "fssim code optimize --help"},
+      {"sweep --input x.png -o x.csv --dt 1e-200", "fssim sweep --help"},
+  };
+  for (const auto& c : commands) {
+    const CommandResult r = run_fssim(c.arguments);
+    EXPECT_EQ(r.exit_code, 2) << c.arguments;
+    EXPECT_EQ(r.out, "") << c.arguments;
+    EXPECT_EQ(r.err, "fssim: error: " + rule + " (see " + c.help + ")\n") << c.arguments;
+  }
+  const CommandResult snr = run_fssim("code analyze raskar --snr -1");
+  EXPECT_EQ(snr.err, "fssim: error: --snr: value -1 must be > 0 (see fssim code analyze --help)\n");
+}
+
+TEST(DesignCli, SweepChecksEverySnrValueWithTheSimulatorsRule) {
+  const CommandResult r = run_fssim("sweep --input x.png -o x.csv --snr 1e-300");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err,
+            "fssim: error: --snr '1e-300': every value must lie in [1e-100, 1e100], got 1e-300\n");
 }
 
 }  // namespace

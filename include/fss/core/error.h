@@ -31,8 +31,10 @@ class Error : public std::runtime_error {
 // "1.5 GiB", "800.0 MiB", "12.0 KiB" (binary units, as --max-memory reads them).
 std::string format_bytes(double bytes);
 
-// A number as printf("%g") writes it ("nan", never "-nan"), for messages.
-std::string format_number(double value);
+// A number as printf("%.*g") writes it with `significant_digits` digits
+// ("nan", never "-nan"; "inf", "-inf"): the default is printf("%g"), for
+// messages; 17 digits give back the same double.
+std::string format_number(double value, int significant_digits = 6);
 
 // `text` with control characters (a newline in a file name, a terminal
 // escape) written as \xNN, so that a message stays on one readable line.

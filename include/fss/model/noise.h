@@ -10,6 +10,12 @@
 
 namespace fss {
 
+// splitmix64 (Steele, Lea and Flood): advances `state` by kSplitmix64Gamma
+// and returns it mixed, so that nearby states give unrelated values. The one
+// seed derivation of the library (noise streams, the optimizer's starts).
+inline constexpr std::uint64_t kSplitmix64Gamma = 0x9e3779b97f4a7c15ULL;
+std::uint64_t splitmix64(std::uint64_t& state);
+
 // xoshiro256** generator whose state is derived by splitmix64 from the seed
 // and three stream coordinates.
 class RandomStream {

@@ -1,0 +1,74 @@
+// Analysing flutter shutter codes without simulating an image: the figure of
+// merit of a code, and the Cauchy-Schwarz bound on it over every code.
+// Conventions: core/image.h.
+//
+// Figure of merit (docs/method.md §6). The SNR of the restored image of a
+// constant landscape at level 100 is
+//   SNR_100 = 100 / sqrt(100 Q (100 / snr^2) M) = snr / sqrt(Q M),
+// with Q = dt sum alpha_k^2 (numerical) or dt sum alpha_k (analog) and M the
+// mean of 1 / |K(xi)|^2 over the band xi in [-pi, pi]. The product Q M (the
+// "noise figure") is the only thing a code changes: SNR_100 is proportional to
+// snr, and the ratio of two codes' SNR_100 does not depend on snr at all.
+// Scaling a numerical code by c leaves Q M unchanged (Q ~ c^2, M ~ 1 / c^2);
+// scaling an analog code by c divides Q M by c.
+#pragma once
+
+#include <span>
+
+#include "fss/model/code.h"
+
+namespace fss {
+
+// Number of midpoint nodes on [0, pi] used to average 1 / |K|^2 over the band
+// when no DFT grid is given (|K| is even for real gains, so the half band
+// suffices; this is an 8192-node midpoint rule on [-pi, pi]).
+inline constexpr int kBandGridPoints = 4096;
+
+// Mean of 1 / |K(xi)|^2 over xi in [-pi, pi] by the midpoint rule with
+// `grid_points` nodes on [0, pi]; infinite if K vanishes at a node.
+double band_mean_inverse_power(std::span<const double> gains, double velocity, double dt,
+                               int grid_points = kBandGridPoints);
+
+// Cauchy-Schwarz lower bound on Q M for every numerical code of every length
+// at this velocity and slot (see README, "Designing codes"):
+//   Q M >= (int_{-pi}^{pi} sqrt(w(theta)) d theta)^2 / (4 pi a dt),  a = pi |v| dt,
+//   w(theta) = sum over integers m with |theta + 2 pi m| <= a of 1 / sinc_h(theta + 2 pi m)^2.
+// For |v| dt = 1 it is (4 G / pi)^2 / dt = 1.36011 / dt (G Catalan's constant).
+// It holds for analog codes too (there sum alpha >= sum alpha^2). Infinite for
+// |v| dt >= 2, where every code has K = 0 on the band; 0 for v = 0.
+double noise_figure_lower_bound(double velocity, double dt);
+
+struct CodeAnalysis {
+  int length = 0;
+  ShutterMode mode = ShutterMode::kNumerical;
+  double velocity = 1.0;
+  double dt = 1.0;
+  double snr = 100.0;
+  int grid = 0;  // 0: midpoint rule with kBandGridPoints nodes; N > 0: the N-point DFT grid
+
+  double sum = 0.0;            // sum alpha_k
+  double square_sum = 0.0;     // sum alpha_k^2
+  double normalized_l1 = 0.0;  // ||alpha||_1 / sup |alpha|
+  double k0 = 0.0;             // K(0) = dt sum alpha_k
+  double min_abs = 0.0;        // min |K| on [-pi, pi] (fss::analyze_kernel)
+  double min_abs_xi = 0.0;     // where (the non-negative one of a +/- pair)
+  bool invertible = false;
+
+  double q = 0.0;                      // Q
+  double m = 0.0;                      // M on the grid; infinite when not invertible
+  double noise_figure = 0.0;           // Q M
+  double snr_level100 = 0.0;           // snr / sqrt(Q M); 0 when not invertible
+  double snapshot_snr_level100 = 0.0;  // the snapshot (1, 0, ...) at the same v, dt, grid
+  double ratio_to_snapshot = 0.0;      // snr_level100 / snapshot_snr_level100
+  double snr_level100_bound = 0.0;     // snr / sqrt(noise_figure_lower_bound(v, dt))
+};
+
+// Analyses `code` at the given velocity, slot, snr and mode; `grid` as in
+// CodeAnalysis (pass the simulator's mirror width 2 Wa to get exactly its M).
+// Throws a usage fss::Error naming the code when the mode cannot use it (as
+// fss::check_code_for_mode: no gains, only zero gains, analog gains outside
+// [0, 1]), and for a non-finite velocity, dt <= 0, snr <= 0 or grid < 0.
+CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
+                          ShutterMode mode, int grid = 0);
+
+}  // namespace fss

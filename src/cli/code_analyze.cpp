@@ -1,0 +1,116 @@
+// `fssim code analyze`.
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "code_commands.h"
+#include "fss/model/code.h"
+
+namespace fssim {
+
+namespace {
+
+// The analysis grid in words, for the M line.
+std::string grid_description(int grid) {
+  if (grid == 0) {
+    return std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule on [-pi, pi]";
+  }
+  return std::to_string(grid) + "-point DFT grid";
+}
+
+nlohmann::json finite_or_null(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json analysis_json(const fss::ShutterCode& code, const fss::CodeAnalysis& a) {
+  nlohmann::json j;
+  j["code"] = {{"name", code.name}, {"length", a.length}, {"gains", code.gains}};
+  j["parameters"] = {{"mode", fss::to_string(a.mode)},
+                     {"velocity", a.velocity},
+                     {"dt", a.dt},
+                     {"snr", a.snr},
+                     {"grid", a.grid == 0 ? "midpoint" : "dft"},
+                     {"grid_points", a.grid == 0 ? 2 * fss::kBandGridPoints : a.grid}};
+  j["analysis"] = {{"sum", a.sum},
+                   {"square_sum", a.square_sum},
+                   {"normalized_l1", a.normalized_l1},
+                   {"k0", a.k0},
+                   {"min_abs", a.min_abs},
+                   {"min_abs_xi", a.min_abs_xi},
+                   {"invertible", a.invertible},
+                   {"q", a.q},
+                   {"m", finite_or_null(a.m)},
+                   {"noise_figure", finite_or_null(a.noise_figure)},
+                   {"snr_level100", a.snr_level100},
+                   {"snapshot_snr_level100", a.snapshot_snr_level100},
+                   {"ratio_to_snapshot", a.ratio_to_snapshot},
+                   {"snr_level100_bound", finite_or_null(a.snr_level100_bound)}};
+  return j;
+}
+
+void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
+                    const std::string& mode) {
+  std::printf("Code: %s (L = %d)\n", code.name.c_str(), a.length);
+  std::printf("Setting: %s mode, velocity %g, dt %g, snr %g\n", mode.c_str(), a.velocity, a.dt,
+              a.snr);
+  std::printf("Sum of gains: %f\n", a.sum);
+  std::printf("Sum of squares: %f\n", a.square_sum);
+  std::printf("Normalized L1 norm: %f\n", a.normalized_l1);
+  std::printf("Min |K| on the band: %g at xi = %f\n", a.min_abs, a.min_abs_xi);
+  std::printf("Invertible: %s\n", a.invertible ? "yes" : "no (K vanishes on the band)");
+  std::printf("Q: %f\n", a.q);
+  if (std::isfinite(a.m)) {
+    std::printf("M (mean of 1/|K|^2, %s): %f\n", grid_description(a.grid).c_str(), a.m);
+  } else {
+    std::printf("M (mean of 1/|K|^2, %s): infinite\n", grid_description(a.grid).c_str());
+  }
+  std::printf("SNR at level 100: %f\n", a.snr_level100);
+  std::printf("Snapshot SNR at level 100: %f\n", a.snapshot_snr_level100);
+  std::printf("Ratio to the snapshot: %f\n", a.ratio_to_snapshot);
+  if (std::isfinite(a.snr_level100_bound)) {
+    std::printf("Bound on the SNR at level 100 (any code, any length): %f\n", a.snr_level100_bound);
+  } else {
+    std::printf("Bound on the SNR at level 100 (any code, any length): none at v = 0\n");
+  }
+}
+
+}  // namespace
+
+CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
+  app_ = code.add_subcommand("analyze",
+                             "figures of merit of a code without simulating an image: sums, min "
+                             "|K|, M, SNR at level 100 and its ratio to the snapshot's");
+  app_->add_option("CODE", code_,
+                   "a built-in code (snapshot, accumulation, raskar, random, mip, sinc) or a "
+                   "code file")
+      ->required();
+  app_->add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
+      ->check(finite())
+      ->capture_default_str();
+  app_->add_option("--dt", dt_, "time slot length, > 0")->check(scale())->capture_default_str();
+  app_->add_option("--snr", snr_, "SNR of a level-100 landscape seen through one slot")
+      ->check(scale())
+      ->capture_default_str();
+  app_->add_option("-m,--mode", mode_, "numerical or analog (Q and admissible gains)")
+      ->check(CLI::IsMember({"numerical", "analog"}))
+      ->capture_default_str();
+  app_->add_option("--grid", grid_,
+                   "M on the N-point DFT grid (the simulator uses N = 2 (W - B)); 0: an " +
+                       std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule")
+      ->check(at_least(0))
+      ->capture_default_str();
+  app_->add_option("--json", json_, "also write the analysis as JSON to this file");
+}
+
+int CodeAnalyzeCommand::Run() const {
+  const fss::ShutterCode code = fss::load_code(code_);
+  const fss::ShutterMode mode = *fss::shutter_mode_from_string(mode_);
+  // The code is checked as the simulator checks it (fss::check_code_for_mode).
+  const fss::CodeAnalysis a = fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_);
+  if (!json_.empty()) write_file_atomically(json_, analysis_json(code, a).dump(2) + "\n");
+  print_analysis(code, a, mode_);
+  return kExitSuccess;
+}
+
+}  // namespace fssim

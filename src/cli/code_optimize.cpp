@@ -1,0 +1,131 @@
+// `fssim code optimize`.
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <vector>
+
+#include "cli_common.h"
+#include "code_commands.h"
+#include "fss/core/error.h"
+#include "fss/model/code.h"
+
+namespace fssim {
+
+namespace {
+
+bool admissible(const std::vector<double>& gains, fss::ShutterMode mode, bool binary,
+                double min_light) {
+  if (fss::gain_sum(gains) < min_light) return false;
+  for (const double g : gains) {
+    if (binary && g != 0.0 && g != 1.0) return false;
+    if (mode == fss::ShutterMode::kAnalog && !(g >= 0.0 && g <= 1.0)) return false;
+  }
+  return true;
+}
+
+// The command line's own words for what OptimizeOptions::IsValid refuses.
+void check_options(const fss::OptimizeOptions& options) {
+  check_design_band(options.velocity_px_per_slot, options.dt, "the optimizer");
+  if (options.length > fss::kMaxOptimizedCodeLength) {
+    fss::throw_usage_error("--length " + std::to_string(options.length) + ": at most " +
+                           std::to_string(fss::kMaxOptimizedCodeLength) + " gains");
+  }
+  if (options.min_light_slots == 0.0) return;
+  if (options.mode == fss::ShutterMode::kNumerical && !options.binary) {
+    fss::throw_usage_error("--min-light " + format_number(options.min_light_slots) +
+                           ": a light budget needs --mode analog or --binary (numerical "
+                           "frames always gather L slots of light)");
+  }
+  if (!(options.min_light_slots >= 0.0 && options.min_light_slots <= options.length)) {
+    fss::throw_usage_error("--min-light " + format_number(options.min_light_slots) +
+                           ": must lie in [0, --length " + std::to_string(options.length) + "]");
+  }
+}
+
+// The paper's codes that the mode admits, at the same velocity and dt.
+void print_paper_comparison(const fss::OptimizeOptions& options, const std::string& kind,
+                            const fss::CodeAnalysis& ours) {
+  std::printf("Paper codes (L = 52) admissible for %s gains%s, at the same velocity and dt:\n",
+              kind.c_str(), options.min_light_slots > 0.0 ? " and the light budget" : "");
+  std::string skipped;
+  for (const std::string& name : fss::builtin_code_names()) {
+    const fss::ShutterCode paper_code = *fss::builtin_code(name);
+    if (!admissible(paper_code.gains, options.mode, options.binary, options.min_light_slots)) {
+      skipped += (skipped.empty() ? "" : ", ") + name;
+      continue;
+    }
+    const fss::CodeAnalysis paper = fss::analyze_code(paper_code, options.velocity_px_per_slot,
+                                                      options.dt, options.snr, options.mode);
+    if (paper.invertible) {
+      std::printf("  %-13s SNR at level 100 %9.4f  (optimized / paper: %.4f)\n", name.c_str(),
+                  paper.snr_level100, ours.snr_level100 / paper.snr_level100);
+    } else {
+      std::printf("  %-13s SNR at level 100 %9.4f  (not invertible)\n", name.c_str(),
+                  paper.snr_level100);
+    }
+  }
+  if (!skipped.empty()) std::printf("  (not admissible: %s)\n", skipped.c_str());
+}
+
+}  // namespace
+
+CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code) {
+  app_ = code.add_subcommand(
+      "optimize", "search the code of length L that maximizes the SNR at level 100 at a velocity");
+  fss::OptimizeOptions& o = options_;
+  app_->add_option("-L,--length", o.length, "number of gains L")->required()->check(at_least(1));
+  app_->add_option("-v,--velocity", o.velocity_px_per_slot, "velocity in pixels per slot")
+      ->required()
+      ->check(finite());
+  app_->add_option("--dt", o.dt, "time slot length, > 0")->check(scale())->capture_default_str();
+  app_->add_option("--snr", o.snr, "snr of the reported SNR at level 100 (scales it only)")
+      ->check(scale())
+      ->capture_default_str();
+  app_->add_option("-m,--mode", mode_, "numerical (any real gains) or analog (gains in [0, 1])")
+      ->check(CLI::IsMember({"numerical", "analog"}))
+      ->capture_default_str();
+  app_->add_flag("--binary", o.binary, "gains in {0, 1} (the Agrawal-Raskar search space)");
+  app_->add_option("--min-light", o.min_light_slots,
+                   "light budget for analog or binary codes: sum of gains >= this (slots)")
+      ->check(finite())
+      ->capture_default_str();
+  app_->add_option("--restarts", o.restarts, "random starting codes (seeded by --seed)")
+      ->check(at_least(0))
+      ->capture_default_str();
+  app_->add_option("--iterations", o.max_iterations,
+                   "per start: quasi-Newton iterations, or moves of the binary search")
+      ->check(at_least(1))
+      ->capture_default_str();
+  app_->add_option("--seed", o.seed, "seed of the random starts")->capture_default_str();
+  app_->add_option("-o,--output", output_, "code file to write the optimum to");
+}
+
+void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
+                                    const fss::OptimizationResult& result) const {
+  const fss::CodeAnalysis& a = result.analysis;
+  std::ostringstream header;
+  header << "# optimized " << (options.binary ? "binary" : mode_) << " code, L = " << options.length
+         << ", velocity " << format_number(options.velocity_px_per_slot) << ", dt "
+         << format_number(options.dt) << ": SNR at level 100 " << format_number(a.snr_level100)
+         << " at snr " << format_number(options.snr) << " (snapshot "
+         << format_number(a.snapshot_snr_level100) << ")\n";
+  const fss::ShutterCode code{"optimized", result.gains};
+  write_file_atomically(output_, header.str() + fss::format_code_txt(code));
+}
+
+int CodeOptimizeCommand::Run() const {
+  fss::OptimizeOptions options = options_;
+  options.mode = *fss::shutter_mode_from_string(mode_);
+  check_options(options);
+  const fss::OptimizationResult result = fss::optimize_code(options);
+  if (!output_.empty()) WriteCode(options, result);
+  std::cout << result.FullReport();
+  print_paper_comparison(options, options.binary ? "binary" : mode_, result.analysis);
+  std::printf("Gains:");
+  for (const double g : result.gains) std::printf(" %.4g", g);
+  std::printf("\n");
+  if (!output_.empty()) std::printf("Code written to %s\n", output_.c_str());
+  return kExitSuccess;
+}
+
+}  // namespace fssim

@@ -1,0 +1,175 @@
+#include "simulate_command.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <future>
+#include <iostream>
+#include <optional>
+#include <system_error>
+#include <vector>
+
+#include "fss/core/error.h"
+#include "fss/core/parallel.h"
+#include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/simulate.h"
+
+namespace fssim {
+
+namespace {
+
+// code.png and spectrum.png need only the code and the motion: they are drawn
+// on their own thread while the image is read and simulated. Not when
+// --threads 1 asks for one thread or no thread starts (write_outputs draws
+// them then), nor for a run Simulate will refuse: its error should not wait
+// for them.
+std::future<fss::RunPlots> start_plots(const fss::ShutterCode& code,
+                                       const fss::SimulationOptions& options, bool plots) {
+  if (!plots || !options.IsValid(nullptr) || fss::resolve_thread_count(options.threads) <= 1) {
+    return {};
+  }
+  try {
+    fss::check_code_for_mode(code, options.mode);
+    return std::async(std::launch::async, fss::render_run_plots, code, options);
+  } catch (const fss::Error&) {
+    // Simulate reports it
+  } catch (const std::system_error&) {
+    // no thread: drawn by write_outputs
+  }
+  return {};
+}
+
+// "trial 3/10" on a terminal, for runs of several trials.
+void show_progress_on_terminal(fss::SimulationOptions& options) {
+  if (options.trials <= 1 || !::isatty(STDERR_FILENO)) return;
+  options.trial_callback = [](int done, int total) {
+    std::fprintf(stderr, "\rfssim: trial %d/%d", done, total);
+    if (done == total) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  };
+}
+
+std::string describe_simulation(const std::string& input, const fss::Image& image) {
+  return "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
+         std::to_string(image.height) + ", " + std::to_string(image.channels) +
+         (image.channels == 1 ? " channel)" : " channels)");
+}
+
+void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
+
+void print_results(const fss::SimulationReport& report, const fss::SimulationOptions& options,
+                   const std::string& outdir) {
+  print_metric("RMSE", report.metrics.rmse);
+  print_metric("PSNR", report.metrics.psnr);
+  print_metric("Contrast Invariant RMSE", report.metrics.rmse_ci);
+  print_metric("Contrast Invariant PSNR", report.metrics.psnr_ci);
+  const fss::Prediction& p = report.prediction;
+  if (p.finite) {
+    std::printf("Predicted RMSE: %f (noise-free %f, noise %f)\n", p.rmse, p.rmse_noise_free,
+                p.sigma);
+  } else {
+    std::printf("Predicted RMSE: none (code not invertible, min |K| = %g at xi = %g)\n",
+                report.kernel.min_abs, report.kernel.min_abs_xi);
+  }
+  const fss::TrialStatistics& t = report.trials;
+  if (t.n > 1) {
+    std::printf("Trials: %d, RMSE mean %f sd %f, RMSE_CI mean %f sd %f\n", t.n, t.rmse_mean,
+                t.rmse_sd, t.rmse_ci_mean, t.rmse_ci_sd);
+  }
+  if (options.restore_velocity_px_per_slot) {
+    std::printf("Restore velocity: %g (true velocity %g)\n", *options.restore_velocity_px_per_slot,
+                options.velocity_px_per_slot);
+  }
+  std::printf("Seed: %llu\n", static_cast<unsigned long long>(options.seed));
+  const fss::Geometry& g = report.geometry;
+  std::printf(
+      "Geometry: blur length %d, output %dx%d (input columns %d..%d), RMSE columns [%d, %d)\n",
+      g.blur_length, g.output_width, report.height, 3 * g.half_blur,
+      3 * g.half_blur + g.output_width - 1, report.rmse_first, report.rmse_end);
+  std::printf("Outputs: %s\n", outdir.c_str());
+}
+
+// The outputs are in place; a script reading the metrics must still learn
+// that they were not printed (a full disk, a closed stdout).
+int flush_results() {
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    report_error(std::string("cannot write the results to standard output: ") +
+                 std::strerror(errno));
+    return kExitRuntime;
+  }
+  return kExitSuccess;
+}
+
+}  // namespace
+
+SimulateCommand::SimulateCommand(CLI::App& app) {
+  // Required unless a subcommand runs instead (checked in Run).
+  input_option_ = app.add_option("-i,--input", input_,
+                                 "input PNG image (8/16-bit gray, RGB, palette; alpha ignored); "
+                                 "required without a subcommand")
+                      ->check(not_empty());
+  flags_.AddAll(app);
+  app.add_option("-o,--outdir", outdir_, "output directory, created if missing")
+      ->check(not_empty())
+      ->capture_default_str();
+  app.add_flag("--no-plots", no_plots_, "do not draw code.png and spectrum.png");
+  app.add_flag("--sheet", output_options_.sheet,
+               "also write sheet.png: observed | restored | residual side by side");
+  app.add_flag("--report", output_options_.html_report,
+               "also write report.html: parameters, metrics, images and plots on one page");
+}
+
+int SimulateCommand::Run() const {
+  if (input_option_->count() == 0) {
+    report_error("--input is required (or a subcommand: code, sweep, spectra; see fssim --help)");
+    return kExitUsage;
+  }
+  ErrorContext context{" (raise it with --max-memory)", ""};
+  return run_reporting_errors([&] { return Simulate(&context); }, &context);
+}
+
+int SimulateCommand::Simulate(ErrorContext* context) const {
+  fss::SimulationOptions options = flags_.Options();
+  fss::OutputOptions output_options = output_options_;
+  output_options.plots = !no_plots_;
+  const std::string& code_name = flags_.code_name();
+
+  context->activity = "reading code '" + code_name + "'";
+  const fss::ShutterCode code = fss::load_code(code_name);
+  std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
+  context->activity = "reading input '" + input_ + "'";
+  const fss::Image image = fss::read_png(input_, options.max_memory_bytes);
+  context->activity = describe_simulation(input_, image);
+  show_progress_on_terminal(options);
+  // observed.png is all fssim needs of the observed image unless the sheet
+  // shows it: keep its rows as 8-bit samples, not doubles.
+  std::optional<fss::ObservedPng8> observed_png8;
+  if (!output_options.sheet) {
+    observed_png8.emplace(image.height, image.channels);
+  }
+  const fss::SimulationReport report =
+      fss::Simulate(options, image, code, observed_png8 ? &*observed_png8 : nullptr);
+  for (const auto& warning : report.warnings) {
+    std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
+  }
+  context->activity = "drawing the plots";
+  if (plots.valid()) output_options.rendered_plots = plots.get();  // else drawn when written
+  context->activity = "writing the outputs to '" + outdir_ + "'";
+  const std::vector<std::string> builtins = fss::builtin_code_names();
+  if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {
+    output_options.other_inputs.push_back(code_name);  // an input too: never overwritten
+  }
+  if (observed_png8) {
+    fss::write_outputs(outdir_, report, *observed_png8, image, input_, output_options);
+  } else {
+    fss::write_outputs(outdir_, report, image, input_, output_options);
+  }
+  print_results(report, options, outdir_);
+  return flush_results();
+}
+
+}  // namespace fssim

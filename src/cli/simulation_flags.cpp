@@ -1,0 +1,168 @@
+#include "simulation_flags.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <limits>
+
+#include "cli_common.h"
+#include "fss/core/error.h"
+#include "fss/pipeline/option_rules.h"
+
+namespace fssim {
+
+namespace {
+
+constexpr long long kMaxInt = std::numeric_limits<int>::max();
+
+// Half of the physical memory, the default --max-memory.
+std::size_t default_memory_limit() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page_size = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return 0;
+  return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page_size) / 2;
+}
+
+// --max-memory: "800M", "1.5G", "2048K", "123456" (bytes), "0" (no limit);
+// K, M, G, T are powers of 1024. Empty on success, with `bytes` set.
+std::string parse_memory_size(const std::string& text, std::size_t* bytes) {
+  if (text == "0") {
+    *bytes = 0;
+    return {};
+  }
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (...) {
+    used = 0;
+  }
+  const std::string suffix = used == 0 ? std::string() : text.substr(used);
+  double scale = 1.0;
+  if (suffix == "K" || suffix == "k") scale = 1024.0;
+  if (suffix == "M" || suffix == "m") scale = 1024.0 * 1024.0;
+  if (suffix == "G" || suffix == "g") scale = 1024.0 * 1024.0 * 1024.0;
+  if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  const bool suffix_ok = suffix.empty() || scale > 1.0;
+  if (used == 0 || !suffix_ok || !std::isfinite(value) || value <= 0.0 || value * scale >= 1e18) {
+    return "value " + text + " is not a memory size (e.g. 800M, 1.5G, 0 for no limit)";
+  }
+  *bytes = static_cast<std::size_t>(value * scale);
+  return {};
+}
+
+}  // namespace
+
+void SimulationFlags::AddCode(CLI::App& app) {
+  app.add_option("-c,--code", code_name_,
+                 "shutter code: snapshot, accumulation, raskar, random, mip, sinc, or a code file")
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddMode(CLI::App& app) {
+  app.add_option("-m,--mode", mode_,
+                 "numerical (burst of frames, any real gains) or analog (gains in [0,1])")
+      ->check(CLI::IsMember({"numerical", "analog"}))
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddVelocity(CLI::App& app) {
+  app.add_option("-v,--velocity", options_.velocity_px_per_slot,
+                 "velocity in pixels per time slot, signed (direction along rows)")
+      ->check(finite())
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddRestoreVelocity(CLI::App& app) {
+  restore_velocity_option_ =
+      app.add_option("--restore-velocity", restore_velocity_,
+                     "velocity assumed by the restoration (default: the true --velocity), to "
+                     "measure the cost of a wrong velocity estimate")
+          ->check(finite());
+}
+
+void SimulationFlags::AddDt(CLI::App& app) {
+  app.add_option("--dt", options_.dt, "time slot length, > 0 (1e-100 to 1e100)")
+      ->check(scale())
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddSnr(CLI::App& app) {
+  app.add_option("--snr", options_.snr,
+                 "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)")
+      ->check(scale())
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddSeed(CLI::App& app) {
+  app.add_option("--seed", options_.seed, "seed of the photon noise")
+      ->check(seed_value())
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddNoise(CLI::App& app) {
+  app.add_option("--noise", noise_, "poisson, or none for a noise-free run of the same pipeline")
+      ->check(CLI::IsMember({"poisson", "none"}))
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddRmseMargin(CLI::App& app) {
+  app.add_option(
+         "--rmse-margin", options_.rmse_margin_columns,
+         "columns left out at each side of the output for the RMSE (default 3B, B the blur length)")
+      ->check(integer_in(0, fss::kMaxMarginColumns));
+}
+
+void SimulationFlags::AddTrials(CLI::App& app) {
+  app.add_option("--trials", options_.trials,
+                 "independent noise realizations (seeds seed, seed+1, ...)")
+      ->check(integer_in(1, kMaxInt))
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddThreads(CLI::App& app) {
+  app.add_option("--threads", options_.threads,
+                 "worker threads, 0 = all cores (results do not depend on it)")
+      ->check(integer_in(0, kMaxInt))
+      ->capture_default_str();
+}
+
+void SimulationFlags::AddMaxMemory(CLI::App& app) {
+  max_memory_option_ = app.add_option(
+      "--max-memory", max_memory_,
+      "refuse runs needing more memory than SIZE (e.g. 800M, 2G; 0: no limit; default: "
+      "half of physical memory)");
+}
+
+void SimulationFlags::AddAll(CLI::App& app) {
+  AddCode(app);
+  AddMode(app);
+  AddVelocity(app);
+  AddRestoreVelocity(app);
+  AddDt(app);
+  AddSnr(app);
+  AddSeed(app);
+  AddNoise(app);
+  AddRmseMargin(app);
+  AddTrials(app);
+  AddThreads(app);
+  AddMaxMemory(app);
+}
+
+fss::SimulationOptions SimulationFlags::Options() const {
+  fss::SimulationOptions options = options_;
+  if (max_memory_option_ != nullptr) options.max_memory_bytes = default_memory_limit();
+  if (!max_memory_.empty()) {
+    const std::string problem = parse_memory_size(max_memory_, &options.max_memory_bytes);
+    if (!problem.empty())
+      fss::throw_usage_error("--max-memory: " + problem + " (see fssim --help)");
+  }
+  if (restore_velocity_option_ != nullptr && restore_velocity_option_->count() > 0) {
+    options.restore_velocity_px_per_slot = restore_velocity_;
+  }
+  options.mode = *fss::shutter_mode_from_string(mode_);
+  options.noise = *fss::noise_model_from_string(noise_);
+  return options;
+}
+
+}  // namespace fssim

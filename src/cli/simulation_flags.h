@@ -1,0 +1,53 @@
+// The one binding of fss::SimulationOptions to command-line flags, used by
+// every command that simulates (the main command, sweep). The values are
+// checked by the library's rules (fss/pipeline/option_rules.h).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "fss/pipeline/simulate.h"
+
+namespace fssim {
+
+class SimulationFlags {
+ public:
+  // Each adds one flag to `app`, writing into this object, which must outlive
+  // the parse.
+  void AddCode(CLI::App& app);             // -c,--code
+  void AddMode(CLI::App& app);             // -m,--mode
+  void AddVelocity(CLI::App& app);         // -v,--velocity
+  void AddRestoreVelocity(CLI::App& app);  // --restore-velocity
+  void AddDt(CLI::App& app);               // --dt
+  void AddSnr(CLI::App& app);              // --snr
+  void AddSeed(CLI::App& app);             // --seed
+  void AddNoise(CLI::App& app);            // --noise
+  void AddRmseMargin(CLI::App& app);       // --rmse-margin
+  void AddTrials(CLI::App& app);           // --trials
+  void AddThreads(CLI::App& app);          // --threads
+  void AddMaxMemory(CLI::App& app);        // --max-memory
+
+  // All of the above, in this order.
+  void AddAll(CLI::App& app);
+
+  // The code the user named (a built-in name or a file).
+  const std::string& code_name() const { return code_name_; }
+
+  // The options the flags give, after a successful parse. With AddMaxMemory
+  // the memory limit is --max-memory, or half of the physical memory when it
+  // is not given; throws a usage fss::Error naming --max-memory when its value
+  // is not a size.
+  fss::SimulationOptions Options() const;
+
+ private:
+  fss::SimulationOptions options_;
+  std::string code_name_ = "raskar";
+  std::string mode_ = "numerical";
+  std::string noise_ = "poisson";
+  double restore_velocity_ = 0.0;
+  CLI::Option* restore_velocity_option_ = nullptr;
+  std::string max_memory_;
+  CLI::Option* max_memory_option_ = nullptr;
+};
+
+}  // namespace fssim

@@ -1,0 +1,53 @@
+#include "spectra_command.h"
+
+#include <cstdint>
+#include <cstdio>
+
+#include "cli_common.h"
+#include "fss/model/code.h"
+#include "fss/model/kernel.h"
+
+namespace fssim {
+
+SpectraCommand::SpectraCommand(CLI::App& app) {
+  spectra_ = app.add_subcommand("spectra",
+                                "plot |K| of several codes on one picture (no simulation): fssim "
+                                "spectra --output FILE CODE...");
+  spectra_->add_option("codes", codes_, "built-in code names or code files (1 to 8)")->required();
+  spectra_->add_option("-o,--output", output_, "PNG file to write")->required();
+  spectra_->add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
+      ->check(finite())
+      ->capture_default_str();
+  spectra_->add_option("--dt", dt_, "time slot length, > 0")->check(scale())->capture_default_str();
+  spectra_->add_flag("--linear", linear_, "linear |K| axis (default: logarithmic)");
+  spectra_->add_option("--width", plot_.width, "plot width in pixels")
+      ->check(CLI::Range(fss::kPlotMinSide, fss::kPlotMaxSide))
+      ->capture_default_str();
+  spectra_->add_option("--height", plot_.height, "plot height in pixels")
+      ->check(CLI::Range(fss::kPlotMinSide, fss::kPlotMaxSide))
+      ->capture_default_str();
+  spectra_->add_option("--title", plot_.title, "plot title (default: made from the data)");
+}
+
+bool SpectraCommand::parsed() const { return spectra_->parsed(); }
+
+int SpectraCommand::Run() const {
+  return run_reporting_errors([this] { return Plot(); });
+}
+
+int SpectraCommand::Plot() const {
+  std::vector<fss::ShutterCode> codes;
+  for (const std::string& name : codes_) codes.push_back(fss::load_code(name));
+  const std::vector<std::uint8_t> png =
+      fss::plot_spectra_overlay_png(codes, velocity_, dt_, !linear_, plot_);
+  write_file_atomically(output_, std::string(png.begin(), png.end()));
+  for (const fss::ShutterCode& code : codes) {
+    const fss::KernelAnalysis k = fss::analyze_kernel(code.gains, velocity_, dt_);
+    std::printf("%s: min |K| %g at xi %g%s\n", code.name.c_str(), k.min_abs, k.min_abs_xi,
+                k.invertible ? "" : " (not invertible)");
+  }
+  std::printf("Plot: %s\n", output_.c_str());
+  return kExitSuccess;
+}
+
+}  // namespace fssim

@@ -1,0 +1,123 @@
+#include "fss/design/analyze.h"
+
+#include <cmath>
+#include <vector>
+
+#include "design/numerics.h"
+#include "fss/core/error.h"
+#include "fss/model/kernel.h"
+#include "fss/model/transfer.h"
+#include "fss/pipeline/simulate.h"
+#include "fss/pipeline/prediction.h"
+
+namespace fss {
+
+using design_detail::inverse_sinc_h;
+using design_detail::kInfinity;
+using design_detail::simpson;
+
+namespace {
+
+// The code is checked by fss::check_code_for_mode (the simulator's check);
+// the setting here.
+void check_analysis_setting(double velocity, double dt, double snr, int grid) {
+  if (!std::isfinite(velocity)) {
+    throw_usage_error("velocity " + format_number(velocity) + " must be a finite number");
+  }
+  if (!(std::isfinite(dt) && dt > 0.0)) {
+    throw_usage_error("dt " + format_number(dt) + " must be finite and > 0");
+  }
+  if (!(std::isfinite(snr) && snr > 0.0)) {
+    throw_usage_error("snr " + format_number(snr) + " must be finite and > 0");
+  }
+  if (grid < 0) throw_usage_error("grid " + std::to_string(grid) + " must be >= 0");
+}
+
+// M of `gains` on the grid of `a` (midpoint rule or DFT grid).
+double mean_inverse_on_grid(std::span<const double> gains, const CodeAnalysis& a) {
+  return a.grid == 0 ? band_mean_inverse_power(gains, a.velocity, a.dt)
+                     : mean_inverse_power(gains, a.velocity, a.dt, a.grid);
+}
+
+// The sums and the kernel's figures of `gains`.
+void describe_gains(const std::vector<double>& g, CodeAnalysis* a) {
+  a->sum = gain_sum(g);
+  a->square_sum = gain_square_sum(g);
+  a->normalized_l1 = normalized_l1(g);
+  const KernelAnalysis kernel = analyze_kernel(g, a->velocity, a->dt);
+  a->k0 = kernel.k0;
+  a->min_abs = kernel.min_abs;
+  a->min_abs_xi = kernel.min_abs_xi;
+  a->invertible = kernel.invertible;
+}
+
+}  // namespace
+
+double band_mean_inverse_power(std::span<const double> gains, double velocity, double dt,
+                               int grid_points) {
+  if (grid_points < 1) {
+    throw_usage_error("band grid needs at least 1 node, got " + std::to_string(grid_points));
+  }
+  double sum = 0.0;
+  for (int j = 0; j < grid_points; ++j) {
+    const double xi = (j + 0.5) * M_PI / grid_points;
+    const double power = std::norm(transfer_function(gains, velocity, dt, xi));
+    if (!(power > 0.0)) return kInfinity;
+    sum += 1.0 / power;
+  }
+  return sum / grid_points;
+}
+
+double noise_figure_lower_bound(double velocity, double dt) {
+  const double product = std::abs(velocity) * dt;
+  if (product == 0.0) return 0.0;
+  if (!(product < 2.0)) return kInfinity;
+  const double a = M_PI * product;
+  // int_{-pi}^{pi} sqrt(w) = 2 int_0^pi sqrt(w). On [0, pi] the images
+  // theta + 2 pi m inside [-a, a] are theta itself (up to a) and, when a > pi,
+  // theta - 2 pi for theta >= 2 pi - a.
+  constexpr int kIntervals = 20000;
+  double half = 0.0;
+  if (a <= M_PI) {
+    half = simpson(inverse_sinc_h, 0.0, a, kIntervals);
+  } else {
+    half =
+        simpson(inverse_sinc_h, 0.0, 2.0 * M_PI - a, kIntervals) +
+        simpson(
+            [](double t) { return std::hypot(inverse_sinc_h(t), inverse_sinc_h(2.0 * M_PI - t)); },
+            2.0 * M_PI - a, M_PI, kIntervals);
+  }
+  const double integral = 2.0 * half;
+  return integral * integral / (4.0 * M_PI * a * dt);
+}
+
+CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
+                          ShutterMode mode, int grid) {
+  check_code_for_mode(code, mode);
+  check_analysis_setting(velocity, dt, snr, grid);
+  const std::vector<double>& g = code.gains;
+  CodeAnalysis a;
+  a.length = static_cast<int>(g.size());
+  a.mode = mode;
+  a.velocity = velocity;
+  a.dt = dt;
+  a.snr = snr;
+  a.grid = grid;
+  describe_gains(g, &a);
+
+  a.q = noise_gain(g, dt, mode);
+  // As in the simulator's prediction: a code with a zero on the band has no
+  // finite M, whatever the grid happens to sample.
+  a.m = a.invertible ? mean_inverse_on_grid(g, a) : kInfinity;
+  a.noise_figure = a.q * a.m;
+  a.snr_level100 = snr_level100(a.q, a.m, snr);
+  const std::vector<double> snapshot = {1.0};
+  a.snapshot_snr_level100 = snr_level100(dt, mean_inverse_on_grid(snapshot, a), snr);
+  a.ratio_to_snapshot =
+      a.snapshot_snr_level100 > 0.0 ? a.snr_level100 / a.snapshot_snr_level100 : 0.0;
+  const double bound = noise_figure_lower_bound(velocity, dt);
+  a.snr_level100_bound = bound == 0.0 ? kInfinity : snr / std::sqrt(bound);
+  return a;
+}
+
+}  // namespace fss

@@ -1,0 +1,186 @@
+#include "fss/design/generate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "design/numerics.h"
+#include "fss/core/error.h"
+
+namespace fss {
+
+using design_detail::inverse_sinc_h;
+using design_detail::simpson;
+
+namespace {
+
+// Sub-intervals of the generation integrals: the integrands oscillate at most
+// L / 2 times over the band; 16384 Simpson steps put their error below 1e-9.
+constexpr int kDesignIntegralIntervals = 16384;
+
+void check_design_arguments(const char* family, int length, double velocity, double dt) {
+  if (length < 1) {
+    throw_usage_error("the " + std::string(family) + " code needs a length >= 1, got " +
+                      std::to_string(length));
+  }
+  if (!design_band_is_valid(velocity, dt)) {
+    throw_usage_error("the " + std::string(family) + " code is designed on the band |theta| <= " +
+                      "pi |v| dt, which needs 0 < |v| dt < 2; velocity " + format_number(velocity) +
+                      " and dt " + format_number(dt) +
+                      " give |v| dt = " + format_number(std::abs(velocity) * dt));
+  }
+}
+
+std::vector<double> normalized_to_unit_max(std::vector<double> gains) {
+  const double sup = gain_max_abs(gains);
+  if (sup > 0.0) {
+    for (double& g : gains) g /= sup;
+  }
+  return gains;
+}
+
+}  // namespace
+
+std::string to_string(CodeFamily family) {
+  switch (family) {
+    case CodeFamily::kSinc:
+      return "sinc";
+    case CodeFamily::kMip:
+      return "mip";
+    case CodeFamily::kRandom:
+      return "random";
+    case CodeFamily::kSnapshot:
+      return "snapshot";
+    case CodeFamily::kAccumulation:
+      return "accumulation";
+  }
+  return "sinc";
+}
+
+std::optional<CodeFamily> code_family_from_string(std::string_view text) {
+  for (const CodeFamily family : {CodeFamily::kSinc, CodeFamily::kMip, CodeFamily::kRandom,
+                                  CodeFamily::kSnapshot, CodeFamily::kAccumulation}) {
+    if (text == to_string(family)) return family;
+  }
+  return std::nullopt;
+}
+
+bool design_band_is_valid(double velocity, double dt) {
+  const double product = std::abs(velocity) * dt;
+  return std::isfinite(product) && product > 0.0 && product < 2.0;
+}
+
+std::vector<double> generate_sinc_code(int length, double velocity, double dt) {
+  check_design_arguments("sinc", length, velocity, dt);
+  const double band = M_PI * std::abs(velocity) * dt;
+  const int c = length / 2;
+  std::vector<double> gains(static_cast<std::size_t>(length));
+  for (int k = 0; k < length; ++k) {
+    // T = 1, t0 = c + 1/2: the integrand exp(i theta (k - c)) / sinc_h(theta)
+    // is even in its real part and odd in its imaginary part, so the
+    // coefficient is (1 / pi) int_0^band cos(theta (k - c)) / sinc_h(theta).
+    const double shift = k - c;
+    gains[k] = simpson([&](double t) { return std::cos(t * shift) * inverse_sinc_h(t); }, 0.0, band,
+                       kDesignIntegralIntervals) /
+               M_PI;
+  }
+  return normalized_to_unit_max(std::move(gains));
+}
+
+std::vector<double> generate_mip_code(int length, double velocity, double dt) {
+  check_design_arguments("mip", length, velocity, dt);
+  const double band = M_PI * std::abs(velocity) * dt;
+  const int c = length / 2;
+  std::vector<double> gains(static_cast<std::size_t>(length));
+  for (int k = 0; k < length; ++k) {
+    // T(theta) exp(i theta m) with m = k - c + 1/2: the values at theta and
+    // -theta are complex conjugates, so the real part of the coefficient is
+    // (1 / pi) int_0^band sqrt(pi / theta) cos(theta m - pi / 4) / sinc_h(theta).
+    // With theta = u^2 (d theta = 2 u du) the singularity cancels:
+    // (2 sqrt(pi) / pi) int_0^sqrt(band) cos(u^2 m - pi / 4) / sinc_h(u^2) du.
+    const double m = k - c + 0.5;
+    const double integral = simpson(
+        [&](double u) {
+          const double theta = u * u;
+          return std::cos(theta * m - M_PI / 4.0) * inverse_sinc_h(theta);
+        },
+        0.0, std::sqrt(band), kDesignIntegralIntervals);
+    gains[k] = 2.0 * std::sqrt(M_PI) * integral / M_PI;
+  }
+  return normalized_to_unit_max(std::move(gains));
+}
+
+std::vector<double> generate_random_code(int length, std::uint64_t seed, bool analog) {
+  if (length < 1) {
+    throw_usage_error("the random code needs a length >= 1, got " + std::to_string(length));
+  }
+  std::mt19937_64 rng(seed);
+  std::vector<double> gains(static_cast<std::size_t>(length));
+  for (double& g : gains) {
+    const double u = design_detail::uniform01(rng);
+    g = analog ? u : 2.0 * u - 1.0;
+  }
+  return gains;
+}
+
+std::vector<double> snapshot_code(int length) {
+  std::vector<double> gains(static_cast<std::size_t>(std::max(length, 0)), 0.0);
+  if (!gains.empty()) gains[0] = 1.0;
+  return gains;
+}
+
+std::vector<double> accumulation_code(int length) {
+  return std::vector<double>(static_cast<std::size_t>(std::max(length, 0)), 1.0);
+}
+
+bool GenerateOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (length < 1 || length > kMaxGeneratedCodeLength) {
+    return fail("length = " + std::to_string(length) + ": must lie in [1, " +
+                std::to_string(kMaxGeneratedCodeLength) + "]");
+  }
+  if (!(std::isfinite(dt) && dt > 0.0)) {
+    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
+  }
+  if (!std::isfinite(velocity_px_per_slot)) {
+    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
+                ": must be a finite number");
+  }
+  if ((family == CodeFamily::kSinc || family == CodeFamily::kMip) &&
+      !design_band_is_valid(velocity_px_per_slot, dt)) {
+    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
+                " with dt = " + format_number(dt) + ": the " + to_string(family) +
+                " code needs 0 < |velocity| dt < 2 (its design band is |theta| <= pi |v| dt)");
+  }
+  return true;
+}
+
+ShutterCode generate_code(const GenerateOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  ShutterCode code;
+  code.name = to_string(options.family) + "-L" + std::to_string(options.length);
+  switch (options.family) {
+    case CodeFamily::kSinc:
+      code.gains = generate_sinc_code(options.length, options.velocity_px_per_slot, options.dt);
+      break;
+    case CodeFamily::kMip:
+      code.gains = generate_mip_code(options.length, options.velocity_px_per_slot, options.dt);
+      break;
+    case CodeFamily::kRandom:
+      code.gains = generate_random_code(options.length, options.seed, options.analog);
+      break;
+    case CodeFamily::kSnapshot:
+      code.gains = snapshot_code(options.length);
+      break;
+    case CodeFamily::kAccumulation:
+      code.gains = accumulation_code(options.length);
+      break;
+  }
+  return code;
+}
+
+}  // namespace fss

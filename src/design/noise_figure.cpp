@@ -1,0 +1,89 @@
+// The optimizer's objective Q M on a band grid (design/optimize.h).
+#include <cmath>
+
+#include "design/local_search.h"
+#include "fss/core/error.h"
+#include "fss/design/optimize.h"
+#include "fss/model/transfer.h"
+
+namespace fss {
+
+using design_detail::kInfinity;
+
+void design_detail::make_band_basis(int length, double velocity, double dt, int grid,
+                                    std::vector<double>* re, std::vector<double>* im) {
+  re->assign(static_cast<std::size_t>(length) * grid, 0.0);
+  im->assign(static_cast<std::size_t>(length) * grid, 0.0);
+  for (int j = 0; j < grid; ++j) {
+    const double xi = (j + 0.5) * M_PI / grid;
+    const double theta = xi * velocity * dt;
+    const double amplitude = dt * sinc_h(theta);
+    for (int k = 0; k < length; ++k) {
+      const double phase = -theta * (k + 0.5);
+      (*re)[static_cast<std::size_t>(k) * grid + j] = amplitude * std::cos(phase);
+      (*im)[static_cast<std::size_t>(k) * grid + j] = amplitude * std::sin(phase);
+    }
+  }
+}
+
+NoiseFigure::NoiseFigure(int length, double velocity, double dt, ShutterMode mode, int grid_points)
+    : length_(length), grid_(grid_points), dt_(dt), mode_(mode) {
+  if (length < 1) throw_usage_error("NoiseFigure: length " + std::to_string(length) + " < 1");
+  if (grid_points < 1) {
+    throw_usage_error("NoiseFigure: grid_points " + std::to_string(grid_points) + " < 1");
+  }
+  design_detail::make_band_basis(length, velocity, dt, grid_points, &basis_re_, &basis_im_);
+}
+
+double NoiseFigure::Evaluate(std::span<const double> gains, std::span<double> gradient) const {
+  if (static_cast<int>(gains.size()) != length_ ||
+      (!gradient.empty() && static_cast<int>(gradient.size()) != length_)) {
+    throw_usage_error("NoiseFigure::Evaluate: expected " + std::to_string(length_) + " gains");
+  }
+  // K_j = sum_k alpha_k E_jk.
+  const std::size_t grid = static_cast<std::size_t>(grid_);
+  std::vector<double> re(grid, 0.0), im(grid, 0.0);
+  for (int k = 0; k < length_; ++k) {
+    const double alpha = gains[k];
+    if (alpha == 0.0) continue;
+    const double* er = basis_re_.data() + k * grid;
+    const double* ei = basis_im_.data() + k * grid;
+    for (std::size_t j = 0; j < grid; ++j) {
+      re[j] += alpha * er[j];
+      im[j] += alpha * ei[j];
+    }
+  }
+  // Q = dt sum alpha^2 (numerical) or dt sum alpha (analog).
+  double q = 0.0;
+  for (const double alpha : gains) q += mode_ == ShutterMode::kNumerical ? alpha * alpha : alpha;
+  q *= dt_;
+  if (!(q > 0.0)) return kInfinity;
+
+  // M = mean of 1 / |K_j|^2; K_j becomes K_j / |K_j|^4 for the gradient.
+  double sum = 0.0;
+  for (std::size_t j = 0; j < grid; ++j) {
+    const double power = re[j] * re[j] + im[j] * im[j];
+    if (!(power > 0.0)) return kInfinity;
+    const double inverse = 1.0 / power;
+    sum += inverse;
+    re[j] *= inverse * inverse;
+    im[j] *= inverse * inverse;
+  }
+  const double m = sum / grid_;
+  const double value = q * m;
+  if (!std::isfinite(value)) return kInfinity;
+  if (gradient.empty()) return value;
+  // d(Q M) / d alpha_k = Q dM / d alpha_k + M dQ / d alpha_k.
+  for (int k = 0; k < length_; ++k) {
+    const double* er = basis_re_.data() + k * grid;
+    const double* ei = basis_im_.data() + k * grid;
+    double dot = 0.0;
+    for (std::size_t j = 0; j < grid; ++j) dot += re[j] * er[j] + im[j] * ei[j];
+    const double dm = -2.0 * dot / grid_;
+    const double dq = mode_ == ShutterMode::kNumerical ? 2.0 * dt_ * gains[k] : dt_;
+    gradient[k] = q * dm + m * dq;
+  }
+  return value;
+}
+
+}  // namespace fss

@@ -1,0 +1,230 @@
+#include "fss/design/optimize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <random>
+#include <sstream>
+
+#include "design/local_search.h"
+#include "fss/core/error.h"
+#include "fss/design/generate.h"
+#include "fss/model/noise.h"
+
+namespace fss {
+
+using design_detail::Feasible;
+using design_detail::kInfinity;
+using design_detail::LocalResult;
+using design_detail::uniform01;
+
+namespace {
+
+// Seed of the generator of random start r (r = -1: the deterministic starts'
+// generator): splitmix64 of seed + r * gamma, so that nearby seeds give
+// unrelated streams.
+std::uint64_t start_seed(std::uint64_t seed, int r) {
+  std::uint64_t state = seed + static_cast<std::uint64_t>(r) * kSplitmix64Gamma;
+  return splitmix64(state);
+}
+
+// What the options ask of the search, derived once.
+struct SearchSetting {
+  bool numerical = true;  // any real gains
+  int min_ones = 0;       // binary: the light budget in ones
+  Feasible feasible;      // continuous gains: the box and the budget
+
+  explicit SearchSetting(const OptimizeOptions& options)
+      : numerical(options.mode == ShutterMode::kNumerical && !options.binary),
+        min_ones(static_cast<int>(std::ceil(options.min_light_slots - 1e-9))) {
+    if (!numerical) {
+      feasible.lower = 0.0;
+      feasible.upper = 1.0;
+      feasible.min_sum = options.min_light_slots;
+    }
+  }
+};
+
+// Moves a start that misses the light budget onto it: binary starts get 1s at
+// random places, continuous ones are projected.
+void make_feasible(const OptimizeOptions& options, const SearchSetting& setting,
+                   std::vector<double>& start, std::mt19937_64& rng) {
+  if (!options.binary) {
+    setting.feasible.Project(start);
+    return;
+  }
+  int ones = static_cast<int>(std::count(start.begin(), start.end(), 1.0));
+  while (ones < setting.min_ones) {
+    const auto k = static_cast<std::size_t>(uniform01(rng) * options.length);
+    if (start[k] == 0.0) {
+      start[k] = 1.0;
+      ++ones;
+    }
+  }
+}
+
+// Random start r, from its own generator, so that more restarts only add
+// starts.
+std::vector<double> random_start(const OptimizeOptions& options, const SearchSetting& setting,
+                                 int r) {
+  std::mt19937_64 rng(start_seed(options.seed, r));
+  std::vector<double> start(static_cast<std::size_t>(options.length));
+  if (options.binary) {
+    // A density drawn per start, so that sparse and dense codes are tried.
+    const double density = 0.05 + 0.6 * uniform01(rng);
+    for (double& g : start) g = uniform01(rng) < density ? 1.0 : 0.0;
+  } else {
+    for (double& g : start) g = setting.numerical ? 2.0 * uniform01(rng) - 1.0 : uniform01(rng);
+  }
+  make_feasible(options, setting, start, rng);
+  return start;
+}
+
+// Starting codes: the snapshot first (admissible in every mode without a light
+// budget, so the result is never worse than it), the sinc code for numerical
+// gains, then seeded random codes.
+std::vector<std::vector<double>> starting_codes(const OptimizeOptions& options,
+                                                const SearchSetting& setting) {
+  std::vector<std::vector<double>> starts;
+  std::mt19937_64 deterministic_rng(start_seed(options.seed, -1));
+  starts.push_back(snapshot_code(options.length));
+  make_feasible(options, setting, starts.back(), deterministic_rng);
+  if (setting.numerical && options.length > 1) {
+    starts.push_back(generate_sinc_code(options.length, options.velocity_px_per_slot, options.dt));
+  }
+  for (int r = 0; r < options.restarts; ++r) starts.push_back(random_start(options, setting, r));
+  return starts;
+}
+
+// The local search from every start; the best code in result->gains.
+void search_from_starts(const OptimizeOptions& options, const SearchSetting& setting,
+                        const std::vector<std::vector<double>>& starts,
+                        OptimizationResult* result) {
+  const double v = options.velocity_px_per_slot;
+  std::optional<NoiseFigure> objective;
+  if (!options.binary)
+    objective.emplace(options.length, v, options.dt, options.mode, options.grid_points);
+  double best = kInfinity;
+  for (std::size_t s = 0; s < starts.size(); ++s) {
+    const LocalResult local =
+        options.binary
+            ? design_detail::minimize_binary(options.length, v, options.dt, options.grid_points,
+                                             setting.min_ones, starts[s], options.max_iterations)
+            : design_detail::minimize_continuous(*objective, starts[s], setting.feasible,
+                                                 options.max_iterations);
+    result->iterations += local.iterations;
+    result->evaluations += local.evaluations;
+    if (local.value < best) {
+      best = local.value;
+      result->gains = local.gains;
+      result->best_start = static_cast<int>(s);
+    }
+  }
+}
+
+// Numerical: max |alpha| = 1 changes nothing. Analog: max alpha = 1 can only
+// lower Q M (it scales by 1 / c). Binary codes are left as they are.
+void normalize_result(const OptimizeOptions& options, bool numerical, std::vector<double>& gains) {
+  if (options.binary) return;
+  const double sup = gain_max_abs(gains);
+  if (sup > 0.0) {
+    for (double& g : gains) g /= sup;
+  }
+  if (!numerical) {
+    for (double& g : gains) g = std::clamp(g, 0.0, 1.0);
+  }
+}
+
+}  // namespace
+
+bool OptimizeOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (length < 1 || length > kMaxOptimizedCodeLength) {
+    return fail("length = " + std::to_string(length) + ": must lie in [1, " +
+                std::to_string(kMaxOptimizedCodeLength) + "]");
+  }
+  if (!(std::isfinite(dt) && dt > 0.0)) {
+    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
+  }
+  if (!design_band_is_valid(velocity_px_per_slot, dt)) {
+    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
+                " with dt = " + format_number(dt) +
+                ": must satisfy 0 < |velocity| dt < 2 (at v = 0 no motion needs undoing; from "
+                "|v| dt = 2 on every code has K = 0 on the band)");
+  }
+  if (!(std::isfinite(snr) && snr > 0.0)) {
+    return fail("snr = " + format_number(snr) + ": must be finite and > 0");
+  }
+  if (!(std::isfinite(min_light_slots) && min_light_slots >= 0.0 && min_light_slots <= length)) {
+    return fail("min_light_slots = " + format_number(min_light_slots) +
+                ": must lie in [0, length = " + std::to_string(length) + "]");
+  }
+  if (min_light_slots > 0.0 && mode == ShutterMode::kNumerical && !binary) {
+    return fail("min_light_slots = " + format_number(min_light_slots) +
+                ": a light budget applies to analog or binary gains only (numerical frames "
+                "always gather L slots of light)");
+  }
+  if (restarts < 0) return fail("restarts = " + std::to_string(restarts) + ": must be >= 0");
+  if (max_iterations < 1) {
+    return fail("max_iterations = " + std::to_string(max_iterations) + ": must be >= 1");
+  }
+  if (grid_points < 16) {
+    return fail("grid_points = " + std::to_string(grid_points) + ": must be >= 16");
+  }
+  return true;
+}
+
+OptimizationResult optimize_code(const OptimizeOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  const SearchSetting setting(options);
+  const std::vector<std::vector<double>> starts = starting_codes(options, setting);
+
+  OptimizationResult result;
+  result.options = options;
+  result.starts = static_cast<int>(starts.size());
+  search_from_starts(options, setting, starts, &result);
+  if (result.gains.empty()) result.gains = snapshot_code(options.length);  // every start failed
+  normalize_result(options, setting.numerical, result.gains);
+  result.analysis =
+      analyze_code(ShutterCode{"optimized", result.gains}, options.velocity_px_per_slot, options.dt,
+                   options.snr, options.binary ? ShutterMode::kAnalog : options.mode);
+  result.analysis.mode = options.mode;
+  return result;
+}
+
+std::string OptimizationResult::FullReport() const {
+  std::ostringstream out;
+  char line[256];
+  const std::string kind =
+      options.binary ? "binary" : (options.mode == ShutterMode::kAnalog ? "analog" : "numerical");
+  std::snprintf(line, sizeof line, "Optimized %s code: L = %d, velocity %g, dt %g", kind.c_str(),
+                options.length, options.velocity_px_per_slot, options.dt);
+  out << line;
+  if (options.min_light_slots > 0.0) {
+    std::snprintf(line, sizeof line, ", light >= %g slots", options.min_light_slots);
+    out << line;
+  }
+  std::snprintf(line, sizeof line,
+                "\nSearch: %d starts (seed %llu, best from start %d), %d iterations, %d "
+                "evaluations\n",
+                starts, static_cast<unsigned long long>(options.seed), best_start, iterations,
+                evaluations);
+  out << line;
+  std::snprintf(line, sizeof line,
+                "Sum of gains %.4f, sum of squares %.4f, normalized L1 norm %.4f\n", analysis.sum,
+                analysis.square_sum, analysis.normalized_l1);
+  out << line;
+  std::snprintf(line, sizeof line,
+                "SNR at level 100: %.4f (snapshot %.4f, ratio %.5f; Cauchy-Schwarz bound %.4f)\n",
+                analysis.snr_level100, analysis.snapshot_snr_level100, analysis.ratio_to_snapshot,
+                analysis.snr_level100_bound);
+  out << line;
+  return out.str();
+}
+
+}  // namespace fss

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "core/text_util.h"
 #include "fss/core/error.h"
@@ -483,6 +484,54 @@ std::vector<std::uint8_t> plot_spectrum_png(const std::vector<double>& gains,
   });
 }
 
+namespace {
+
+// |K| of each code of an overlay at the frequencies `xi`, its legend entry,
+// and the largest value of all.
+struct OverlayCurves {
+  std::vector<std::vector<double>> curves;
+  std::vector<LegendEntry> legend;
+  double top = 0.0;
+};
+
+OverlayCurves overlay_curves(const std::vector<ShutterCode>& codes, double velocity, double dt,
+                             const std::vector<double>& xi) {
+  OverlayCurves o;
+  int series = 0;
+  for (const ShutterCode& code : codes) {
+    o.curves.push_back(abs_k(code.gains, velocity, dt, xi));
+    for (const double value : o.curves.back()) o.top = std::max(o.top, value);
+    const KernelAnalysis kernel = analyze_kernel(code.gains, velocity, dt);
+    std::string text = ellipsize(std::string(detail::base_name(code.name)), 14);
+    text += kernel.invertible ? ", min " + number("%.3g", kernel.min_abs) : ", has zeros";
+    // The snapshot is the dashed reference, as in the spectrum plot.
+    const bool snapshot = code.name == "snapshot";
+    o.legend.push_back({text, snapshot ? kInk : static_cast<PLINT>(kSeries + series++),
+                        snapshot ? 2 : 1, snapshot ? 1.5 : 1.8});
+  }
+  if (!(o.top > 0.0)) o.top = 1.0;
+  return o;
+}
+
+// The y range of an overlay; on a log scale, the curves become log10 |K|,
+// zeros (below 1e-4 of the top) drawn at the bottom edge.
+std::pair<double, double> overlay_y_range(OverlayCurves& o, bool log_scale) {
+  if (!log_scale) return {0.0, o.top * 1.06};
+  double bottom = HUGE_VAL;
+  for (const auto& curve : o.curves) {
+    for (const double value : curve) {
+      if (value > o.top * 1e-4) bottom = std::min(bottom, value);
+    }
+  }
+  const double y_low = std::floor(std::log10(bottom));
+  for (auto& curve : o.curves) {
+    for (double& value : curve) value = std::log10(std::max(value, std::pow(10.0, y_low)));
+  }
+  return {y_low, std::log10(o.top) + 0.08};
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> plot_spectra_overlay_png(const std::vector<ShutterCode>& codes,
                                                    double velocity, double dt, bool log_scale,
                                                    const PlotOptions& options) {
@@ -494,35 +543,10 @@ std::vector<std::uint8_t> plot_spectra_overlay_png(const std::vector<ShutterCode
   check_motion(velocity, dt);
   check_size(options);
   const std::vector<double> xi = frequencies(options.width);
-  std::vector<std::vector<double>> curves;
-  std::vector<LegendEntry> legend;
-  double top = 0.0, bottom = HUGE_VAL;
-  int series = 0;
-  for (std::size_t i = 0; i < codes.size(); ++i) {
-    curves.push_back(abs_k(codes[i].gains, velocity, dt, xi));
-    for (const double value : curves.back()) top = std::max(top, value);
-    const KernelAnalysis kernel = analyze_kernel(codes[i].gains, velocity, dt);
-    std::string text = ellipsize(std::string(detail::base_name(codes[i].name)), 14);
-    text += kernel.invertible ? ", min " + number("%.3g", kernel.min_abs) : ", has zeros";
-    // The snapshot is the dashed reference, as in the spectrum plot.
-    const bool snapshot = codes[i].name == "snapshot";
-    legend.push_back({text, snapshot ? kInk : static_cast<PLINT>(kSeries + series++),
-                      snapshot ? 2 : 1, snapshot ? 1.5 : 1.8});
-  }
-  if (!(top > 0.0)) top = 1.0;
-  for (const auto& curve : curves) {
-    for (const double value : curve) {
-      if (value > top * 1e-4) bottom = std::min(bottom, value);
-    }
-  }
-  double y_low = 0.0, y_high = top * 1.06;
-  if (log_scale) {
-    y_low = std::floor(std::log10(bottom));
-    y_high = std::log10(top) + 0.08;
-    for (auto& curve : curves) {
-      for (double& value : curve) value = std::log10(std::max(value, std::pow(10.0, y_low)));
-    }
-  }
+  OverlayCurves overlay = overlay_curves(codes, velocity, dt, xi);
+  // Named values, not a structured binding: clang 14 cannot capture one.
+  const std::pair<double, double> y_range = overlay_y_range(overlay, log_scale);
+  const double y_low = y_range.first, y_high = y_range.second;
   const std::string title = options.title.empty() ? "|K(ξ)| of " + std::to_string(codes.size()) +
                                                         " codes, " + motion_text(velocity, dt)
                                                   : literal(options.title);
@@ -534,24 +558,23 @@ std::vector<std::uint8_t> plot_spectra_overlay_png(const std::vector<ShutterCode
     plwind(-M_PI, M_PI, y_low, y_high);
     draw_frequency_grid(y_low, y_high);
     const auto n = static_cast<PLINT>(xi.size());
-    for (std::size_t i = 0; i < curves.size(); ++i) {
-      plcol0(legend[i].colour);
-      pllsty(legend[i].line_style);
-      plwidth(legend[i].line_width);
-      plline(n, xi.data(), curves[i].data());
+    for (std::size_t i = 0; i < overlay.curves.size(); ++i) {
+      plcol0(overlay.legend[i].colour);
+      pllsty(overlay.legend[i].line_style);
+      plwidth(overlay.legend[i].line_width);
+      plline(n, xi.data(), overlay.curves[i].data());
     }
     pllsty(1);
     draw_axes(canvas, "bcst", M_PI / 2.0, log_scale ? "bcnstvl" : "bcnstv", "ξ (radians per pixel)",
               log_scale ? "|K(ξ)|  (log scale)" : "|K(ξ)|");
     draw_frequency_labels(canvas);
-    draw_legend(canvas, legend, canvas.width() - kRight - legend_width + 16.0, 52.0, false);
+    draw_legend(canvas, overlay.legend, canvas.width() - kRight - legend_width + 16.0, 52.0, false);
   });
 }
 
-std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
-                                          const std::vector<CurveSeries>& series,
-                                          const std::string& x_label, const std::string& y_label,
-                                          const PlotOptions& options) {
+namespace {
+
+void check_curves(const std::vector<double>& x, const std::vector<CurveSeries>& series) {
   if (x.empty()) throw_usage_error("a curve plot needs at least one x value");
   if (series.empty() || static_cast<int>(series.size()) > kMaxSeries) {
     throw_usage_error("a curve plot takes 1 to " + std::to_string(kMaxSeries) + " curves, got " +
@@ -562,12 +585,19 @@ std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
       throw_usage_error("the x values of a curve plot must be finite and increasing");
     }
   }
-  double low = HUGE_VAL, high = -HUGE_VAL;
   for (const CurveSeries& curve : series) {
     if (curve.y.size() != x.size()) {
       throw_usage_error("curve '" + curve.name + "' has " + std::to_string(curve.y.size()) +
                         " values for " + std::to_string(x.size()) + " x values");
     }
+  }
+}
+
+// The y range of a curve plot: the finite values with a margin, 0 staying
+// the floor of non-negative curves.
+std::pair<double, double> curves_y_range(const std::vector<CurveSeries>& series) {
+  double low = HUGE_VAL, high = -HUGE_VAL;
+  for (const CurveSeries& curve : series) {
     for (const double v : curve.y) {
       if (std::isfinite(v)) {
         low = std::min(low, v);
@@ -577,8 +607,50 @@ std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
   }
   if (!(low <= high)) low = 0.0, high = 1.0;  // no finite value: an empty frame
   const double pad = high > low ? 0.08 * (high - low) : std::max(1.0, std::abs(high)) * 0.1;
-  const double y_low = low >= 0.0 ? std::max(0.0, low - pad) : low - pad;  // 0 stays the floor
-  const double y_high = high + pad;
+  const double y_low = low >= 0.0 ? std::max(0.0, low - pad) : low - pad;
+  return {y_low, high + pad};
+}
+
+// One curve in the current window: runs of finite values, each a polyline,
+// gaps where a value is missing; then its markers if it has them.
+void draw_curve(const std::vector<double>& x, const CurveSeries& curve, const LegendEntry& style) {
+  plcol0(style.colour);
+  pllsty(style.line_style);
+  plwidth(style.line_width);
+  std::vector<double> run_x, run_y;
+  auto flush = [&] {
+    if (run_x.size() > 1) plline(static_cast<PLINT>(run_x.size()), run_x.data(), run_y.data());
+    run_x.clear();
+    run_y.clear();
+  };
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    if (std::isfinite(curve.y[j])) {
+      run_x.push_back(x[j]);
+      run_y.push_back(curve.y[j]);
+    } else {
+      flush();
+    }
+  }
+  flush();
+  if (!curve.markers) return;
+  pllsty(1);
+  plssym(0.0, 1.6);  // markers 1.6 times the default size
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    if (!std::isfinite(curve.y[j])) continue;
+    double px = x[j], py = curve.y[j];
+    plpoin(1, &px, &py, 17);  // filled circle
+  }
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
+                                          const std::vector<CurveSeries>& series,
+                                          const std::string& x_label, const std::string& y_label,
+                                          const PlotOptions& options) {
+  check_curves(x, series);
+  const std::pair<double, double> y_range = curves_y_range(series);
+  const double y_low = y_range.first, y_high = y_range.second;
   const double x_pad = x.size() > 1 ? 0.03 * (x.back() - x.front()) : 0.5;
   std::vector<LegendEntry> legend;
   for (std::size_t i = 0; i < series.size(); ++i) {
@@ -592,46 +664,17 @@ std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
     draw_title(canvas, title);
     canvas.viewport(kLeft, kRight, 40.0, kBottom);
     plwind(x.front() - x_pad, x.back() + x_pad, y_low, y_high);
-    for (std::size_t i = 0; i < series.size(); ++i) {
-      plcol0(legend[i].colour);
-      pllsty(legend[i].line_style);
-      plwidth(legend[i].line_width);
-      // Runs of finite values, each a polyline; gaps where a value is missing.
-      std::vector<double> run_x, run_y;
-      auto flush = [&] {
-        if (run_x.size() > 1) {
-          plline(static_cast<PLINT>(run_x.size()), run_x.data(), run_y.data());
-        }
-        run_x.clear();
-        run_y.clear();
-      };
-      for (std::size_t j = 0; j < x.size(); ++j) {
-        if (std::isfinite(series[i].y[j])) {
-          run_x.push_back(x[j]);
-          run_y.push_back(series[i].y[j]);
-        } else {
-          flush();
-        }
-      }
-      flush();
-      if (series[i].markers) {
-        pllsty(1);
-        plssym(0.0, 1.6);  // markers 1.6 times the default size
-        for (std::size_t j = 0; j < x.size(); ++j) {
-          if (!std::isfinite(series[i].y[j])) continue;
-          double px = x[j], py = series[i].y[j];
-          plpoin(1, &px, &py, 17);  // filled circle
-        }
-      }
-    }
+    for (std::size_t i = 0; i < series.size(); ++i) draw_curve(x, series[i], legend[i]);
     pllsty(1);
     draw_axes(canvas, "bcnst", 0.0, "bcnstv", literal(x_label), literal(y_label));
     draw_legend(canvas, legend, kLeft + 12.0, 52.0, false);
   });
 }
 
-std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels,
-                                           const std::string& title) {
+namespace {
+
+// Width of a figure sheet of `panels`; a usage error unless they can make one.
+int sheet_width(const std::vector<SheetPanel>& panels) {
   if (panels.empty()) throw_usage_error("a figure sheet needs at least one image");
   const int height = panels[0].image != nullptr ? panels[0].image->height : 0;
   const int channels = panels[0].image != nullptr ? panels[0].image->channels : 0;
@@ -647,30 +690,45 @@ std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels
     }
     width += image->width + kSheetMargin;
   }
-  const int sheet_height = kSheetHeaderHeight + height + kSheetMargin;
-  if (width > 32767 || sheet_height > 32767) {
-    throw_usage_error("a figure sheet of " + std::to_string(width) + "x" +
-                      std::to_string(sheet_height) + " pixels is too large (32767 at most)");
-  }
+  return width;
+}
 
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * sheet_height * 4, 255);
+// Copies the panels into `rgba` (`width` pixels a row) below the header, a
+// margin apart; returns the x of their centres.
+std::vector<double> paste_panels(const std::vector<SheetPanel>& panels, int width,
+                                 std::vector<std::uint8_t>& rgba) {
   std::vector<double> centres;
   int left = kSheetMargin;
   for (const SheetPanel& panel : panels) {
     const Image& image = *panel.image;
-    for (int y = 0; y < height; ++y) {
+    for (int y = 0; y < image.height; ++y) {
       std::uint8_t* row =
           &rgba[(static_cast<std::size_t>(kSheetHeaderHeight + y) * width + left) * 4];
       for (int x = 0; x < image.width; ++x) {
         for (int c = 0; c < 3; ++c) {
-          const double value = image.at(channels == 1 ? 0 : c, y, x);
-          row[4 * x + c] = png8_sample(value);
+          row[4 * x + c] = png8_sample(image.at(image.channels == 1 ? 0 : c, y, x));
         }
       }
     }
     centres.push_back(left + image.width / 2.0);
     left += image.width + kSheetMargin;
   }
+  return centres;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels,
+                                           const std::string& title) {
+  const int width = sheet_width(panels);
+  const int height = panels[0].image->height, channels = panels[0].image->channels;
+  const int sheet_height = kSheetHeaderHeight + height + kSheetMargin;
+  if (width > 32767 || sheet_height > 32767) {
+    throw_usage_error("a figure sheet of " + std::to_string(width) + "x" +
+                      std::to_string(sheet_height) + " pixels is too large (32767 at most)");
+  }
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * sheet_height * 4, 255);
+  const std::vector<double> centres = paste_panels(panels, width, rgba);
   render(width, sheet_height, rgba, [&] {
     const Canvas canvas(width, sheet_height);
     // About 7.5 pixels per character at this size: cut what would not fit.

@@ -168,6 +168,53 @@ std::string dimensions(const PngHeader& header) {
   return std::to_string(header.width) + "x" + std::to_string(header.height);
 }
 
+// Refuses, before anything is allocated for them, a header declaring more
+// pixels than the file of `size` bytes can hold, and an image whose decoding
+// would need more than `max_bytes` (when > 0).
+void check_decodable(const PngHeader& header, std::size_t size, const std::string& name,
+                     std::size_t max_bytes) {
+  const std::uint64_t stored_bytes = static_cast<std::uint64_t>(header.width) * header.height *
+                                     static_cast<std::uint64_t>(header.stored_bits_per_pixel) / 8;
+  if (stored_bytes > kMaxDeflateRatio * (static_cast<std::uint64_t>(size) + 1)) {
+    throw_runtime_error("PNG '" + name + "' declares " + dimensions(header) +
+                        " pixels, more than its " + std::to_string(size) +
+                        " bytes can hold: it is truncated or its header is corrupt");
+  }
+  const int out_channels = header.channels >= 3 ? 3 : 1;
+  const std::size_t needed =
+      png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
+  if (max_bytes > 0 && needed > max_bytes) {
+    throw_limit_error("input '" + name + "' is " + std::to_string(header.width) + " x " +
+                      std::to_string(header.height) + " pixels: decoding it needs " +
+                      format_bytes(static_cast<double>(needed)) +
+                      ", more than the memory limit of " +
+                      format_bytes(static_cast<double>(max_bytes)));
+  }
+}
+
+// The decoded rows (1 to 4 channels after the transformations, 8 or 16
+// bits) as an image of `out_channels` channels on the 0..255 scale.
+Image to_image(const PngHeader& header, int out_channels, const std::vector<png_bytep>& rows) {
+  const int in_channels = header.channels;
+  Image image(static_cast<int>(header.width), static_cast<int>(header.height), out_channels);
+  for (png_uint_32 y = 0; y < header.height; ++y) {
+    const std::uint8_t* row = rows[y];
+    for (png_uint_32 x = 0; x < header.width; ++x) {
+      for (int c = 0; c < out_channels; ++c) {
+        const std::size_t sample = static_cast<std::size_t>(x) * in_channels + c;
+        double value;
+        if (header.bit_depth == 16) {  // big-endian, whatever the host
+          value = ((row[2 * sample] << 8) | row[2 * sample + 1]) / 257.0;
+        } else {
+          value = row[sample];
+        }
+        image.at(c, static_cast<int>(y), static_cast<int>(x)) = value;
+      }
+    }
+  }
+  return image;
+}
+
 }  // namespace
 
 std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
@@ -198,25 +245,8 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   if (header.width == 0 || header.height == 0) {
     throw_runtime_error("PNG '" + name + "' has no pixels");
   }
-  // A header declaring more pixels than the file can hold is refused before
-  // anything is allocated for them.
-  const std::uint64_t stored_bytes = static_cast<std::uint64_t>(header.width) * header.height *
-                                     static_cast<std::uint64_t>(header.stored_bits_per_pixel) / 8;
-  if (stored_bytes > kMaxDeflateRatio * (static_cast<std::uint64_t>(size) + 1)) {
-    throw_runtime_error("PNG '" + name + "' declares " + dimensions(header) +
-                        " pixels, more than its " + std::to_string(size) +
-                        " bytes can hold: it is truncated or its header is corrupt");
-  }
+  check_decodable(header, size, name, max_bytes);
   const int out_channels = header.channels >= 3 ? 3 : 1;
-  const std::size_t needed =
-      png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
-  if (max_bytes > 0 && needed > max_bytes) {
-    throw_limit_error("input '" + name + "' is " + std::to_string(header.width) + " x " +
-                      std::to_string(header.height) + " pixels: decoding it needs " +
-                      format_bytes(static_cast<double>(needed)) +
-                      ", more than the memory limit of " +
-                      format_bytes(static_cast<double>(max_bytes)));
-  }
   try {
     // Not zero-filled: only the rows libpng actually decodes are touched.
     const auto pixels =
@@ -226,25 +256,7 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
     if (!read_rows(ctx, rows.data())) {
       throw_runtime_error("cannot read PNG '" + name + "': " + ctx->message);
     }
-
-    const int in_channels = header.channels;  // 1 to 4 after the transformations
-    Image image(static_cast<int>(header.width), static_cast<int>(header.height), out_channels);
-    for (png_uint_32 y = 0; y < header.height; ++y) {
-      const std::uint8_t* row = rows[y];
-      for (png_uint_32 x = 0; x < header.width; ++x) {
-        for (int c = 0; c < out_channels; ++c) {
-          const std::size_t sample = static_cast<std::size_t>(x) * in_channels + c;
-          double value;
-          if (header.bit_depth == 16) {  // big-endian, whatever the host
-            value = ((row[2 * sample] << 8) | row[2 * sample + 1]) / 257.0;
-          } else {
-            value = row[sample];
-          }
-          image.at(c, static_cast<int>(y), static_cast<int>(x)) = value;
-        }
-      }
-    }
-    return image;
+    return to_image(header, out_channels, rows);
   } catch (const std::bad_alloc&) {
     throw_runtime_error("cannot read PNG '" + name + "': not enough memory for its " +
                         dimensions(header) + " pixels");

@@ -452,8 +452,10 @@ TEST_F(WriteOutputs, StagingNeverReplacesOrRemovesOtherFiles) {
   const std::string pid = std::to_string(::getpid());
   std::vector<std::string> decoys;
   for (const std::string& name : output_file_names()) {
-    decoys.push_back("." + name + ".fssim-tmp-" + pid);
-    decoys.push_back("." + name + ".fssim-" + pid + "-0.tmp");
+    for (const std::string& suffix : {".fssim-tmp-" + pid, ".fssim-" + pid + "-0.tmp"}) {
+      decoys.push_back("." + name);
+      decoys.back() += suffix;
+    }
   }
   for (const std::string& decoy : decoys) test::write_file(dir_ / decoy, "decoy " + decoy);
   write_outputs(dir_.path(), report(), small_input(), "input.png");

@@ -47,12 +47,14 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 // Ranks come from sorting 8-byte keys (the value's order-preserving bits,
 // their low bits replaced by the pixel index, radix-sorted; runs whose values
 // differ only in those low bits are then put in exact value order), so the
-// scratch is 16 bytes a pixel of one channel, plus 8 bytes per distinct value
-// of a's window (2 KiB for 8-bit images), plus the sorter's buffer (half a
-// byte a pixel, at least 2 MiB). With more than one thread and a window of at
-// most kParallelSortPixels pixels, a and b are sorted at the same time
-// (20 bytes and 1 bit a pixel at the peak, two buffers); the result is the
-// same. A window above 2^32 pixels a channel is a usage error.
+// scratch is 16 bytes and 2 bits a pixel of one channel (a's group of each
+// pixel, b's sorted keys and pixel of each rank, a bit per rank on each
+// side), plus 8 bytes per distinct value of a's window (2 KiB for 8-bit
+// images), plus the sorter's buffer (half a byte a pixel, at least 2 MiB).
+// With more than one thread and a window of at most kParallelSortPixels
+// pixels, a and b are sorted at the same time (20 bytes and 1 bit a pixel
+// at the peak, two buffers); the result is the same. A window above 2^32 pixels a channel is a
+// usage error.
 inline constexpr std::size_t kParallelSortPixels = std::size_t{1} << 22;
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end, int threads = 1);
 double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end,

@@ -49,46 +49,74 @@ void require_window(const Image& image, int first, int end) {
   }
 }
 
-// Sort keys that order (value, column-major index) pairs in 8 bytes: the
-// value's order-preserving bit pattern with its low `index_bits` bits
-// replaced by the index. Equal values are ordered by index exactly; values
-// closer than about 2^(index_bits - 52) relative are ordered by index too,
-// which moves their midway values by no more than that.
-class RankKeys {
+// The order-preserving bit pattern of a value: comparing two patterns as
+// unsigned integers compares the values (-0 and +0 are the same value).
+std::uint64_t ordered_bits(double value) {
+  if (value == 0.0) value = 0.0;
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  // Flip all bits of negatives, the sign bit of positives.
+  return (bits >> 63) ? ~bits : bits | (std::uint64_t{1} << 63);
+}
+
+// Sort keys that carry a pixel in 8 bytes: a value's ordered bits with their
+// low `index_bits` bits replaced by the pixel index. Sorting the keys sorts
+// the values by their bits above the index (their "value part") and tells
+// the pixel of each rank. The index only carries the pixel: no order that
+// matters is decided by it (order_runs puts each run of equal value parts
+// in the exact order of the values).
+class PixelKeys {
  public:
-  explicit RankKeys(std::size_t n)
+  explicit PixelKeys(std::size_t n)
       : index_bits_(std::max(1, static_cast<int>(std::bit_width(n > 0 ? n - 1 : 0)))),
         index_mask_((std::uint64_t{1} << index_bits_) - 1) {}
 
-  std::uint64_t key(double value, std::size_t index) const {
-    if (value == 0.0) value = 0.0;  // -0 and +0 are equal values
-    std::uint64_t bits;
-    std::memcpy(&bits, &value, sizeof bits);
-    // Order-preserving: flip all bits of negatives, the sign bit of positives.
-    bits = (bits >> 63) ? ~bits : bits | (std::uint64_t{1} << 63);
-    return (bits & ~index_mask_) | static_cast<std::uint64_t>(index);
+  std::uint64_t key(std::uint64_t bits, std::uint32_t pixel) const {
+    return (bits & ~index_mask_) | pixel;
   }
-  std::size_t index(std::uint64_t key) const { return static_cast<std::size_t>(key & index_mask_); }
+  std::uint32_t pixel(std::uint64_t key) const {
+    return static_cast<std::uint32_t>(key & index_mask_);
+  }
+  std::uint64_t value_part(std::uint64_t key) const { return key & ~index_mask_; }
+  // True when the value part of `bits` is all of it (its dropped bits are 0).
+  bool keeps_all(std::uint64_t bits) const { return (bits & index_mask_) == 0; }
 
  private:
   int index_bits_;
   std::uint64_t index_mask_;
 };
 
-// Columns [first, end) of a channel of `image`, addressed by column-major
-// index i = (x - first) * height + y.
-struct Window {
-  const Image* image;
-  int channel;
-  int first;
-  int end;
+// Columns [first, end) of a channel of `image`, pixel p = y * width +
+// (x - first). Row y = p / width without a division instruction: the
+// rounded quotient in doubles (p < 2^32, so it is off by at most one),
+// corrected.
+class Window {
+ public:
+  Window(const Image* image, int channel, int first, int end)
+      : image_(image),
+        channel_(channel),
+        first_(first),
+        width_(static_cast<std::uint32_t>(end - first)),
+        inverse_width_(1.0 / static_cast<double>(end - first)) {}
   std::size_t size() const {
-    return static_cast<std::size_t>(end - first) * static_cast<std::size_t>(image->height);
+    return std::size_t{width_} * static_cast<std::size_t>(image_->height);
   }
-  double operator[](std::size_t i) const {
-    const auto h = static_cast<std::size_t>(image->height);
-    return image->at(channel, static_cast<int>(i % h), first + static_cast<int>(i / h));
+  std::uint32_t width() const { return width_; }
+  const double* row(int y) const { return image_->row(channel_, y) + first_; }
+  double operator[](std::uint32_t p) const { return *address(p); }
+  const double* address(std::uint32_t p) const {
+    auto y = static_cast<std::uint32_t>(static_cast<double>(p) * inverse_width_);
+    if (y * std::uint64_t{width_} > p) --y;
+    if ((y + 1) * std::uint64_t{width_} <= p) ++y;
+    return row(static_cast<int>(y)) + (p - y * width_);
   }
+
+ private:
+  const Image* image_;
+  int channel_;
+  int first_;
+  std::uint32_t width_;
+  double inverse_width_;
 };
 
 // Radix sort of 64-bit keys whose scratch is bounded by `max_scratch` keys
@@ -190,83 +218,270 @@ class KeySorter {
   std::vector<std::uint64_t> buffer_;
 };
 
-// The rank keys of a window, sorted: key i holds the column-major index of
-// the window's i-th smallest pixel. The image is read row by row (the keys
-// carry their index, so the order they are made in does not matter).
-std::vector<std::uint64_t> sorted_keys(const Window& w, const RankKeys& keys) {
+// The keys of a window, sorted by value part; *exact is set when every key
+// holds its whole value (the dropped bits are 0, e.g. for integers).
+std::vector<std::uint64_t> sorted_keys(const Window& w, const PixelKeys& keys, bool* exact) {
   std::vector<std::uint64_t> sorted(w.size());
-  const auto h = static_cast<std::size_t>(w.image->height);
+  std::uint64_t dropped = 0;
   std::size_t k = 0;
-  for (int y = 0; y < w.image->height; ++y) {
-    const double* row = w.image->row(w.channel, y);
-    for (int x = w.first; x < w.end; ++x) {
-      sorted[k++] = keys.key(row[x], static_cast<std::size_t>(x - w.first) * h + y);
+  for (int y = 0; k < sorted.size(); ++y) {
+    const double* row = w.row(y);
+    for (std::uint32_t x = 0; x < w.width(); ++x) {
+      const std::uint64_t bits = ordered_bits(row[x]);
+      dropped |= bits;
+      sorted[k] = keys.key(bits, static_cast<std::uint32_t>(k));
+      ++k;
     }
   }
+  *exact = keys.keeps_all(dropped);
   KeySorter(sorted.size(), sort_scratch_keys(sorted.size())).sort(sorted.data(), sorted.size());
   return sorted;
 }
 
+// Sorts each run of keys with equal value parts by `less` (a strict weak
+// order on keys that refines the value-part order), unless it already is.
+template <typename Less>
+void order_runs(std::vector<std::uint64_t>& sorted, const PixelKeys& keys, Less less) {
+  const std::size_t n = sorted.size();
+  std::size_t begin = 0;
+  while (begin < n) {
+    const std::uint64_t part = keys.value_part(sorted[begin]);
+    std::size_t end = begin + 1;
+    while (end < n && keys.value_part(sorted[end]) == part) ++end;
+    const auto first = sorted.begin() + static_cast<std::ptrdiff_t>(begin);
+    const auto last = sorted.begin() + static_cast<std::ptrdiff_t>(end);
+    if (end - begin > 1 && !std::is_sorted(first, last, less)) std::sort(first, last, less);
+    begin = end;
+  }
+}
+
+// How many ranks ahead the passes that read or write pixels in rank order
+// (scattered over the image) ask for them: without it, each waits for memory.
+constexpr std::size_t kAhead = 16;
+
 // Ranks and pixel indices are 32-bit.
 constexpr std::size_t kMaxRankedPixels = std::size_t{1} << 32;
 
-// Midway equalization of two windows of equal size by ranks: the pixels of
-// rank i of a and of b both become mid(i), the mean of the two i-th smallest
-// values. Kept: the rank of each of a's pixels, the pixel of each rank of b
-// (column-major indices) and the midway values; scratch at its peak is 16
-// bytes a pixel (a's ranks and pixels, b's sorted 8-byte keys) plus the
-// sorter's buffer (sort_scratch_keys).
-class MidwayRanks {
+// A midway value kept in a slot of the sorted keys, as its bits.
+double as_double(std::uint64_t bits) {
+  double value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+std::uint64_t as_bits(double value) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+// Mean B and sum of squared deviations m2 = sum (mid_i - B)^2 of the midway
+// values of ranks [begin, end), in two passes (no cancellation).
+struct GroupMoments {
+  double mean = 0.0;
+  double m2 = 0.0;
+};
+GroupMoments moments(const std::vector<std::uint64_t>& mid, std::size_t begin, std::size_t end) {
+  double sum = 0.0;
+  for (std::size_t i = begin; i < end; ++i) sum += as_double(mid[i]);
+  GroupMoments g;
+  g.mean = sum / static_cast<double>(end - begin);
+  for (std::size_t i = begin; i < end; ++i) {
+    const double d = as_double(mid[i]) - g.mean;
+    g.m2 += d * d;
+  }
+  return g;
+}
+
+// Calls f(begin, end) for each group of ranks, `starts` marking the first
+// rank of each.
+template <typename F>
+void for_each_group(const std::vector<bool>& starts, F f) {
+  const std::size_t n = starts.size();
+  std::size_t begin = 0;
+  while (begin < n) {
+    std::size_t end = begin + 1;
+    while (end < n && !starts[end]) ++end;
+    f(begin, end);
+    begin = end;
+  }
+}
+
+// The value whose ordered bits these are (the inverse of ordered_bits).
+double value_of_bits(std::uint64_t bits) {
+  return as_double((bits >> 63) ? bits ^ (std::uint64_t{1} << 63) : ~bits);
+}
+
+// a's side of the expected midway equalization, the image sorted first:
+// its groups of equal values, numbered in rank order.
+struct GroundRanks {
+  std::vector<std::uint32_t> group;  // by pixel
+  std::vector<bool> starts;          // by rank: the rank is the first of its group
+  std::vector<double> value;         // by group: its value (the sweep puts B_G there)
+};
+
+GroundRanks rank_groups(std::vector<std::uint64_t> sorted, const Window& w, const PixelKeys& keys,
+                        bool exact) {
+  auto bits = [&](std::uint64_t key) {
+    return exact ? keys.value_part(key) : ordered_bits(w[keys.pixel(key)]);
+  };
+  if (!exact) {
+    order_runs(sorted, keys, [&](std::uint64_t i, std::uint64_t j) { return bits(i) < bits(j); });
+  }
+  const std::size_t n = sorted.size();
+  GroundRanks ranks;
+  ranks.group.resize(n);
+  ranks.starts.resize(n);
+  std::size_t groups = 0;
+  std::uint64_t previous = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n) __builtin_prefetch(&ranks.group[keys.pixel(sorted[i + kAhead])], 1);
+    const std::uint64_t key = sorted[i];
+    const std::uint64_t value = bits(key);
+    if (i == 0 || value != previous) {
+      ranks.starts[i] = true;
+      sorted[groups++] = value;  // the group values, in place of keys already read
+    }
+    previous = value;
+    ranks.group[keys.pixel(key)] = static_cast<std::uint32_t>(groups - 1);
+  }
+  ranks.value.resize(groups);
+  for (std::size_t k = 0; k < groups; ++k) ranks.value[k] = value_of_bits(sorted[k]);
+  return ranks;
+}
+
+// Puts b's sorted keys in the exact order of their values, and equal values
+// in the order of a's groups at their pixels: the ranks then list the
+// (b value, a value) pairs in lexicographic order, whatever the pixel order.
+void order_restored(std::vector<std::uint64_t>& sorted, const Window& w, const PixelKeys& keys,
+                    bool exact, const GroundRanks& a) {
+  auto bits = [&](std::uint64_t key) {
+    return exact ? keys.value_part(key) : ordered_bits(w[keys.pixel(key)]);
+  };
+  order_runs(sorted, keys, [&](std::uint64_t i, std::uint64_t j) {
+    const std::uint32_t pi = keys.pixel(i);
+    const std::uint32_t pj = keys.pixel(j);
+    const std::uint64_t bi = bits(i);
+    const std::uint64_t bj = bits(j);
+    return bi < bj || (bi == bj && a.group[pi] < a.group[pj]);
+  });
+}
+
+// The expected squared difference of the midway-equalized windows a and b of
+// one channel, summed over the pixels, over independent uniform orders of
+// each group of equal values of a and of b (docs/method.md §5). Pixel p of
+// a's group G and b's group H: E[(a'_p - b'_p)^2] = A_G - 2 B_G B_H + A_H,
+// with B and A the means of mid_i and mid_i^2 over the group's ranks, i.e.
+// (A_G - B_G^2) + (A_H - B_H^2) + (B_G - B_H)^2. The sum is taken as
+// sum_G m2_G + sum_H m2_H + sum_p (B_G - B_H)^2 (m2: the group's sum of
+// squared deviations of mid from its mean), each in an order fixed by the
+// values alone, so the result does not depend on the order of the pixels.
+class ExpectedMidwaySum {
  public:
-  // With `in_parallel`, b's keys are sorted on another thread while a's are
-  // (20 bytes a pixel at the peak and two sorter buffers; the same result).
-  MidwayRanks(const Window& a, const Window& b, bool in_parallel = false) {
+  ExpectedMidwaySum(const Window& a, const Window& b, bool in_parallel) {
     const std::size_t n = a.size();
     if (n > kMaxRankedPixels) {
       throw_usage_error("a window of " + std::to_string(n) +
                         " pixels a channel is too large to rank: at most 2^32 are supported");
     }
-    const RankKeys keys(n);
-    std::vector<std::uint32_t> pixel;  // a's pixel of each rank, then b's
+    const PixelKeys keys(n);
+    bool b_exact = false;
     std::future<std::vector<std::uint64_t>> b_sorted;
     if (in_parallel) {
       try {
-        b_sorted = std::async(std::launch::async, [&] { return sorted_keys(b, keys); });
+        b_sorted = std::async(std::launch::async, [&] { return sorted_keys(b, keys, &b_exact); });
       } catch (const std::system_error&) {
         // no thread: sort b after a
       }
     }
-    {
-      const std::vector<std::uint64_t> a_sorted = sorted_keys(a, keys);
-      pixel.resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        pixel[i] = static_cast<std::uint32_t>(keys.index(a_sorted[i]));
-      }
-    }
-    a_rank.resize(n);
-    for (std::size_t i = 0; i < n; ++i) a_rank[pixel[i]] = static_cast<std::uint32_t>(i);
-    mid_bits_ = b_sorted.valid() ? b_sorted.get() : sorted_keys(b, keys);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t b_pixel = keys.index(mid_bits_[i]);
-      const double mid = 0.5 * (a[pixel[i]] + b[b_pixel]);  // the two i-th smallest: their mean
-      pixel[i] = static_cast<std::uint32_t>(b_pixel);
-      std::memcpy(&mid_bits_[i], &mid, sizeof mid);
-    }
-    b_pixel = std::move(pixel);
+    bool a_exact = false;
+    std::vector<std::uint64_t> a_sorted = sorted_keys(a, keys, &a_exact);
+    GroundRanks ranks = rank_groups(std::move(a_sorted), a, keys, a_exact);
+    std::vector<std::uint64_t> sorted =
+        b_sorted.valid() ? b_sorted.get() : sorted_keys(b, keys, &b_exact);
+    order_restored(sorted, b, keys, b_exact, ranks);
+    const double m2_sum = sweep(b, keys, ranks, sorted);
+    sum_ = m2_sum + cross_sum(ranks, sorted);
   }
-  double mid(std::size_t i) const {
-    double value;
-    std::memcpy(&value, &mid_bits_[i], sizeof value);
-    return value;
-  }
-  std::size_t size() const { return mid_bits_.size(); }
-
-  std::vector<std::uint32_t> a_rank;   // by a's pixel
-  std::vector<std::uint32_t> b_pixel;  // by rank
+  double sum() const { return sum_; }
 
  private:
-  std::vector<std::uint64_t> mid_bits_;  // by rank
+  double sweep(const Window& b, const PixelKeys& keys, GroundRanks& ranks,
+               std::vector<std::uint64_t>& sorted);
+  double cross_sum(const GroundRanks& ranks, const std::vector<std::uint64_t>& b_means) const;
+
+  std::vector<std::uint32_t> b_pixel_;  // by rank
+  double sum_ = 0.0;
 };
+
+// mid_i for every rank, then the moments of a's and b's groups: returns
+// sum m2 over both sides' groups (a's, then b's). Leaves B_G in
+// ranks.value, b's pixel of each rank in b_pixel_ and B_H of each rank in
+// `sorted` (as bits).
+double ExpectedMidwaySum::sweep(const Window& b, const PixelKeys& keys, GroundRanks& ranks,
+                                std::vector<std::uint64_t>& sorted) {
+  const std::size_t n = sorted.size();
+  b_pixel_.resize(n);
+  std::vector<bool> b_starts(n);
+  std::size_t a_group = 0;
+  std::uint64_t previous = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n) __builtin_prefetch(b.address(keys.pixel(sorted[i + kAhead])));
+    if (i > 0 && ranks.starts[i]) ++a_group;
+    const std::uint32_t pixel = keys.pixel(sorted[i]);
+    const double vb = b[pixel];
+    b_starts[i] = i == 0 || ordered_bits(vb) != previous;
+    previous = ordered_bits(vb);
+    b_pixel_[i] = pixel;
+    sorted[i] = as_bits(0.5 * (ranks.value[a_group] + vb));  // mid_i: the two i-th smallest' mean
+  }
+  double m2_sum = 0.0;
+  std::size_t k = 0;
+  for_each_group(ranks.starts, [&](std::size_t begin, std::size_t end) {
+    const GroupMoments g = moments(sorted, begin, end);
+    ranks.value[k++] = g.mean;
+    m2_sum += g.m2;
+  });
+  for_each_group(b_starts, [&](std::size_t begin, std::size_t end) {
+    if (end - begin == 1) return;  // B_H = mid_i, m2 = 0
+    const GroupMoments g = moments(sorted, begin, end);
+    std::fill(sorted.begin() + static_cast<std::ptrdiff_t>(begin),
+              sorted.begin() + static_cast<std::ptrdiff_t>(end), as_bits(g.mean));
+    m2_sum += g.m2;
+  });
+  return m2_sum;
+}
+
+// sum_p (B_G - B_H)^2 in b's rank order (b's ties in the order of a's groups).
+double ExpectedMidwaySum::cross_sum(const GroundRanks& ranks,
+                                    const std::vector<std::uint64_t>& b_means) const {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < b_means.size(); ++i) {
+    if (i + kAhead < b_means.size()) __builtin_prefetch(&ranks.group[b_pixel_[i + kAhead]]);
+    const double d = ranks.value[ranks.group[b_pixel_[i]]] - as_double(b_means[i]);
+    sum += d * d;
+  }
+  return sum;
+}
+
+// The group means of the midway values of a sorted sample: element i is
+// B of the group of equal values holding rank i (bits compared, -0 = +0).
+std::vector<double> group_means(const std::vector<double>& sorted, const std::vector<double>& mid) {
+  std::vector<double> means(sorted.size());
+  std::size_t begin = 0;
+  while (begin < sorted.size()) {
+    std::size_t end = begin + 1;
+    while (end < sorted.size() && ordered_bits(sorted[end]) == ordered_bits(sorted[begin])) ++end;
+    double sum = 0.0;
+    for (std::size_t i = begin; i < end; ++i) sum += mid[i];
+    std::fill(means.begin() + static_cast<std::ptrdiff_t>(begin),
+              means.begin() + static_cast<std::ptrdiff_t>(end),
+              sum / static_cast<double>(end - begin));
+    begin = end;
+  }
+  return means;
+}
+
+bool ordered_less(double x, double y) { return ordered_bits(x) < ordered_bits(y); }
 
 }  // namespace
 
@@ -308,14 +523,24 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b) {
   require_same_size(a, b);
   Image ea(a.width, a.height, a.channels);
   Image eb(b.width, b.height, b.channels);
-  const auto h = static_cast<std::size_t>(a.height);
-  auto at = [h](Image& image, int c, std::size_t pixel) -> double& {
-    return image.at(c, static_cast<int>(pixel % h), static_cast<int>(pixel / h));
-  };
+  const std::size_t n = a.plane_size();
   for (int c = 0; c < a.channels; ++c) {
-    const MidwayRanks ranks(Window{&a, c, 0, a.width}, Window{&b, c, 0, b.width});
-    for (std::size_t p = 0; p < ranks.size(); ++p) at(ea, c, p) = ranks.mid(ranks.a_rank[p]);
-    for (std::size_t i = 0; i < ranks.size(); ++i) at(eb, c, ranks.b_pixel[i]) = ranks.mid(i);
+    const auto offset = static_cast<std::ptrdiff_t>(static_cast<std::size_t>(c) * n);
+    std::vector<double> sa(a.data.begin() + offset, a.data.begin() + offset + n);
+    std::vector<double> sb(b.data.begin() + offset, b.data.begin() + offset + n);
+    std::sort(sa.begin(), sa.end(), ordered_less);
+    std::sort(sb.begin(), sb.end(), ordered_less);
+    std::vector<double> mid(n);
+    for (std::size_t i = 0; i < n; ++i) mid[i] = 0.5 * (sa[i] + sb[i]);
+    const std::vector<double> a_means = group_means(sa, mid);
+    const std::vector<double> b_means = group_means(sb, mid);
+    for (std::size_t p = 0; p < n; ++p) {
+      const auto q = static_cast<std::size_t>(offset) + p;
+      ea.data[q] = a_means[static_cast<std::size_t>(
+          std::lower_bound(sa.begin(), sa.end(), a.data[q], ordered_less) - sa.begin())];
+      eb.data[q] = b_means[static_cast<std::size_t>(
+          std::lower_bound(sb.begin(), sb.end(), b.data[q], ordered_less) - sb.begin())];
+    }
   }
   return {std::move(ea), std::move(eb)};
 }
@@ -333,13 +558,9 @@ double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int
   const bool in_parallel = resolve_thread_count(threads) > 1 && window <= kParallelSortPixels;
   double sum = 0.0;
   for (int c = 0; c < b.channels; ++c) {
-    const MidwayRanks ranks(Window{&a, c, first + a_offset, end + a_offset},
-                            Window{&b, c, first, end}, in_parallel);
-    // At b's pixel of rank i: equalized b is mid(i), equalized a is mid(rank of a there).
-    for (std::size_t i = 0; i < ranks.size(); ++i) {
-      const double d = ranks.mid(ranks.a_rank[ranks.b_pixel[i]]) - ranks.mid(i);
-      sum += d * d;
-    }
+    sum += ExpectedMidwaySum(Window(&a, c, first + a_offset, end + a_offset),
+                             Window(&b, c, first, end), in_parallel)
+               .sum();
   }
   const double count = static_cast<double>(end - first) * b.height * b.channels;
   return std::sqrt(sum / count);

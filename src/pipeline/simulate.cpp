@@ -294,8 +294,12 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   // at the same time (windows of at most kParallelSortPixels).
   const std::size_t ci_pixels = ci_width * h;
   const std::size_t sorter = std::max<std::size_t>(ci_pixels / 2, std::size_t{2} << 20);
+  // Plus the group bookkeeping of the tie expectation: two bits a pixel and
+  // 8 bytes per distinct ground-truth value (at most 65536 of them).
+  const std::size_t groups = ci_pixels / 4 + 8 * std::size_t{65536};
   const std::size_t midway =
-      ci_pixels <= kParallelSortPixels ? 20 * ci_pixels + 2 * sorter : 16 * ci_pixels + sorter;
+      (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels + 2 * sorter : 16 * ci_pixels + sorter) +
+      groups;
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = 8 * wo * h * c;
   return input + outputs + std::max(midway, encoding);

@@ -1,21 +1,27 @@
-// Tests of fss/metrics.h: RMSE, PSNR, midway equalization, the contrast
-// invariant RMSE and the residual display (SPEC 5).
+// Tests of fss/pipeline/metrics.h: RMSE, PSNR, midway equalization, the
+// contrast invariant RMSE and the residual display (docs/method.md §5).
 
 #include "fss/pipeline/metrics.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstdint>
-#include <functional>
 #include <iomanip>
+#include <iostream>
+#include <numeric>
 #include <random>
+#include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "fss/core/error.h"
 #include "fss/core/image.h"
+#include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/simulate.h"
+#include "support/test_util.h"
 
 namespace fss {
 namespace {
@@ -36,10 +42,6 @@ std::vector<double> sorted_channel(const Image& image, int c) {
   std::vector<double> values(first, first + static_cast<std::ptrdiff_t>(image.plane_size()));
   std::sort(values.begin(), values.end());
   return values;
-}
-
-void expect_throws_error(const std::function<void()>& call, const char* what) {
-  EXPECT_THROW(call(), Error) << what;
 }
 
 TEST(Rmse, HandMadeImageExactValue) {
@@ -81,44 +83,53 @@ TEST(Rmse, ChannelsArePooled) {
 
 TEST(Rmse, ThrowsOnSizeMismatch) {
   const Image a(6, 4, 1);
-  expect_throws_error([&] { rmse(a, Image(5, 4, 1), 0, 5); }, "width");
-  expect_throws_error([&] { rmse(a, Image(6, 3, 1), 0, 6); }, "height");
-  expect_throws_error([&] { rmse(a, Image(6, 4, 3), 0, 6); }, "channels");
-  expect_throws_error([&] { rmse_contrast_invariant(a, Image(5, 4, 1), 0, 5); }, "ci width");
-  expect_throws_error([&] { rmse_contrast_invariant(a, Image(6, 4, 3), 0, 6); }, "ci channels");
-  expect_throws_error([&] { midway_equalize(a, Image(6, 5, 1)); }, "midway");
-  expect_throws_error([&] { residual_display(a, Image(7, 4, 1)); }, "residual");
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, Image(5, 4, 1), 0, 5); }, ErrorKind::kUsage,
+                                 {"different sizes"}))
+      << "width";
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, Image(6, 3, 1), 0, 6); }, ErrorKind::kUsage,
+                                 {"different sizes"}))
+      << "height";
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, Image(6, 4, 3), 0, 6); }, ErrorKind::kUsage,
+                                 {"different sizes"}))
+      << "channels";
+  EXPECT_TRUE(test::throws_error([&] { rmse_contrast_invariant(a, Image(5, 4, 1), 0, 5); },
+                                 ErrorKind::kUsage, {"different sizes"}))
+      << "ci width";
+  EXPECT_TRUE(test::throws_error([&] { rmse_contrast_invariant(a, Image(6, 4, 3), 0, 6); },
+                                 ErrorKind::kUsage, {"different sizes"}))
+      << "ci channels";
+  EXPECT_TRUE(test::throws_error([&] { midway_equalize(a, Image(6, 5, 1)); }, ErrorKind::kUsage,
+                                 {"different sizes"}))
+      << "midway";
+  EXPECT_TRUE(test::throws_error([&] { residual_display(a, Image(7, 4, 1)); }, ErrorKind::kUsage,
+                                 {"different sizes"}))
+      << "residual";
 }
 
 TEST(Rmse, ThrowsOnEmptyOrOutOfRangeWindow) {
   const Image a(6, 4, 1, 1.0);
   const Image b(6, 4, 1, 2.0);
-  expect_throws_error([&] { rmse(a, b, 3, 3); }, "empty");
-  expect_throws_error([&] { rmse(a, b, 4, 2); }, "reversed");
-  expect_throws_error([&] { rmse(a, b, -1, 3); }, "negative first");
-  expect_throws_error([&] { rmse(a, b, 0, 7); }, "end past width");
-  expect_throws_error([&] { rmse(a, b, 6, 7); }, "first at width");
-  expect_throws_error([&] { rmse_contrast_invariant(a, b, 2, 2); }, "ci empty");
-  expect_throws_error([&] { rmse_contrast_invariant(a, b, 0, 7); }, "ci end past width");
-  expect_throws_error([&] { rmse_contrast_invariant(a, b, -2, 3); }, "ci negative first");
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, b, 3, 3); }, ErrorKind::kUsage, {"column window"}))
+      << "empty";
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, b, 4, 2); }, ErrorKind::kUsage, {"column window"}))
+      << "reversed";
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, b, -1, 3); }, ErrorKind::kUsage, {"column window"}))
+      << "negative first";
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, b, 0, 7); }, ErrorKind::kUsage, {"column window"}))
+      << "end past width";
+  EXPECT_TRUE(test::throws_error([&] { rmse(a, b, 6, 7); }, ErrorKind::kUsage, {"column window"}))
+      << "first at width";
+  EXPECT_TRUE(test::throws_error([&] { rmse_contrast_invariant(a, b, 2, 2); }, ErrorKind::kUsage,
+                                 {"column window"}))
+      << "ci empty";
+  EXPECT_TRUE(test::throws_error([&] { rmse_contrast_invariant(a, b, 0, 7); }, ErrorKind::kUsage,
+                                 {"column window"}))
+      << "ci end past width";
+  EXPECT_TRUE(test::throws_error([&] { rmse_contrast_invariant(a, b, -2, 3); }, ErrorKind::kUsage,
+                                 {"column window"}))
+      << "ci negative first";
   // The full window is fine.
   EXPECT_DOUBLE_EQ(rmse(a, b, 0, 6), 1.0);
-}
-
-TEST(Rmse, ErrorsAreUsageErrors) {
-  const Image a(6, 4, 1);
-  try {
-    rmse(a, Image(5, 4, 1), 0, 5);
-    FAIL() << "no error";
-  } catch (const Error& error) {
-    EXPECT_EQ(error.kind(), ErrorKind::kUsage);
-  }
-  try {
-    rmse(a, a, 2, 2);
-    FAIL() << "no error";
-  } catch (const Error& error) {
-    EXPECT_EQ(error.kind(), ErrorKind::kUsage);
-  }
 }
 
 TEST(Psnr, Formula) {
@@ -131,20 +142,120 @@ TEST(Psnr, Formula) {
   EXPECT_NEAR(psnr(0.417289), 55.722061, 2e-5);
 }
 
-TEST(MidwayEqualize, BothOutputsShareTheSortedValues) {
-  const Image a = random_image(13, 7, 1, 1, 0.0, 255.0, true);
+// Midway values of one channel: mid_i = (a_(i) + b_(i)) / 2.
+std::vector<double> midway_values(const Image& a, const Image& b, int c) {
+  const auto sa = sorted_channel(a, c);
+  const auto sb = sorted_channel(b, c);
+  std::vector<double> mid(sa.size());
+  for (std::size_t i = 0; i < sa.size(); ++i) mid[i] = 0.5 * (sa[i] + sb[i]);
+  return mid;
+}
+
+// The ranks [first, second) the value v holds in the sorted sample s.
+std::pair<std::size_t, std::size_t> ranks_of(const std::vector<double>& s, double v) {
+  const auto [lo, hi] = std::equal_range(s.begin(), s.end(), v);
+  return {static_cast<std::size_t>(lo - s.begin()), static_cast<std::size_t>(hi - s.begin())};
+}
+
+// The closed form of docs/method.md §5 written the plain way, in long
+// double: sum over pixels of A_G - 2 B_G B_H + A_H, B and A the means of mid
+// and mid^2 over each group's ranks (from prefix sums); sqrt(sum / count),
+// channels pooled.
+double closed_form_rmse_ci(const Image& a, const Image& b) {
+  long double total = 0.0L;
+  for (int c = 0; c < a.channels; ++c) {
+    const auto sa = sorted_channel(a, c);
+    const auto sb = sorted_channel(b, c);
+    const auto mid = midway_values(a, b, c);
+    std::vector<long double> s1(mid.size() + 1, 0.0L), s2(mid.size() + 1, 0.0L);
+    for (std::size_t i = 0; i < mid.size(); ++i) {
+      s1[i + 1] = s1[i] + mid[i];
+      s2[i + 1] = s2[i] + static_cast<long double>(mid[i]) * mid[i];
+    }
+    auto means = [&](std::pair<std::size_t, std::size_t> r) {
+      const auto size = static_cast<long double>(r.second - r.first);
+      return std::pair{(s1[r.second] - s1[r.first]) / size, (s2[r.second] - s2[r.first]) / size};
+    };
+    for (std::size_t p = 0; p < a.plane_size(); ++p) {
+      const auto [bg, ag] = means(ranks_of(sa, a.data[c * a.plane_size() + p]));
+      const auto [bh, ah] = means(ranks_of(sb, b.data[c * b.plane_size() + p]));
+      total += ag - 2.0L * bg * bh + ah;
+    }
+  }
+  return static_cast<double>(std::sqrt(total / static_cast<long double>(a.data.size())));
+}
+
+// Plain midway equalization with every tie broken by `order` (a rank among
+// equal values): the squared error sum of one explicit order of the groups.
+double squared_error_for_order(const Image& a, const Image& b, const std::vector<double>& a_order,
+                               const std::vector<double>& b_order) {
+  double sum = 0.0;
+  const std::size_t n = a.plane_size();
+  for (int c = 0; c < a.channels; ++c) {
+    const auto mid = midway_values(a, b, c);
+    auto ranks = [&](const Image& image, const std::vector<double>& order) {
+      std::vector<std::size_t> pixels(n);
+      for (std::size_t p = 0; p < n; ++p) pixels[p] = p;
+      const double* v = image.data.data() + c * n;
+      const double* o = order.data() + c * n;
+      std::sort(pixels.begin(), pixels.end(), [&](std::size_t i, std::size_t j) {
+        return v[i] < v[j] || (v[i] == v[j] && o[i] < o[j]);
+      });
+      std::vector<std::size_t> rank(n);
+      for (std::size_t r = 0; r < n; ++r) rank[pixels[r]] = r;
+      return rank;
+    };
+    const auto ra = ranks(a, a_order);
+    const auto rb = ranks(b, b_order);
+    for (std::size_t p = 0; p < n; ++p) {
+      const double d = mid[ra[p]] - mid[rb[p]];
+      sum += d * d;
+    }
+  }
+  return sum;
+}
+
+Image reverse_columns(const Image& image) {
+  Image out(image.width, image.height, image.channels);
+  for (int c = 0; c < image.channels; ++c) {
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) out.at(c, y, x) = image.at(c, y, image.width - 1 - x);
+    }
+  }
+  return out;
+}
+
+TEST(MidwayEqualize, WithoutTiesBothOutputsShareTheMidwayValues) {
+  const Image a = random_image(13, 7, 1, 1, 0.0, 255.0, false);
   const Image b = random_image(13, 7, 1, 2, -20.0, 300.0, false);
   const auto [ea, eb] = midway_equalize(a, b);
   ASSERT_EQ(ea.width, 13);
   ASSERT_EQ(ea.height, 7);
   ASSERT_EQ(ea.channels, 1);
   ASSERT_EQ(eb.data.size(), b.data.size());
-  const auto sa = sorted_channel(a, 0);
-  const auto sb = sorted_channel(b, 0);
-  std::vector<double> midway(sa.size());
-  for (std::size_t i = 0; i < sa.size(); ++i) midway[i] = 0.5 * (sa[i] + sb[i]);
-  EXPECT_EQ(sorted_channel(ea, 0), midway);
-  EXPECT_EQ(sorted_channel(eb, 0), midway);
+  EXPECT_EQ(sorted_channel(ea, 0), midway_values(a, b, 0));
+  EXPECT_EQ(sorted_channel(eb, 0), midway_values(a, b, 0));
+}
+
+// Each pixel gets the mean of mid over the ranks of its group of equal values.
+TEST(MidwayEqualize, EqualValuesGetTheMeanOfTheirGroupsMidwayValues) {
+  const Image a = random_image(11, 9, 2, 3, 0.0, 12.0, true);  // many ties
+  const Image b = random_image(11, 9, 2, 4, 0.0, 30.0, true);
+  const auto [ea, eb] = midway_equalize(a, b);
+  for (int c = 0; c < 2; ++c) {
+    const auto mid = midway_values(a, b, c);
+    for (const auto& [image, equalized] : {std::pair{&a, &ea}, std::pair{&b, &eb}}) {
+      const auto s = sorted_channel(*image, c);
+      for (std::size_t p = 0; p < image->plane_size(); ++p) {
+        const std::size_t q = c * image->plane_size() + p;
+        const auto [first, last] = ranks_of(s, image->data[q]);
+        double sum = 0.0;
+        for (std::size_t i = first; i < last; ++i) sum += mid[i];
+        EXPECT_NEAR(equalized->data[q], sum / static_cast<double>(last - first), 1e-12)
+            << "channel " << c << " pixel " << p;
+      }
+    }
+  }
 }
 
 TEST(MidwayEqualize, PreservesRankOrder) {
@@ -154,7 +265,10 @@ TEST(MidwayEqualize, PreservesRankOrder) {
   for (std::size_t i = 0; i < a.data.size(); ++i) {
     for (std::size_t j = 0; j < a.data.size(); ++j) {
       if (a.data[i] < a.data[j]) {
-        ASSERT_LE(ea.data[i], ea.data[j]) << i << " " << j;
+        ASSERT_LT(ea.data[i], ea.data[j]) << i << " " << j;
+      }
+      if (a.data[i] == a.data[j]) {
+        ASSERT_EQ(ea.data[i], ea.data[j]) << i << " " << j;
       }
       if (b.data[i] < b.data[j]) {
         ASSERT_LE(eb.data[i], eb.data[j]) << i << " " << j;
@@ -166,7 +280,7 @@ TEST(MidwayEqualize, PreservesRankOrder) {
 TEST(MidwayEqualize, OfAnImageWithItselfIsTheImage) {
   const Image a = random_image(10, 6, 3, 5, 0.0, 255.0, true);
   const auto [ea, eb] = midway_equalize(a, a);
-  // (x + x) / 2 = x exactly in floating point.
+  // (x + x) / 2 = x, and a group's mean of equal integers is exact.
   EXPECT_EQ(ea.data, a.data);
   EXPECT_EQ(eb.data, a.data);
 }
@@ -182,74 +296,200 @@ TEST(MidwayEqualize, ChannelsAreEqualizedIndependently) {
   for (int c = 0; c < 3; ++c) {
     for (int y = 0; y < 5; ++y) {
       for (int x = 0; x < 8; ++x) {
-        a.at(c, y, x) = a_base[c] + std::round(10.0 * unit(rng));
+        a.at(c, y, x) = a_base[c] + 10.0 * unit(rng);
         b.at(c, y, x) = b_base[c] + 3.0 * unit(rng);
       }
     }
   }
   const auto [ea, eb] = midway_equalize(a, b);
   for (int c = 0; c < 3; ++c) {
-    const auto sa = sorted_channel(a, c);
-    const auto sb = sorted_channel(b, c);
-    std::vector<double> midway(sa.size());
-    for (std::size_t i = 0; i < sa.size(); ++i) midway[i] = 0.5 * (sa[i] + sb[i]);
-    EXPECT_EQ(sorted_channel(ea, c), midway) << "channel " << c;
-    EXPECT_EQ(sorted_channel(eb, c), midway) << "channel " << c;
+    EXPECT_EQ(sorted_channel(ea, c), midway_values(a, b, c)) << "channel " << c;
+    EXPECT_EQ(sorted_channel(eb, c), midway_values(a, b, c)) << "channel " << c;
   }
 }
 
-TEST(MidwayEqualize, TiesAreRankedColumnMajor) {
-  // a is constant (all tied); b has distinct values. The r-th pixel of a in
-  // column-major order (index x * height + y) receives the r-th midway value.
-  // Row-major or any other order would put different values on the pixels.
-  const int width = 3;
-  const int height = 2;
-  Image a(width, height, 1, 5.0);
-  Image b(width, height, 1);
-  // b in row-major order: 10, 40, 20 / 50, 30, 60.
-  const double b_values[6] = {10.0, 40.0, 20.0, 50.0, 30.0, 60.0};
-  for (int i = 0; i < 6; ++i) b.data[i] = b_values[i];
+TEST(MidwayEqualize, DoesNotDependOnThePixelOrder) {
+  const Image a = random_image(9, 4, 1, 7, 0.0, 6.0, true);
+  const Image b = random_image(9, 4, 1, 8, 0.0, 9.0, true);
   const auto [ea, eb] = midway_equalize(a, b);
-  const double sorted_b[6] = {10.0, 20.0, 30.0, 40.0, 50.0, 60.0};
-  for (int x = 0; x < width; ++x) {
-    for (int y = 0; y < height; ++y) {
-      const int rank = x * height + y;
-      EXPECT_EQ(ea.at(0, y, x), 0.5 * (5.0 + sorted_b[rank])) << "x " << x << " y " << y;
+  const auto [ma, mb] = midway_equalize(reverse_columns(a), reverse_columns(b));
+  EXPECT_EQ(reverse_columns(ma).data, ea.data);
+  EXPECT_EQ(reverse_columns(mb).data, eb.data);
+}
+
+// A hand case: a = (5, 5), b = (0, 2). mid = (2.5, 3.5); a's two pixels take
+// the two ranks in either order: squared errors 0 or 1 + 1, mean 1 over 2
+// pixels. Closed form: B_G = 3, A_G = 9.25; pixel 0: 9.25 - 15 + 6.25 = 0.5,
+// pixel 1: 9.25 - 21 + 12.25 = 0.5.
+TEST(RmseContrastInvariant, HandCaseWithOneGroup) {
+  Image a(2, 1, 1, 5.0);
+  Image b(2, 1, 1);
+  b.data = {0.0, 2.0};
+  EXPECT_DOUBLE_EQ(rmse_contrast_invariant(a, b, 0, 2), std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(rmse_contrast_invariant(b, a, 0, 2), std::sqrt(0.5));
+}
+
+// Every order of every group of equal values, on both sides: the mean squared
+// error over all of them is the closed form exactly (up to rounding).
+TEST(RmseContrastInvariant, IsTheMeanOverAllTieOrders) {
+  struct Case {
+    std::vector<double> a, b;
+  };
+  const std::vector<Case> cases = {
+      {{1, 1, 1, 2, 2, 3}, {5, 5, 7, 7, 7, 9}},
+      {{4, 0, 4, 0, 4, 4}, {1.5, -2, 8, 1.5, 3, 3}},
+      {{2, 2, 2, 2, 2, 7}, {0, 1, 2, 3, 4, 5}},
+      {{0, 1, 0, 1, 0, 1}, {6, 6, 6, 2, 2, 2}},
+  };
+  for (const Case& k : cases) {
+    Image a(3, 2, 1);
+    Image b(3, 2, 1);
+    a.data = k.a;
+    b.data = k.b;
+    // Enumerate tie orders as permutations of 0..5 used as tie-breaking keys;
+    // keep one per distinct rank assignment (each order of each group once).
+    auto orders = [](const Image& image) {
+      std::vector<std::vector<std::size_t>> seen;
+      std::vector<std::vector<double>> keys;
+      std::vector<double> perm = {0, 1, 2, 3, 4, 5};
+      do {
+        std::vector<std::size_t> pixels = {0, 1, 2, 3, 4, 5};
+        std::sort(pixels.begin(), pixels.end(), [&](std::size_t i, std::size_t j) {
+          return image.data[i] < image.data[j] ||
+                 (image.data[i] == image.data[j] && perm[i] < perm[j]);
+        });
+        if (std::find(seen.begin(), seen.end(), pixels) == seen.end()) {
+          seen.push_back(pixels);
+          keys.push_back(perm);
+        }
+      } while (std::next_permutation(perm.begin(), perm.end()));
+      return keys;
+    };
+    const auto a_orders = orders(a);
+    const auto b_orders = orders(b);
+    double sum = 0.0;
+    for (const auto& oa : a_orders) {
+      for (const auto& ob : b_orders) sum += squared_error_for_order(a, b, oa, ob);
     }
+    const double mean_square = sum / static_cast<double>(a_orders.size() * b_orders.size()) / 6.0;
+    const double ci = rmse_contrast_invariant(a, b, 0, 3);
+    EXPECT_NEAR(ci * ci, mean_square, 1e-12 * mean_square)
+        << a_orders.size() << " x " << b_orders.size() << " orders";
+    EXPECT_NEAR(ci, closed_form_rmse_ci(a, b), 1e-13);
   }
-  // b has no ties: each of its pixels gets the midway value of its own rank.
-  for (int i = 0; i < 6; ++i) {
-    const int rank = static_cast<int>(std::find(sorted_b, sorted_b + 6, b_values[i]) - sorted_b);
-    EXPECT_EQ(eb.data[i], 0.5 * (5.0 + sorted_b[rank])) << "pixel " << i;
-  }
-  // Spelled out: column 0 gets ranks 0, 1; column 1 ranks 2, 3; column 2 ranks 4, 5.
-  EXPECT_EQ(ea.at(0, 0, 0), 7.5);
-  EXPECT_EQ(ea.at(0, 1, 0), 12.5);
-  EXPECT_EQ(ea.at(0, 0, 1), 17.5);
-  EXPECT_EQ(ea.at(0, 1, 1), 22.5);
-  EXPECT_EQ(ea.at(0, 0, 2), 27.5);
-  EXPECT_EQ(ea.at(0, 1, 2), 32.5);
 }
 
-TEST(MidwayEqualize, PartialTiesAreRankedColumnMajorWithinTheirValue) {
-  // a: two tied groups (1 and 2); within each group column-major order decides.
-  // Row-major a = 2 1 2 / 1 2 1 (width 3, height 2).
-  const int width = 3;
-  const int height = 2;
-  Image a(width, height, 1);
-  const double a_values[6] = {2.0, 1.0, 2.0, 1.0, 2.0, 1.0};
-  for (int i = 0; i < 6; ++i) a.data[i] = a_values[i];
-  Image b(width, height, 1);
-  for (int i = 0; i < 6; ++i) b.data[i] = 100.0 * (i + 1);  // sorted: 100 .. 600
+// Many random tie orders (shuffled ranks inside each group, both sides): the
+// mean squared error converges to the closed form within its standard error.
+TEST(RmseContrastInvariant, RandomTieOrdersConvergeToIt) {
+  const Image a = random_image(12, 10, 2, 13, 0.0, 7.0, true);   // 8 values: big groups
+  const Image b = random_image(12, 10, 2, 14, 0.0, 40.0, true);  // smaller groups
+  const double count = static_cast<double>(a.data.size());
+  const int trials = 4000;
+  std::mt19937_64 rng(15);
+  std::vector<double> a_order(a.data.size());
+  std::vector<double> b_order(b.data.size());
+  double sum = 0.0;
+  double sum2 = 0.0;
+  for (int t = 0; t < trials; ++t) {
+    std::iota(a_order.begin(), a_order.end(), 0.0);
+    std::iota(b_order.begin(), b_order.end(), 0.0);
+    std::shuffle(a_order.begin(), a_order.end(), rng);
+    std::shuffle(b_order.begin(), b_order.end(), rng);
+    const double mse = squared_error_for_order(a, b, a_order, b_order) / count;
+    sum += mse;
+    sum2 += mse * mse;
+  }
+  const double mean = sum / trials;
+  const double sd = std::sqrt((sum2 - trials * mean * mean) / (trials - 1));
+  const double ci = rmse_contrast_invariant(a, b, 0, 12);
+  const double standard_error = sd / std::sqrt(static_cast<double>(trials));
+  ASSERT_GT(sd, 0.0);  // the orders matter here
+  EXPECT_NEAR(ci * ci, mean, 4.0 * standard_error) << "z = " << (ci * ci - mean) / standard_error;
+  // A fixed order (here: by pixel index) is one draw, not the centre.
+  std::iota(a_order.begin(), a_order.end(), 0.0);
+  const double by_index = squared_error_for_order(a, b, a_order, a_order) / count;
+  EXPECT_GT(std::abs(by_index - ci * ci), 0.0);
+}
+
+// Mirroring, or any other rearrangement of the pixels (the same for a and b),
+// gives the same bits. The images look like a noise-free run's: 8-bit ground
+// truth, restored close to it with a third of its values tied (the order in
+// which equal restored values are summed must not follow the pixels).
+TEST(RmseContrastInvariant, DoesNotDependOnThePixelOrder) {
+  for (unsigned seed = 16; seed < 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> gray(0.0, 255.0);
+    std::normal_distribution<double> error(0.0, 2.0);
+    Image a(300, 200, 2);
+    Image b(300, 200, 2);
+    for (std::size_t i = 0; i < a.data.size(); ++i) {
+      a.data[i] = std::round(gray(rng));
+      b.data[i] = a.data[i] + error(rng);
+      if (i % 3 == 0) b.data[i] = std::round(4.0 * b.data[i]) / 4.0;
+    }
+    const double value = rmse_contrast_invariant(a, b, 20, 280);
+    const Image ma = reverse_columns(a);
+    const Image mb = reverse_columns(b);
+    EXPECT_EQ(rmse_contrast_invariant(ma, mb, 20, 280), value) << "seed " << seed;
+    EXPECT_EQ(rmse_contrast_invariant(ma, mb, 20, 280, 2), value) << "seed " << seed;
+    // A random permutation of the pixels of each channel.
+    const Image ca = crop_columns(a, 20, 260);
+    const Image cb = crop_columns(b, 20, 260);
+    Image pa = ca;
+    Image pb = cb;
+    std::vector<std::size_t> perm(ca.plane_size());
+    std::iota(perm.begin(), perm.end(), std::size_t{0});
+    for (int c = 0; c < 2; ++c) {
+      std::shuffle(perm.begin(), perm.end(), rng);
+      for (std::size_t p = 0; p < perm.size(); ++p) {
+        pa.data[c * perm.size() + p] = ca.data[c * perm.size() + perm[p]];
+        pb.data[c * perm.size() + p] = cb.data[c * perm.size() + perm[p]];
+      }
+    }
+    EXPECT_EQ(rmse_contrast_invariant(pa, pb, 0, 260), value) << "seed " << seed;
+    EXPECT_NEAR(value, closed_form_rmse_ci(ca, cb), 1e-12 * value) << "seed " << seed;
+  }
+}
+
+TEST(RmseContrastInvariant, WithoutTiesIsPlainMidwayRmse) {
+  const Image a = random_image(16, 8, 2, 9, 0.0, 255.0, false);
+  const Image b = random_image(16, 8, 2, 10, 0.0, 255.0, false);
+  const auto [ea, eb] = midway_equalize(crop_columns(a, 4, 9), crop_columns(b, 4, 9));
+  EXPECT_NEAR(rmse_contrast_invariant(a, b, 4, 13), rmse(ea, eb, 0, 9), 1e-13);
+  // Columns outside the window do not matter.
+  Image a2 = a;
+  for (int y = 0; y < 8; ++y) {
+    a2.at(0, y, 0) = 1e6;
+    a2.at(1, y, 15) = -1e6;
+  }
+  EXPECT_EQ(rmse_contrast_invariant(a2, b, 4, 13), rmse_contrast_invariant(a, b, 4, 13));
+  EXPECT_GT(rmse_contrast_invariant(a, b, 4, 13), 0.0);
+}
+
+// With ties, RMSE_CI^2 exceeds the squared RMSE of the expected equalized
+// images by the spread of mid inside the groups.
+TEST(RmseContrastInvariant, WithTiesAddsTheSpreadInsideGroups) {
+  const Image a = random_image(10, 6, 1, 19, 0.0, 5.0, true);
+  const Image b = random_image(10, 6, 1, 20, 0.0, 100.0, false);
   const auto [ea, eb] = midway_equalize(a, b);
-  // Value 1 pixels in column-major order: (x0,y1), (x1,y0), (x2,y1) -> ranks 0, 1, 2.
-  // Value 2 pixels: (x0,y0), (x1,y1), (x2,y0) -> ranks 3, 4, 5.
-  EXPECT_EQ(ea.at(0, 1, 0), 0.5 * (1.0 + 100.0));
-  EXPECT_EQ(ea.at(0, 0, 1), 0.5 * (1.0 + 200.0));
-  EXPECT_EQ(ea.at(0, 1, 2), 0.5 * (1.0 + 300.0));
-  EXPECT_EQ(ea.at(0, 0, 0), 0.5 * (2.0 + 400.0));
-  EXPECT_EQ(ea.at(0, 1, 1), 0.5 * (2.0 + 500.0));
-  EXPECT_EQ(ea.at(0, 0, 2), 0.5 * (2.0 + 600.0));
+  const double ci = rmse_contrast_invariant(a, b, 0, 10);
+  const double of_means = rmse(ea, eb, 0, 10);
+  // b has no ties: the difference is sum over a's groups of the variance of mid.
+  const auto mid = midway_values(a, b, 0);
+  double spread = 0.0;
+  for (std::size_t p = 0; p < a.data.size(); ++p) {
+    const auto [first, last] = ranks_of(sorted_channel(a, 0), a.data[p]);
+    double m1 = 0.0, m2 = 0.0;
+    for (std::size_t i = first; i < last; ++i) {
+      m1 += mid[i];
+      m2 += mid[i] * mid[i];
+    }
+    const double size = static_cast<double>(last - first);
+    spread += m2 / size - (m1 / size) * (m1 / size);
+  }
+  EXPECT_NEAR(ci * ci, of_means * of_means + spread / 60.0, 1e-9);
+  EXPECT_GT(spread, 1.0);
 }
 
 TEST(RmseContrastInvariant, ZeroForAStrictlyIncreasingMap) {
@@ -262,10 +502,10 @@ TEST(RmseContrastInvariant, ZeroForAStrictlyIncreasingMap) {
     square.data[i] = a.data[i] * a.data[i];
     cube_root.data[i] = std::cbrt(a.data[i]) - 100.0;
   }
-  // Same ranks (ties broken by the same index) give the same midway image.
+  // The same groups on both sides: mid is constant in each group.
   EXPECT_EQ(rmse_contrast_invariant(a, affine, 0, 20), 0.0);
   EXPECT_EQ(rmse_contrast_invariant(a, square, 0, 20), 0.0);
-  EXPECT_EQ(rmse_contrast_invariant(square, cube_root, 3, 17), 0.0);
+  EXPECT_LT(rmse_contrast_invariant(square, cube_root, 3, 17), 1e-12);  // rounding of the means
   EXPECT_EQ(rmse_contrast_invariant(a, a, 0, 20), 0.0);
   // Plain RMSE is not zero, so the check above is not vacuous.
   EXPECT_GT(rmse(a, square, 0, 20), 1.0);
@@ -282,7 +522,7 @@ TEST(RmseContrastInvariant, ZeroPerChannelWithDifferentMaps) {
       }
     }
   }
-  EXPECT_EQ(rmse_contrast_invariant(a, b, 0, 12), 0.0);
+  EXPECT_LT(rmse_contrast_invariant(a, b, 0, 12), 1e-12);
 }
 
 // Sorting a and b at the same time (more than one thread, a window of at
@@ -299,71 +539,17 @@ TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
             rmse_contrast_invariant(a, 5, crop_columns(b, 5, 290), 5, 285, 1));
 }
 
-TEST(RmseContrastInvariant, IsTheRmseOfTheEqualizedWindow) {
-  const Image a = random_image(16, 8, 1, 9, 0.0, 255.0, true);
-  const Image b = random_image(16, 8, 1, 10, 0.0, 255.0, false);
-  const auto [ea, eb] = midway_equalize(crop_columns(a, 4, 9), crop_columns(b, 4, 9));
-  // Same arithmetic on the same values.
-  EXPECT_DOUBLE_EQ(rmse_contrast_invariant(a, b, 4, 13), rmse(ea, eb, 0, 9));
-  // Columns outside the window do not matter.
-  Image a2 = a;
-  for (int y = 0; y < 8; ++y) {
-    a2.at(0, y, 0) = 1e6;
-    a2.at(0, y, 15) = -1e6;
-  }
-  EXPECT_EQ(rmse_contrast_invariant(a2, b, 4, 13), rmse_contrast_invariant(a, b, 4, 13));
-  EXPECT_GT(rmse_contrast_invariant(a, b, 4, 13), 0.0);
-}
-
-// midway_equalize by a comparison sort of (value, column-major index), with
-// the documented resolution of values: the order-preserving bits of a value
-// without their low bit_width(n - 1) bits (values closer than about
-// 2^(bits - 52) relative tie, ranked by index as equal values are).
-std::pair<Image, Image> midway_by_comparison(const Image& a, const Image& b) {
-  Image ea(a.width, a.height, a.channels);
-  Image eb(b.width, b.height, b.channels);
-  const auto h = static_cast<std::size_t>(a.height);
-  const std::size_t n = a.plane_size();
-  const int index_bits = std::max(1, static_cast<int>(std::bit_width(n - 1)));
-  const std::uint64_t resolution = ~((std::uint64_t{1} << index_bits) - 1);
-  auto ordered_bits = [&](double v) {
-    if (v == 0.0) v = 0.0;  // -0 and +0 are equal values
-    const auto bits = std::bit_cast<std::uint64_t>(v);
-    return ((bits >> 63) ? ~bits : bits | (std::uint64_t{1} << 63)) & resolution;
-  };
-  for (int c = 0; c < a.channels; ++c) {
-    auto value = [&](const Image& image, std::size_t i) {
-      return image.at(c, static_cast<int>(i % h), static_cast<int>(i / h));
-    };
-    auto ranked = [&](const Image& image) {
-      std::vector<std::size_t> order(n);
-      for (std::size_t i = 0; i < n; ++i) order[i] = i;
-      std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) {
-        const std::uint64_t vi = ordered_bits(value(image, i)), vj = ordered_bits(value(image, j));
-        return vi < vj || (vi == vj && i < j);
-      });
-      return order;
-    };
-    const std::vector<std::size_t> ra = ranked(a), rb = ranked(b);
-    for (std::size_t r = 0; r < n; ++r) {
-      const double mid = 0.5 * (value(a, ra[r]) + value(b, rb[r]));
-      ea.at(c, static_cast<int>(ra[r] % h), static_cast<int>(ra[r] / h)) = mid;
-      eb.at(c, static_cast<int>(rb[r] % h), static_cast<int>(rb[r] / h)) = mid;
-    }
-  }
-  return {std::move(ea), std::move(eb)};
-}
-
-// Sizes and value mixes for the radix sorter's short runs and buffered
-// least-significant-digit passes: keys differing in the sign bit (negatives,
-// -0 and +0), huge and tiny magnitudes, integer ties.
-TEST(MidwayEqualize, MatchesAComparisonSortOnShortAndBufferedRuns) {
-  for (const auto& [width, height] : {std::pair{7, 5}, {40, 30}, {310, 211}, {1200, 100}}) {
-    Image a = random_image(width, height, 2, 21, -5.0, 260.0, true);
-    Image b = random_image(width, height, 2, 22, -40.0, 300.0, false);
+// The radix sorter's short runs, buffered passes and in-place splits, with
+// values that share all but their lowest bits (the sort keys drop those, so
+// their exact order is restored afterwards), negatives, -0 and +0, huge and
+// tiny magnitudes and integer ties: the plain closed form agrees.
+TEST(RmseContrastInvariant, MatchesThePlainClosedFormOnAwkwardValues) {
+  for (const auto& [width, height] : {std::pair{7, 5}, {40, 30}, {310, 211}, {700, 500}}) {
+    Image a = random_image(width, height, 1, 21, -5.0, 260.0, true);
+    Image b = random_image(width, height, 1, 22, -40.0, 300.0, false);
     std::mt19937_64 rng(23);
-    for (std::size_t i = 0; i < b.data.size(); i += 17) {
-      switch (rng() % 5) {
+    for (std::size_t i = 0; i < b.data.size(); i += 7) {
+      switch (rng() % 6) {
         case 0:
           b.data[i] = -0.0;
           break;
@@ -376,35 +562,74 @@ TEST(MidwayEqualize, MatchesAComparisonSortOnShortAndBufferedRuns) {
         case 3:
           b.data[i] = -1e-300 * static_cast<double>(rng() % 7);
           break;
+        case 4:  // 1 + k ulp: equal in the sort keys, not in value
+          b.data[i] = 1.0 + std::ldexp(static_cast<double>(rng() % 4), -52);
+          a.data[i] = 3.0 + std::ldexp(static_cast<double>(rng() % 4), -51);
+          break;
         default:
           b.data[i] = std::round(b.data[i]);
           break;
       }
     }
-    const auto [ea, eb] = midway_equalize(a, b);
-    const auto [ra, rb] = midway_by_comparison(a, b);
-    EXPECT_EQ(ea.data, ra.data) << width << "x" << height;
-    EXPECT_EQ(eb.data, rb.data) << width << "x" << height;
-    // The same ranks in the contrast-invariant RMSE (summed in another order).
-    const Image a1 = crop_columns(a, 0, width), b1 = crop_columns(b, 0, width);
-    const double expected = rmse(ra, rb, 0, width);
-    EXPECT_NEAR(rmse_contrast_invariant(a1, b1, 0, width), expected, 1e-12 * expected);
+    const double expected = closed_form_rmse_ci(a, b);
+    EXPECT_NEAR(rmse_contrast_invariant(a, b, 0, width), expected, 1e-12 * expected)
+        << width << "x" << height;
+    EXPECT_EQ(rmse_contrast_invariant(reverse_columns(a), reverse_columns(b), 0, width),
+              rmse_contrast_invariant(a, b, 0, width));
   }
 }
 
-// A window longer than the sorter's buffer (256 Ki keys) is split in place;
-// values sharing their sign and exponent (here [128, 256), a few negatives
-// making the sign bit differ) put most keys in one part, which is split
-// again before the buffered passes.
-TEST(MidwayEqualize, MatchesAComparisonSortWhenSplittingInPlace) {
-  const Image a = random_image(700, 500, 1, 41, 0.0, 255.0, true);
-  Image b = random_image(700, 500, 1, 42, 128.0, 256.0, false);
-  for (std::size_t i = 0; i < b.data.size(); i += 997) b.data[i] = -b.data[i];
-  for (std::size_t i = 5; i < b.data.size(); i += 1999) b.data[i] = std::round(b.data[i]);
-  const auto [ea, eb] = midway_equalize(a, b);
-  const auto [ra, rb] = midway_by_comparison(a, b);
-  EXPECT_EQ(ea.data, ra.data);
-  EXPECT_EQ(eb.data, rb.data);
+// Values that differ only in their lowest bits (the sort keys drop those
+// bits, so the exact order is restored afterwards) form separate groups of
+// the right sizes: two values on one side, all distinct on the other.
+TEST(RmseContrastInvariant, ValuesEqualButForTheirLowestBitsAreDistinctGroups) {
+  const Image spread = random_image(60, 40, 1, 24, 0.0, 255.0, false);
+  Image near = random_image(60, 40, 1, 25, 0.0, 1.0, false);
+  for (double& v : near.data) v = v < 0.5 ? 1.0 : 1.0 + std::ldexp(1.0, -52);
+  for (const auto& [a, b] :
+       {std::pair<const Image*, const Image*>{&spread, &near}, {&near, &spread}}) {
+    const double expected = closed_form_rmse_ci(*a, *b);
+    EXPECT_NEAR(rmse_contrast_invariant(*a, *b, 0, 60), expected, 1e-12 * expected);
+  }
+}
+
+// The six reference settings (tests/fixtures/rmse_ci_ties.md): the
+// noise-free RMSE_CI sits at the centre of the reference program's spread
+// over random tie orders, within 4 standard errors of its 20-order mean.
+TEST(RmseContrastInvariant, ReferenceCases) {
+  std::istringstream table(test::read_file(test::fixture_path("rmse_ci_ties.md")));
+  std::string line;
+  int checked = 0;
+  while (std::getline(table, line)) {
+    if (line.rfind("| camera.png", 0) != 0 && line.rfind("| astronaut.png", 0) != 0) continue;
+    std::vector<std::string> cells;
+    std::istringstream row(line.substr(1));
+    for (std::string cell; std::getline(row, cell, '|');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 9u) << line;
+    auto trim = [](std::string s) {
+      s.erase(0, s.find_first_not_of(' '));
+      s.erase(s.find_last_not_of(' ') + 1);
+      return s;
+    };
+    SimulationOptions options;
+    options.noise = NoiseModel::kNone;
+    options.mode = *shutter_mode_from_string(trim(cells[2]));
+    options.velocity_px_per_slot = std::stod(cells[3]);
+    options.dt = std::stod(cells[4]);
+    const std::string spread = cells[7];
+    const double mean = std::stod(spread.substr(0, spread.find("±")));
+    const double sd = std::stod(spread.substr(spread.find("±") + std::string("±").size()));
+    const double column_major = std::stod(cells[8]);
+    const Image input = read_png(test::source_path("data/" + trim(cells[0])));
+    const SimulationReport r = Simulate(options, input, *builtin_code(trim(cells[1])));
+    const double value = r.metrics.rmse_ci;
+    std::cout << line << "\n  -> " << std::setprecision(7) << value
+              << ", z = " << (value - mean) / (sd / std::sqrt(20.0)) << "\n";
+    EXPECT_NEAR(value, mean, 4.0 * sd / std::sqrt(20.0)) << line;
+    EXPECT_GT(std::abs(value - column_major), 1e-6) << line;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 6);
 }
 
 double min_of(const Image& image) {

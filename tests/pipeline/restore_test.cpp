@@ -64,6 +64,18 @@ Image convolve_on_own_grid(const Image& image, const std::vector<double>& gains,
 // ---------------------------------------------------------------------------
 // Geometry.
 
+// A code whose gains sum to 0 has K(0) = 0 exactly: the restorer counts that
+// bin (and Simulate warns about it). zero_bins_ was once reset after being
+// counted, by the order of the members' initializers.
+TEST(RowRestorer, CountsTheZeroBinsOfK) {
+  const std::vector<double> gains = {1.0, -1.0};
+  const Geometry g = Geometry::compute(64, static_cast<int>(gains.size()), 1.0, 1.0);
+  const RowRestorer zero_mean(g, gains, 1.0, 1.0);
+  EXPECT_GE(zero_mean.zero_bins(), 1);
+  const std::vector<double> snapshot = {1.0, 0.0};
+  EXPECT_EQ(RowRestorer(g, snapshot, 1.0, 1.0).zero_bins(), 0);
+}
+
 TEST(Geometry, ReferenceCase) {
   const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);
   EXPECT_EQ(g.width, 512);

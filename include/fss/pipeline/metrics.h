@@ -1,4 +1,4 @@
-// Error measures (SPEC 5). Conventions: image.h. Images compared must have
+// Error measures (docs/method.md §5). Conventions: image.h. Images compared must have
 // the same size; every function throws a usage fss::Error otherwise or when
 // the column window is empty or out of range.
 #pragma once
@@ -24,27 +24,41 @@ double row_squared_error(const double* a, const double* b, int first, int end);
 // 10 log10(255^2 / rmse^2).
 double psnr(double rmse_value);
 
-// Midway equalization of two images of the same size, channel by channel:
-// the i-th smallest value of each becomes the mean of the two i-th smallest
-// values. Ties are broken by column-major pixel index (x * height + y), so
-// the result is deterministic. Why column-major: the reference program sorts
-// with an unstable sort, i.e. in effect a random tie order, and the integer
-// ground truth is full of ties. Row-major order correlates with the
-// restoration error, which runs along rows, and biases RMSE_CI (camera.png,
-// raskar, noise-free: 1.00164 against the reference's 1.00512); column-major
-// order gives 1.00532, inside the spread of random orders (about +/- 6e-4).
+// Midway equalization (docs/method.md §5) of two images of the same size,
+// channel by channel: with a and b sorted, mid_i = (a_(i) + b_(i)) / 2 is
+// the value rank i of both takes. Which rank a pixel holds inside a group of
+// equal values is arbitrary, so each pixel gets the expectation of its
+// equalized value over all orders of its group: B_G, the mean of mid_i over
+// the group's ranks. Without ties this is plain midway equalization. With
+// ties, rmse_contrast_invariant is not the RMSE of these two images: it is
+// the expectation of the squared difference, which also counts the spread
+// of mid_i inside the groups.
 std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 
-// RMSE of the midway-equalized columns [first, end) of a and b. Ranks are
-// sorted as 8-byte keys (the value's order-preserving bits, their low bits
-// replaced by the column-major index, radix-sorted), so the scratch is 16
-// bytes a pixel of one channel plus the sorter's buffer (half a byte a pixel,
-// at least 2 MiB). Equal values are ranked by index exactly; values closer
-// than 2^-(52 - index bits) relative (about 1e-10 for a 512 x 512 window) are
-// ranked by index too, which moves their midway values by no more than that.
+// RMSE_CI (docs/method.md §5): the RMSE of the midway-equalized columns
+// [first, end) of a and b, channels equalized separately and pooled, taken
+// as the expectation over independent uniform orders of each group of equal
+// values of a and of b (the ground truth is 8-bit and full of ties; any
+// fixed order of a group, such as by pixel index, biases the result and
+// depends on the pixel layout). For a pixel p in a's group G (ranks I_G) and
+// b's group H (ranks J_H), with B and A the means of mid_i and mid_i^2 over a
+// group's ranks, the two orders being independent:
+//   E[(a'_p - b'_p)^2] = A_G - 2 B_G B_H + A_H
+//                      = (A_G - B_G^2) + (A_H - B_H^2) + (B_G - B_H)^2,
+//   RMSE_CI = sqrt(sum over the pixels of all channels / count).
+// It is summed as in the second form (no cancellation) and in an order fixed
+// by the values alone, so it is deterministic and bit-identical for any
+// arrangement of the pixels (a mirrored pair of images gives the same bits).
+// Ranks come from sorting 8-byte keys (the value's order-preserving bits,
+// their low bits replaced by the pixel index, radix-sorted; runs whose values
+// differ only in those low bits are then put in exact value order), so the
+// scratch is 16 bytes and 2 bits a pixel of one channel (a's group of each
+// pixel, b's sorted keys and pixel of each rank, a bit per rank on each
+// side), plus 8 bytes per distinct value of a's window (2 KiB for 8-bit
+// images), plus the sorter's buffer (half a byte a pixel, at least 2 MiB).
 // With more than one thread and a window of at most kParallelSortPixels
-// pixels, a and b are sorted at the same time (20 bytes a pixel and two
-// buffers); the result is the same. A window above 2^32 pixels a channel is a
+// pixels, a and b are sorted at the same time (20 bytes and 1 bit a pixel
+// at the peak, two buffers); the result is the same. A window above 2^32 pixels a channel is a
 // usage error.
 inline constexpr std::size_t kParallelSortPixels = std::size_t{1} << 22;
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end, int threads = 1);

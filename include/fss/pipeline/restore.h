@@ -36,8 +36,9 @@ class RowRestorer {
  private:
   Geometry geometry_;
   const RowFFT& fft_;
-  std::vector<std::complex<double>> inverse_;  // 1 / K on the 2 Wa grid, 0 where K = 0
+  // Declared before inverse_, whose initializer counts the zero bins into it.
   int zero_bins_ = 0;
+  std::vector<std::complex<double>> inverse_;  // 1 / K on the 2 Wa grid, 0 where K = 0
 };
 
 }  // namespace fss

@@ -26,9 +26,12 @@ if(_fss_type STREQUAL "SHARED_LIBRARY")
   set_target_properties(fss PROPERTIES VERSION ${PROJECT_VERSION}
                                        SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
   # The installed fssim finds libfss.so next to it, wherever the prefix is
-  # moved: RUNPATH $ORIGIN/../lib (the relative path from bin to lib).
-  file(RELATIVE_PATH _fss_bin_to_lib "${CMAKE_INSTALL_FULL_BINDIR}" "${CMAKE_INSTALL_FULL_LIBDIR}")
-  set_target_properties(fssim PROPERTIES INSTALL_RPATH "$ORIGIN/${_fss_bin_to_lib}")
+  # moved: RUNPATH $ORIGIN/../lib (the relative path from bin to lib); not
+  # needed when the libdir is one the linker searches anyway (/usr/lib/...).
+  if(NOT CMAKE_INSTALL_FULL_LIBDIR IN_LIST CMAKE_CXX_IMPLICIT_LINK_DIRECTORIES)
+    file(RELATIVE_PATH _fss_bin_to_lib "${CMAKE_INSTALL_FULL_BINDIR}" "${CMAKE_INSTALL_FULL_LIBDIR}")
+    set_target_properties(fssim PROPERTIES INSTALL_RPATH "$ORIGIN/${_fss_bin_to_lib}")
+  endif()
 else()
   set(FSS_SHARED OFF)
 endif()

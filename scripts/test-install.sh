@@ -8,16 +8,19 @@
 # (tests/install/pkgconfig_consumer).
 #
 # Usage: scripts/test-install.sh [--reuse-build DIR] [--keep]
-#   --reuse-build DIR  install the static variant from the existing, already
-#                      built build directory DIR instead of configuring and
-#                      building a fresh one (CTest's `install` test does this).
-#                      The shared variant is always built fresh.
+#   --reuse-build DIR  install the variant of the existing, already built
+#                      build directory DIR (static, or shared if it was
+#                      configured with BUILD_SHARED_LIBS=ON) from DIR instead
+#                      of configuring and building a fresh one (CTest's
+#                      `install` test does this); the other variant is built
+#                      fresh.
 #   --keep             leave the temporary directory (printed) for inspection.
 # Prints one line per check and "test-install: N passed, M failed"; exits 1 on
 # any failure. Builds with all cores; a fresh library build takes minutes.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 reuse=""
+reuse_variant=""
 keep=0
 while [ $# -gt 0 ]; do
   case $1 in
@@ -26,6 +29,13 @@ while [ $# -gt 0 ]; do
     *) echo "test-install: unknown argument '$1' (expected --reuse-build DIR or --keep)" >&2; exit 2 ;;
   esac
 done
+if [ -n "$reuse" ]; then
+  [ -f "$reuse/CMakeCache.txt" ] || { echo "test-install: $reuse is not a CMake build directory" >&2; exit 2; }
+  case $(sed -n 's/^BUILD_SHARED_LIBS:[A-Z]*=//p' "$reuse/CMakeCache.txt") in
+    ON | on | TRUE | true | 1 | YES | yes) reuse_variant=shared ;;
+    *) reuse_variant=static ;;
+  esac
+fi
 jobs=$(nproc 2>/dev/null || echo 2)
 work=$(mktemp -d "${TMPDIR:-/tmp}/fss-test-install.XXXXXX")
 if [ "$keep" -eq 1 ]; then
@@ -182,9 +192,9 @@ check_pkgconfig_consumer() {
 test_variant() {
   local variant=$1 build prefix libdir
   prefix="$work/prefix-$variant"
-  if [ "$variant" = static ] && [ -n "$reuse" ]; then
+  if [ "$variant" = "$reuse_variant" ]; then
     build=$reuse
-    echo "-- static: installing the build in $build"
+    echo "-- $variant: installing the build in $build"
   else
     build="$work/build-$variant"
     local shared=OFF

@@ -125,40 +125,111 @@ double PoissonSNR::operator()(double e, RandomStream& stream) const {
 
 namespace fss {
 
+namespace {
+RandomStream lane_stream(const RowNoiseId& id, std::uint64_t frame, NoiseLane lane) {
+  return {id.seed, id.channel, frame, id.row, static_cast<std::uint64_t>(lane)};
+}
+
+// normals[x] for x < n (the buffer holds n rounded up to even): output x of
+// a Box-Muller batch whose pair j takes U1 = stream's (2j)-th draw,
+// U2 = its (2j+1)-th.
+void draw_normals(RandomStream stream, std::size_t n, std::vector<double>& u1,
+                  std::vector<double>& u2, std::vector<double>& normals) {
+  const std::size_t pairs = (n + 1) / 2;
+  u1.resize(pairs);
+  u2.resize(pairs);
+  normals.resize(2 * pairs);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    u1[j] = stream.uniform_open_zero();
+    u2[j] = stream.uniform();
+  }
+  box_muller_batch(u1.data(), u2.data(), normals.data(), pairs);
+}
+}  // namespace
+
+double poisson_snr_variance(double e, double lambda2) {
+  // Var(P / lambda2) = (lambda [+ 1/12 on the normal branch]) / lambda2^2
+  const double signal = std::max(e, 0.0);
+  const double rounding = signal * lambda2 >= kKnuthLimit ? 1.0 / (12.0 * lambda2 * lambda2) : 0.0;
+  return signal / lambda2 + rounding;
+}
+
 PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
 void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                                    std::span<double> out) {
   const std::size_t n = e.size();
-  const std::size_t pairs = (n + 1) / 2;
   lambda_.resize(n);
-  u1_.resize(pairs);
-  u2_.resize(pairs);
-  normals_.resize(2 * pairs);
   double* __restrict lambda = lambda_.data();
-  double* __restrict normal = normals_.data();
   for (std::size_t x = 0; x < n; ++x) lambda[x] = std::max(e[x], 0.0) * lambda2_;
 
-  // One normal per pixel, normal x for pixel x, from lane 0 (pixels on
-  // Knuth's branch leave theirs unused).
-  RandomStream normal_stream(id.seed, id.channel, id.frame, id.row, 0);
-  for (std::size_t j = 0; j < pairs; ++j) {
-    u1_[j] = normal_stream.uniform_open_zero();
-    u2_[j] = normal_stream.uniform();
-  }
-  box_muller_batch(u1_.data(), u2_.data(), normal, pairs);
+  // One normal per pixel, normal x for pixel x (pixels on Knuth's branch
+  // leave theirs unused).
+  draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
+  double* __restrict normal = normals_.data();
 
   // Normal branch for every pixel, vectorized: P = round(lambda + sqrt(lambda) N).
   for (std::size_t x = 0; x < n; ++x) {
     normal[x] = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
   }
-  // Knuth's branch where lambda < 50, uniforms from lane 1, in pixel order.
-  RandomStream knuth_stream(id.seed, id.channel, id.frame, id.row, 1);
+  // Knuth's branch where lambda < 50, uniforms in pixel order.
+  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
   for (std::size_t x = 0; x < n; ++x) {
     if (lambda[x] < kKnuthLimit) normal[x] = poisson_variate(lambda[x], knuth_stream);
   }
   const double scale = gain / lambda2_;
   for (std::size_t x = 0; x < n; ++x) out[x] += scale * normal[x];  // gain * P / lambda2
+}
+
+AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
+
+void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
+                                     std::span<double> out) {
+  const std::size_t n = e.size();
+  if (!has_frame_) {  // the row's first frame
+    mean_.assign(n, 0.0);
+    variance_.assign(n, 0.0);
+    has_frame_ = true;
+  }
+  lambda_.resize(n);
+  double* __restrict lambda = lambda_.data();
+  double* __restrict mean = mean_.data();
+  double* __restrict variance = variance_.data();
+  for (std::size_t x = 0; x < n; ++x) lambda[x] = std::max(e[x], 0.0) * lambda2_;
+
+  // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12).
+  const double gain_squared = gain * gain;
+  std::size_t normal_pixels = 0;
+  for (std::size_t x = 0; x < n; ++x) {
+    const bool normal = lambda[x] >= kKnuthLimit;
+    mean[x] += normal ? gain * lambda[x] : 0.0;
+    variance[x] += normal ? gain_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
+    normal_pixels += normal ? 1 : 0;
+  }
+  if (normal_pixels > 0) has_normal_ = true;
+
+  // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
+  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kAggregateKnuth);
+  const double scale = gain / lambda2_;
+  for (std::size_t x = 0; x < n; ++x) {
+    if (lambda[x] < kKnuthLimit) out[x] += scale * poisson_variate(lambda[x], knuth_stream);
+  }
+}
+
+void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
+  if (has_normal_) {
+    const std::size_t n = mean_.size();
+    draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_);
+    const double* __restrict mean = mean_.data();
+    const double* __restrict variance = variance_.data();
+    const double* __restrict normal = normals_.data();
+    // out += (M + sqrt(V) N) / lambda2
+    for (std::size_t x = 0; x < n; ++x) {
+      out[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2_;
+    }
+  }
+  has_frame_ = false;
+  has_normal_ = false;
 }
 
 }  // namespace fss

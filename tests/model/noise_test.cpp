@@ -527,5 +527,74 @@ TEST(AggregatedRowSampler, FinishWithoutFramesAddsNothing) {
   EXPECT_TRUE(same_bytes(drawn, once));
 }
 
+// Pixel x's normal as the header documents it: output x of Box-Muller pairs
+// (U1, U2) taken in order from the lane's stream, here by the scalar libm
+// (the samplers use the vector library, equal to a few ulp).
+std::vector<double> documented_normals(RandomStream stream, std::size_t n) {
+  std::vector<double> normals;
+  while (normals.size() < n) {
+    const double radius = std::sqrt(-2.0 * std::log(stream.uniform_open_zero()));
+    const double angle = 2.0 * M_PI * stream.uniform();
+    normals.push_back(radius * std::cos(angle));
+    normals.push_back(radius * std::sin(angle));
+  }
+  return normals;
+}
+
+TEST(PoissonRowSampler, FollowsTheDocumentedStreamLayout) {
+  // snr 10 (lambda2 = 1) and gain 1: out[x] is the photon count itself.
+  // Counts on the normal branch are round(lambda + sqrt(lambda) N) with N
+  // from the kFrameNormal lane; a few ulp in N change a count only within
+  // about 1e-12 of a half-integer, never here. Counts on Knuth's branch are
+  // poisson_variate on the kFrameKnuth lane, in pixel order.
+  const std::size_t n = 1001;  // odd: the last pair's sine is unused
+  std::vector<double> e(n);
+  for (std::size_t x = 0; x < n; ++x) e[x] = static_cast<double>((x * 7919) % 600) - 20.0;
+  PoissonRowSampler sampler(10.0);
+  std::vector<double> out(n, 0.0);
+  const RowNoiseId id{21, 1, 4, 33};
+  sampler.accumulate(e, id, 1.0, out);
+  const std::vector<double> normals = documented_normals(
+      RandomStream(21, 1, 4, 33, static_cast<std::uint64_t>(NoiseLane::kFrameNormal)), n);
+  RandomStream knuth(21, 1, 4, 33, static_cast<std::uint64_t>(NoiseLane::kFrameKnuth));
+  for (std::size_t x = 0; x < n; ++x) {
+    const double lambda = std::max(e[x], 0.0);
+    const double expected = lambda < kKnuthLimit
+                                ? poisson_variate(lambda, knuth)
+                                : std::round(lambda + std::sqrt(lambda) * normals[x]);
+    ASSERT_EQ(out[x], expected) << "pixel " << x << " lambda " << lambda;
+  }
+}
+
+TEST(AggregatedRowSampler, FollowsTheDocumentedStreamLayout) {
+  // out[x] = Knuth counts (kAggregateKnuth lane of each frame) +
+  // (M + sqrt(V) N) / lambda2 with N from the row's kAggregateNormal lane.
+  const SyntheticRow row = synthetic_row(100.0, kMixedLambdas);
+  const std::size_t n = row.width();
+  AggregatedRowSampler sampler(100.0);
+  const std::vector<double> out = aggregated_row(sampler, row, 22, 2, 8);
+  const std::vector<double> normals = documented_normals(
+      RandomStream(22, 2, 0, 8, static_cast<std::uint64_t>(NoiseLane::kAggregateNormal)), n);
+  std::vector<double> expected(n, 0.0), mean(n, 0.0), variance(n, 0.0);
+  for (std::size_t k = 0; k < row.gains.size(); ++k) {
+    const double alpha = row.gains[k];
+    RandomStream knuth(22, 2, k, 8, static_cast<std::uint64_t>(NoiseLane::kAggregateKnuth));
+    for (std::size_t x = 0; x < n; ++x) {
+      const double lambda = std::max(row.e[k][x], 0.0) * row.lambda2;
+      if (lambda < kKnuthLimit) {
+        expected[x] += alpha / row.lambda2 * poisson_variate(lambda, knuth);
+      } else {
+        mean[x] += alpha * lambda;
+        variance[x] += alpha * alpha * (lambda + 1.0 / 12.0);
+      }
+    }
+  }
+  for (std::size_t x = 0; x < n; ++x) {
+    expected[x] += (mean[x] + std::sqrt(variance[x]) * normals[x]) / row.lambda2;
+    EXPECT_NEAR(out[x], expected[x], 1e-12 * (std::abs(mean[x]) + std::sqrt(variance[x])))
+        << "pixel " << x;
+  }
+}
+
 }  // namespace
 }  // namespace fss

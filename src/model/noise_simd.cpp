@@ -7,13 +7,15 @@
 // assumptions hold.
 //
 // Two builds of the same loops: 4-wide AVX2 (libmvec's _ZGVdN4v_*), taken
-// when the processor has AVX2 and FMA, and 2-wide SSE (_ZGVbN2v_*)
-// otherwise; about twice as fast with AVX2. libmvec's variants may differ in
-// the last bits (so do its SSE4.1 and SSE2 variants, which glibc already
-// picks by processor): in 2.1e8 normals, 9% differed by at most 6.6e-16
-// relative, and no photon count round(lambda + sqrt(lambda) N) changed (it
-// would need lambda + sqrt(lambda) N within about 1e-13 of a half-integer).
-// The result is deterministic for a given binary and processor.
+// when the processor has AVX2, and 2-wide SSE (_ZGVbN2v_*) otherwise; about
+// twice as fast with AVX2. Our loops hold no a * b + c, so neither build can
+// fuse a multiply-add; libmvec's variants themselves may differ in the last
+// bits (so do its SSE4.1 and SSE2 variants, which glibc already picks by
+// processor): in 2.1e8 normals, 9% differed, by at most 6.6e-16 relative,
+// and no photon count round(lambda + sqrt(lambda) N) changed (it would need
+// lambda + sqrt(lambda) N within about 1e-13 of a half-integer); the output
+// matrix is byte-identical on both builds. The result is deterministic for
+// a given binary and processor.
 // glibc declares libmvec to GCC only: clang (the sanitizer and fuzzing
 // builds) calls the scalar log, sin and cos, slower but as accurate; the
 // Poisson variates are rounded to integers, and on camera.png the two
@@ -53,8 +55,7 @@ void box_muller_sse(const double* u1, const double* u2, double* z, std::size_t p
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 #define FSS_BOX_MULLER_AVX2 1
 [[gnu::target("avx2")]] void box_muller_avx2(const double* u1, const double* u2, double* z,
-                                                 std::size_t pairs, double* r, double* c,
-                                                 double* s) {
+                                             std::size_t pairs, double* r, double* c, double* s) {
   box_muller_loops(u1, u2, z, pairs, r, c, s);
 }
 #endif

@@ -141,7 +141,10 @@ double poisson_snr_variance(double e, double lambda2);
 // sqrt(50) / lambda2 per frame) and the per-frame clamp at 0 (probability
 // about 1e-12 a frame), which A does not apply. Different variates: the
 // streams are the kAggregate lanes, so the aggregated and per-frame
-// observations of one seed are independent draws.
+// observations of one seed are independent draws. And as A is not rounded,
+// the last bits of N (libmvec's AVX2 and SSE variants may differ by a few
+// ulp, see box_muller_batch) reach the output: the same seed gives the same
+// bytes on the same processor kind, equal to about 1e-15 relative elsewhere.
 //
 // Use, per row: add_frame() for each frame with a nonzero gain, then
 // finish(). Each frame has its own Knuth stream, so the frames' order (or
@@ -178,7 +181,8 @@ class AggregatedRowSampler {
 
 // Box-Muller on arrays: z[2j] = sqrt(-2 ln u1[j]) cos(2 pi u2[j]) and
 // z[2j+1] = sqrt(-2 ln u1[j]) sin(2 pi u2[j]), j < pairs; u1 in (0, 1].
-// Vectorized with glibc's vector math library where available.
+// Vectorized with glibc's vector math library where available, 4 wide on
+// processors with AVX2 (see noise_simd.cpp).
 void box_muller_batch(const double* u1, const double* u2, double* z, std::size_t pairs);
 
 // round(x) for x > 0 (halves away from zero), 0 for x <= 0; inline-friendly.

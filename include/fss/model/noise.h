@@ -65,8 +65,7 @@ struct RowNoiseId {
 // batches so that it vectorizes: pixel x's normal is output x of a
 // Box-Muller batch (both outputs of each pair used) fed by the frame row's
 // kFrameNormal lane; Knuth's uniforms come from its kFrameKnuth lane, in
-// pixel order (see NoiseLane). Holds
-// scratch buffers: one sampler per thread.
+// pixel order (see NoiseLane). Holds scratch buffers: one sampler per thread.
 class PoissonRowSampler {
  public:
   explicit PoissonRowSampler(double snr);
@@ -128,31 +127,37 @@ double poisson_snr_variance(double e, double lambda2);
 // normal-branch frame's variance is lambda_k + 1/12, see
 // poisson_snr_variance), the Knuth-branch frames' distribution (the very
 // same algorithm), and independence between pixels, rows and channels.
-// What differs: the per-frame sampler adds alpha_k round(lambda_k +
-// sqrt(lambda_k) N_k), integers times the gains, so o[x] lies on the lattice
-// {sum_k alpha_k n_k} / lambda2; A is one continuous normal, not rounded,
-// with the rounding's 1/12 per frame kept in its variance. It is not rounded
-// because the gains are arbitrary reals: the per-frame sum is not an integer
-// unless every gain is, and rounding A to an integer would add a single
-// 1/12 instead of one per frame, changing the variance it must match. The
-// higher moments differ slightly too: the per-frame sum of rounded normals
-// is itself a sum of near-normals, so the difference is the discreteness
-// (steps of |alpha_k| / lambda2, against a standard deviation of at least
-// sqrt(50) / lambda2 per frame) and the per-frame clamp at 0 (probability
-// about 1e-12 a frame), which A does not apply. Different variates: the
-// streams are the kAggregate lanes, so the aggregated and per-frame
-// observations of one seed are independent draws. And as A is not rounded,
-// the last bits of N (libmvec's AVX2 and SSE variants may differ by a few
-// ulp, see box_muller_batch) reach the output: the same seed gives the same
-// bytes on the same processor kind, equal to about 1e-15 relative elsewhere.
+// What differs is the rounding lattice: the per-frame sampler adds alpha_k
+// round(lambda_k + sqrt(lambda_k) N_k), integers times the gains, so o[x]
+// lies on the lattice {sum_k alpha_k n_k} / lambda2; A is one continuous
+// normal, not rounded, with each frame's rounding kept as the 1/12 in its
+// variance. A is not rounded because the gains are arbitrary reals: the
+// per-frame sum is not an integer unless every gain is, and rounding A would
+// add a single 1/12 where the per-frame sum has one per frame, breaking the
+// variance it must match. (With integer gains, such as the 0/1 codes,
+// rounding A drawn with one 1/12 fewer would land on the per-frame lattice;
+// one rule for every code was preferred: a frame's lattice step, |alpha_k|
+// photons, is at most 1/7 of its standard deviation |alpha_k|
+// sqrt(lambda_k).) Beyond the variance: both sums are symmetric about their
+// mean on the normal branch (third cumulants 0); their fourth cumulants
+// differ by the roundings', -sum alpha_k^4 / 120 photons^4, an excess
+// kurtosis of at most 1 / (120 * 50^2) = 3.3e-6 since lambda_k >= 50; the
+// per-frame sampler clamps each frame at 0 (probability about 1e-12 a frame),
+// A does not. Different variates: the streams are the kAggregate lanes, so
+// the aggregated and per-frame observations of one seed are independent
+// draws. And as A is not rounded, the last bits of N (libmvec's AVX2 and SSE
+// variants may differ by a few ulp, see box_muller_batch) reach the output:
+// the same seed gives the same bytes on the same processor kind, equal to
+// about 1e-15 relative elsewhere.
 //
 // Use, per row: add_frame() for each frame with a nonzero gain, then
 // finish(). Each frame has its own Knuth stream, so the frames' order (or
 // skipping a zero gain) changes no variate, only the rounding of the sums;
-// the observer adds them in k order, as for the per-frame sampler. The Knuth-branch
-// frames go straight into `out`; the normal-branch ones are summed into two
-// row-sized accumulators, M and V, which finish() turns into the normal and
-// resets for the next row. Holds scratch buffers: one sampler per thread.
+// the observer adds them in k order, as for the per-frame sampler. The
+// Knuth-branch frames go straight into `out`; the normal-branch ones are
+// summed into two row-sized accumulators, M and V, which finish() turns
+// into the normal and resets for the next row: no frame's row is kept.
+// Holds scratch buffers: one sampler per thread.
 class AggregatedRowSampler {
  public:
   explicit AggregatedRowSampler(double snr);

@@ -208,11 +208,16 @@ void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& 
   lambda_.resize(n);
   std::size_t knuth_pixels = 0;
   run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
+    const double* __restrict intensity = e.data();
     double* __restrict lambda = lambda_.data();
+    const double lambda2 = lambda2_;
+    std::size_t count = 0;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(e[x], 0.0) * lambda2_;
-      knuth_pixels += lambda[x] < kKnuthLimit ? 1 : 0;
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      count += lambda[x] < kKnuthLimit ? 1 : 0;
     }
+    knuth_pixels = count;
   });
 
   // One normal per pixel, normal x for pixel x (pixels on Knuth's branch
@@ -234,9 +239,10 @@ void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& 
     const double* __restrict lambda = lambda_.data();
     const double* __restrict normal = normals_.data();
     double* __restrict sum = out.data();
+    const double factor = scale;
     for (std::size_t x = 0; x < n; ++x) {
       const double rounded = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
-      sum[x] += scale * (lambda[x] < kKnuthLimit ? normal[x] : rounded);
+      sum[x] += factor * (lambda[x] < kKnuthLimit ? normal[x] : rounded);
     }
   });
 }
@@ -256,16 +262,23 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
   const double gain_squared = gain * gain;
   std::size_t normal_pixels = 0;
   run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
+    const double* __restrict intensity = e.data();
     double* __restrict lambda = lambda_.data();
     double* __restrict mean = mean_.data();
     double* __restrict variance = variance_.data();
+    const double lambda2 = lambda2_;
+    const double alpha = gain;
+    const double alpha_squared = gain_squared;
+    std::size_t count = 0;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(e[x], 0.0) * lambda2_;
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
       const bool normal = lambda[x] >= kKnuthLimit;
-      mean[x] += normal ? gain * lambda[x] : 0.0;
-      variance[x] += normal ? gain_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
-      normal_pixels += normal ? 1 : 0;
+      mean[x] += normal ? alpha * lambda[x] : 0.0;
+      variance[x] += normal ? alpha_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
+      count += normal ? 1 : 0;
     }
+    normal_pixels = count;
   });
   if (normal_pixels > 0) has_normal_ = true;
   if (normal_pixels == n) return;
@@ -288,8 +301,9 @@ void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
       const double* __restrict variance = variance_.data();
       const double* __restrict normal = normals_.data();
       double* __restrict sum = out.data();
+      const double lambda2 = lambda2_;
       for (std::size_t x = 0; x < n; ++x) {
-        sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2_;
+        sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
       }
     });
   }

@@ -1,13 +1,25 @@
-// Micro-benchmarks: the photon-noise sampler against the scalar Box-Muller
-// baseline, and one batch of row FFTs.
+// Micro-benchmarks: the photon-noise samplers against the floor of normal
+// and Poisson generation (our xoshiro256** alone, a ziggurat normal, the C++
+// library's normal_distribution and, when libgsl-dev is installed, GSL's
+// ziggurat and Poisson), and one batch of row FFTs. items_per_second counts
+// variates (pixels for the row samplers: one normal-branch variate each).
 #include <benchmark/benchmark.h>
 
 #include <complex>
+#include <random>
 #include <vector>
 
 #include "fss/core/fft.h"
 #include "fss/model/noise.h"
+#include "ziggurat.h"
 
+#ifdef FSS_BENCH_HAVE_GSL
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#endif
+
+// Google Benchmark's loop idiom `for (auto _ : state)` never reads `_`.
+// NOLINTBEGIN(clang-analyzer-deadcode.DeadStores)
 namespace {
 
 // A row of expected photon counts typical of a 0..255 image at snr 100.
@@ -47,6 +59,145 @@ void BM_PoissonRowSampler(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * width);
 }
 BENCHMARK(BM_PoissonRowSampler)->Arg(512)->Arg(4000);
+
+// The aggregated sampler's cost per frame and pixel: L = 52 frames of the
+// row summed into one normal per pixel (add_frame 52 times, finish once).
+void BM_AggregatedRowSampler(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const std::vector<double> e = test_row(width);
+  std::vector<double> out(static_cast<std::size_t>(width), 0.0);
+  fss::AggregatedRowSampler sampler(100.0);
+  std::uint64_t row = 0;
+  constexpr std::uint64_t kFrames = 52;
+  for (auto _ : state) {
+    for (std::uint64_t k = 0; k < kFrames; ++k) sampler.add_frame(e, {1, 0, k, row}, 1.0, out);
+    sampler.finish({1, 0, 0, row++}, out);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * width * static_cast<std::int64_t>(kFrames));
+}
+BENCHMARK(BM_AggregatedRowSampler)->Arg(512)->Arg(4000);
+
+// The floor, 1: raw 64-bit outputs of xoshiro256** (one per pixel is what
+// the per-frame sampler's Box-Muller consumes).
+void BM_Xoshiro(benchmark::State& state) {
+  fss::RandomStream stream(1, 0, 0, 0);
+  std::uint64_t sink = 0;
+  for (auto _ : state) sink ^= stream.next();
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Xoshiro);
+
+// The floor, 2: a row of normals as the per-frame sampler draws them
+// (uniforms from one stream, then the vectorized Box-Muller batch).
+void BM_BoxMullerRow(benchmark::State& state) {
+  const auto width = static_cast<std::size_t>(state.range(0));
+  const std::size_t pairs = (width + 1) / 2;
+  std::vector<double> u1(pairs), u2(pairs), z(2 * pairs);
+  std::uint64_t row = 0;
+  for (auto _ : state) {
+    fss::RandomStream stream(1, 0, 0, row++);
+    for (std::size_t j = 0; j < pairs; ++j) {
+      u1[j] = stream.uniform_open_zero();
+      u2[j] = stream.uniform();
+    }
+    fss::box_muller_batch(u1.data(), u2.data(), z.data(), pairs);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(width));
+}
+BENCHMARK(BM_BoxMullerRow)->Arg(512)->Arg(4000);
+
+// The same generator inline (bench/ziggurat.h): the bare cost of xoshiro256**.
+void BM_InlineXoshiro(benchmark::State& state) {
+  fss_bench::InlineXoshiro stream(fss::RandomStream(1, 0, 0, 0));
+  std::uint64_t sink = 0;
+  for (auto _ : state) sink ^= stream.next();
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_InlineXoshiro);
+
+// The floor, 3: our ziggurat normal (bench/ziggurat.h), a row at a time, on
+// RandomStream (as the library would call it) and on the inline generator
+// (the fastest normal we could build).
+template <typename Generator>
+void ziggurat_row(benchmark::State& state) {
+  const auto width = static_cast<std::size_t>(state.range(0));
+  const fss_bench::ZigguratNormal ziggurat;
+  std::vector<double> z(width);
+  std::uint64_t row = 0;
+  for (auto _ : state) {
+    Generator stream(fss::RandomStream(1, 0, 0, row++));
+    for (double& value : z) value = ziggurat(stream);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(width));
+}
+void BM_ZigguratRow(benchmark::State& state) { ziggurat_row<fss::RandomStream>(state); }
+void BM_ZigguratRowInline(benchmark::State& state) {
+  ziggurat_row<fss_bench::InlineXoshiro>(state);
+}
+BENCHMARK(BM_ZigguratRow)->Arg(512)->Arg(4000);
+BENCHMARK(BM_ZigguratRowInline)->Arg(512)->Arg(4000);
+
+// The floor, 4: what a C++ user reaches for first.
+void BM_StdNormalDistribution(benchmark::State& state) {
+  std::mt19937_64 engine(1);
+  std::normal_distribution<double> normal;
+  double sink = 0.0;
+  for (auto _ : state) sink += normal(engine);
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_StdNormalDistribution);
+
+// The floor, 5: the C++ library's Poisson at the test row's intensities.
+void BM_StdPoissonRow(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const std::vector<double> e = test_row(width);
+  std::mt19937_64 engine(1);
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (int x = 0; x < width; ++x) {
+      std::poisson_distribution<long> poisson(e[x] * 100.0);  // lambda2 = 100
+      sink += static_cast<double>(poisson(engine));
+    }
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations() * width);
+}
+BENCHMARK(BM_StdPoissonRow)->Arg(512);
+
+#ifdef FSS_BENCH_HAVE_GSL
+// The floor, 6: GSL's ziggurat normal and its Poisson (outside references),
+// on GSL's fastest good generators.
+void gsl_gaussian_ziggurat(benchmark::State& state, const gsl_rng_type* type) {
+  gsl_rng* rng = gsl_rng_alloc(type);
+  double sink = 0.0;
+  for (auto _ : state) sink += gsl_ran_gaussian_ziggurat(rng, 1.0);
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations());
+  gsl_rng_free(rng);
+}
+BENCHMARK_CAPTURE(gsl_gaussian_ziggurat, mt19937, gsl_rng_mt19937);
+BENCHMARK_CAPTURE(gsl_gaussian_ziggurat, taus2, gsl_rng_taus2);
+
+void BM_GslPoissonRow(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const std::vector<double> e = test_row(width);
+  gsl_rng* rng = gsl_rng_alloc(gsl_rng_taus2);
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (int x = 0; x < width; ++x) sink += gsl_ran_poisson(rng, e[x] * 100.0);  // lambda2 = 100
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations() * width);
+  gsl_rng_free(rng);
+}
+BENCHMARK(BM_GslPoissonRow)->Arg(512);
+#endif
 
 // Scalar Box-Muller normals alone (the baseline of the batch below).
 void BM_ScalarBoxMuller(benchmark::State& state) {
@@ -92,5 +243,6 @@ void BM_RowFFTBatch(benchmark::State& state) {
 BENCHMARK(BM_RowFFTBatch)->Arg(512)->Arg(920)->Arg(4000)->Arg(7896);
 
 }  // namespace
+// NOLINTEND(clang-analyzer-deadcode.DeadStores)
 
 BENCHMARK_MAIN();

@@ -125,40 +125,190 @@ double PoissonSNR::operator()(double e, RandomStream& stream) const {
 
 namespace fss {
 
+namespace {
+
+// The row samplers' loops are written to vectorize; run_vectorized(kernel)
+// runs them, inlined, in a copy compiled for AVX2 (4 doubles a vector) when
+// the processor has it, else in the baseline SSE2 copy (2 doubles). Only
+// AVX2, never FMA: GCC contracts a * b + c into a fused multiply-add when FMA
+// is enabled (even in ISO C++ mode), which rounds once instead of twice.
+// Without it every operation in the kernels (max, +, *, /, sqrt,
+// comparisons, selections, integer to double conversions) is correctly
+// rounded, so both copies give the same bits.
+bool processor_has_avx2() {
+#if defined(__GNUC__) && defined(__x86_64__)
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  return has_avx2;
+#else
+  return false;
+#endif
+}
+
+template <typename Kernel>
+void run_baseline(const Kernel& kernel) {
+  kernel();
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+template <typename Kernel>
+[[gnu::target("avx2")]] void run_avx2(const Kernel& kernel) {
+  kernel();
+}
+#else
+template <typename Kernel>
+void run_avx2(const Kernel& kernel) {
+  kernel();
+}
+#endif
+
+// kernel: a lambda marked __attribute__((always_inline)), so that each copy
+// compiles its loops for its own instruction set.
+template <typename Kernel>
+void run_vectorized(const Kernel& kernel) {
+  if (processor_has_avx2()) {
+    run_avx2(kernel);
+  } else {
+    run_baseline(kernel);
+  }
+}
+
+RandomStream lane_stream(const RowNoiseId& id, std::uint64_t frame, NoiseLane lane) {
+  return {id.seed, id.channel, frame, id.row, static_cast<std::uint64_t>(lane)};
+}
+
+// normals[x] for x < n (the buffer holds n rounded up to even): output x of
+// a Box-Muller batch whose pair j takes U1 = stream's (2j)-th draw,
+// U2 = its (2j+1)-th.
+void draw_normals(RandomStream stream, std::size_t n, std::vector<double>& u1,
+                  std::vector<double>& u2, std::vector<double>& normals) {
+  const std::size_t pairs = (n + 1) / 2;
+  u1.resize(pairs);
+  u2.resize(pairs);
+  normals.resize(2 * pairs);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    u1[j] = stream.uniform_open_zero();
+    u2[j] = stream.uniform();
+  }
+  box_muller_batch(u1.data(), u2.data(), normals.data(), pairs);
+}
+}  // namespace
+
+double poisson_snr_variance(double e, double lambda2) {
+  // Var(P / lambda2) = (lambda [+ 1/12 on the normal branch]) / lambda2^2
+  const double signal = std::max(e, 0.0);
+  const double rounding = signal * lambda2 >= kKnuthLimit ? 1.0 / (12.0 * lambda2 * lambda2) : 0.0;
+  return signal / lambda2 + rounding;
+}
+
 PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
 void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                                    std::span<double> out) {
   const std::size_t n = e.size();
-  const std::size_t pairs = (n + 1) / 2;
   lambda_.resize(n);
-  u1_.resize(pairs);
-  u2_.resize(pairs);
-  normals_.resize(2 * pairs);
-  double* __restrict lambda = lambda_.data();
-  double* __restrict normal = normals_.data();
-  for (std::size_t x = 0; x < n; ++x) lambda[x] = std::max(e[x], 0.0) * lambda2_;
+  std::size_t knuth_pixels = 0;
+  run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = lambda_.data();
+    const double lambda2 = lambda2_;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      count += lambda[x] < kKnuthLimit ? 1 : 0;
+    }
+    knuth_pixels = count;
+  });
 
-  // One normal per pixel, normal x for pixel x, from lane 0 (pixels on
-  // Knuth's branch leave theirs unused).
-  RandomStream normal_stream(id.seed, id.channel, id.frame, id.row, 0);
-  for (std::size_t j = 0; j < pairs; ++j) {
-    u1_[j] = normal_stream.uniform_open_zero();
-    u2_[j] = normal_stream.uniform();
-  }
-  box_muller_batch(u1_.data(), u2_.data(), normal, pairs);
+  // One normal per pixel, normal x for pixel x (pixels on Knuth's branch
+  // leave theirs unused).
+  draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
 
-  // Normal branch for every pixel, vectorized: P = round(lambda + sqrt(lambda) N).
-  for (std::size_t x = 0; x < n; ++x) {
-    normal[x] = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+  // Knuth's branch where lambda < 50, uniforms in pixel order; the variate
+  // takes the place of the pixel's unused normal.
+  if (knuth_pixels > 0) {
+    RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
+    for (std::size_t x = 0; x < n; ++x) {
+      if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
+    }
   }
-  // Knuth's branch where lambda < 50, uniforms from lane 1, in pixel order.
-  RandomStream knuth_stream(id.seed, id.channel, id.frame, id.row, 1);
-  for (std::size_t x = 0; x < n; ++x) {
-    if (lambda[x] < kKnuthLimit) normal[x] = poisson_variate(lambda[x], knuth_stream);
-  }
+  // Normal branch elsewhere: P = round(lambda + sqrt(lambda) N);
+  // out += gain P / lambda2.
   const double scale = gain / lambda2_;
-  for (std::size_t x = 0; x < n; ++x) out[x] += scale * normal[x];  // gain * P / lambda2
+  run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict lambda = lambda_.data();
+    const double* __restrict normal = normals_.data();
+    double* __restrict sum = out.data();
+    const double factor = scale;
+    for (std::size_t x = 0; x < n; ++x) {
+      const double rounded = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+      sum[x] += factor * (lambda[x] < kKnuthLimit ? normal[x] : rounded);
+    }
+  });
+}
+
+AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
+
+void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
+                                     std::span<double> out) {
+  const std::size_t n = e.size();
+  if (!has_frame_) {  // the row's first frame
+    mean_.assign(n, 0.0);
+    variance_.assign(n, 0.0);
+    has_frame_ = true;
+  }
+  lambda_.resize(n);
+  // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12).
+  const double gain_squared = gain * gain;
+  std::size_t normal_pixels = 0;
+  run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = lambda_.data();
+    double* __restrict mean = mean_.data();
+    double* __restrict variance = variance_.data();
+    const double lambda2 = lambda2_;
+    const double alpha = gain;
+    const double alpha_squared = gain_squared;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      const bool normal = lambda[x] >= kKnuthLimit;
+      mean[x] += normal ? alpha * lambda[x] : 0.0;
+      variance[x] += normal ? alpha_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
+      count += normal ? 1 : 0;
+    }
+    normal_pixels = count;
+  });
+  if (normal_pixels > 0) has_normal_ = true;
+  if (normal_pixels == n) return;
+
+  // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
+  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kAggregateKnuth);
+  const double scale = gain / lambda2_;
+  for (std::size_t x = 0; x < n; ++x) {
+    if (lambda_[x] < kKnuthLimit) out[x] += scale * poisson_variate(lambda_[x], knuth_stream);
+  }
+}
+
+void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
+  if (has_normal_) {
+    const std::size_t n = mean_.size();
+    draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_);
+    // out += (M + sqrt(V) N) / lambda2
+    run_vectorized([&]() __attribute__((always_inline)) {
+      const double* __restrict mean = mean_.data();
+      const double* __restrict variance = variance_.data();
+      const double* __restrict normal = normals_.data();
+      double* __restrict sum = out.data();
+      const double lambda2 = lambda2_;
+      for (std::size_t x = 0; x < n; ++x) {
+        sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
+      }
+    });
+  }
+  has_frame_ = false;
+  has_normal_ = false;
 }
 
 }  // namespace fss

@@ -1,17 +1,23 @@
-// Tests of fss/noise.h: the random streams, the Poisson variate of Algorithm 1
-// (docs/method.md §3) and PoissonSNR. Statistical checks use fixed seeds and a 5
-// standard error band, so they are deterministic and fail only on a real bias.
+// Tests of fss/model/noise.h: the random streams, the Poisson variate of
+// Algorithm 1 (docs/method.md §3), PoissonSNR, its exact variance and the
+// aggregated sampler (docs/method.md §6c). Statistical checks use fixed
+// seeds and a 5 (4 for the per-pixel maps) standard error band, so they are
+// deterministic and fail only on a real bias.
 
 #include "fss/model/noise.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "fss/core/error.h"
+#include "support/test_util.h"
 
 namespace fss {
 namespace {
@@ -36,8 +42,8 @@ Moments sample_moments(int n, Draw draw) {
 }
 
 std::vector<std::uint64_t> first_outputs(RandomStream stream, int count) {
-  std::vector<std::uint64_t> out;
-  for (int i = 0; i < count; ++i) out.push_back(stream.next());
+  std::vector<std::uint64_t> out(static_cast<std::size_t>(count));
+  for (auto& value : out) value = stream.next();
   return out;
 }
 
@@ -266,19 +272,14 @@ TEST(PoissonSNR, NegativeOrZeroSignalGivesZero) {
 // observation 0 / 0, infinity (snr 1e300) inf * 0; both are NaN.
 TEST(PoissonSNR, SnrWhoseLambda2LeavesTheDoublesIsAUsageError) {
   for (const double snr : {1e300, 1e-300, 1e160, 1e-160, 0.0, -0.0}) {
-    for (int sampler = 0; sampler < 2; ++sampler) {
-      try {
-        if (sampler == 0) {
-          PoissonSNR noise(snr);
-        } else {
-          PoissonRowSampler row_sampler(snr);
-        }
-        ADD_FAILURE() << "snr " << snr << " accepted (sampler " << sampler << ")";
-      } catch (const Error& error) {
-        EXPECT_EQ(error.kind(), ErrorKind::kUsage);
-        EXPECT_NE(std::string(error.what()).find("snr"), std::string::npos) << error.what();
-      }
-    }
+    EXPECT_TRUE(test::throws_error([&] { PoissonSNR noise(snr); }, ErrorKind::kUsage, {"snr"}))
+        << snr;
+    EXPECT_TRUE(
+        test::throws_error([&] { PoissonRowSampler sampler(snr); }, ErrorKind::kUsage, {"snr"}))
+        << snr;
+    EXPECT_TRUE(
+        test::throws_error([&] { AggregatedRowSampler sampler(snr); }, ErrorKind::kUsage, {"snr"}))
+        << snr;
   }
   // The extremes of the accepted range give finite samples.
   for (const double snr : {1e-150, 1e150}) {
@@ -287,6 +288,311 @@ TEST(PoissonSNR, SnrWhoseLambda2LeavesTheDoublesIsAUsageError) {
     std::vector<double> out(e.size(), 0.0);
     sampler.accumulate(e, {1, 0, 0, 0}, 1.0, out);
     for (const double value : out) EXPECT_TRUE(std::isfinite(value)) << "snr " << snr;
+  }
+}
+
+TEST(PoissonSnrVariance, ExactOnBothBranches) {
+  // lambda2 = 1 (snr 10): lambda = e.
+  EXPECT_EQ(poisson_snr_variance(20.0, 1.0), 20.0);
+  EXPECT_EQ(poisson_snr_variance(49.5, 1.0), 49.5);
+  EXPECT_EQ(poisson_snr_variance(50.0, 1.0), 50.0 + 1.0 / 12.0);
+  EXPECT_EQ(poisson_snr_variance(0.0, 1.0), 0.0);
+  EXPECT_EQ(poisson_snr_variance(-7.0, 1.0), 0.0);
+  // lambda2 = 100 (snr 100): e = 100 is lambda = 1e4, Var = 1 + 1 / (12 1e4).
+  EXPECT_DOUBLE_EQ(poisson_snr_variance(100.0, 100.0), 1.0 + 1.0 / 120000.0);
+  // lambda2 = 0.25 (snr 5): e = 199.6 is lambda = 49.9, Knuth's branch.
+  EXPECT_DOUBLE_EQ(poisson_snr_variance(199.6, 0.25), 199.6 / 0.25);
+  EXPECT_DOUBLE_EQ(poisson_snr_variance(200.0, 0.25), 800.0 + 1.0 / (12.0 * 0.0625));
+}
+
+// Intensities in photons (lambda = max(e, 0) lambda2) on both sides of the
+// switch at 50; -3 stands for a negative e.
+constexpr double kMixedLambdas[] = {0.0,  -3.0, 0.4,  5.0,   31.0,  49.9,
+                                    50.0, 50.7, 87.0, 400.0, 6000.0};
+constexpr double kKnuthLambdas[] = {0.0, -3.0, 0.4, 5.0, 31.0, 49.9};
+
+// One row of L = 6 frames with gains of both signs; pixel x's frame k has
+// intensity table[(x + 4k) mod size], so every pixel sees 6 different
+// intensities and, for the mixed table, both branches.
+struct SyntheticRow {
+  double lambda2 = 1.0;
+  std::vector<double> gains = {1.0, -0.6, 2.5, 0.35, -1.8, 1.0};
+  std::vector<std::vector<double>> e;  // e[k][x]
+  std::size_t width() const { return e.front().size(); }
+};
+
+SyntheticRow synthetic_row(double snr, std::span<const double> table) {
+  SyntheticRow row;
+  row.lambda2 = snr * snr / 100.0;
+  const std::size_t size = table.size();
+  for (std::size_t k = 0; k < row.gains.size(); ++k) {
+    std::vector<double> e(size);
+    for (std::size_t x = 0; x < size; ++x) e[x] = table[(x + 4 * k) % size] / row.lambda2;
+    row.e.push_back(e);
+  }
+  return row;
+}
+
+// Exact mean, variance and fourth cumulant of o[x] = sum_k alpha_k
+// PoissonSNR(e_k[x]): frames are independent, so cumulants add. The fourth
+// cumulant is lambda / lambda2^4 for a Poisson variate, 0 for the aggregated
+// normal (and -1/120 / lambda2^4 for a rounded one: negligible here).
+struct PixelLaw {
+  double mean = 0.0;
+  double variance = 0.0;
+  double cumulant4 = 0.0;
+};
+
+PixelLaw exact_law(const SyntheticRow& row, std::size_t x) {
+  PixelLaw law;
+  for (std::size_t k = 0; k < row.gains.size(); ++k) {
+    const double alpha = row.gains[k];
+    const double e = std::max(row.e[k][x], 0.0);
+    law.mean += alpha * e;
+    law.variance += alpha * alpha * poisson_snr_variance(e, row.lambda2);
+    const double lambda = e * row.lambda2;
+    if (lambda < kKnuthLimit) law.cumulant4 += std::pow(alpha / row.lambda2, 4) * lambda;
+  }
+  return law;
+}
+
+enum class Sampler { kPerFrame, kAggregated };
+
+// One draw of the row's observation, trial t as row t.
+void observe_row(const SyntheticRow& row, Sampler which, std::uint64_t seed, std::uint64_t t,
+                 PoissonRowSampler& per_frame, AggregatedRowSampler& aggregated,
+                 std::vector<double>& out) {
+  std::fill(out.begin(), out.end(), 0.0);
+  for (std::size_t k = 0; k < row.gains.size(); ++k) {
+    const RowNoiseId id{seed, 0, k, t};
+    if (which == Sampler::kPerFrame) {
+      per_frame.accumulate(row.e[k], id, row.gains[k], out);
+    } else {
+      aggregated.add_frame(row.e[k], id, row.gains[k], out);
+    }
+  }
+  if (which == Sampler::kAggregated) aggregated.finish({seed, 0, 0, t}, out);
+}
+
+// Per-pixel sample mean and variance over `trials` draws against the exact
+// law: z = (estimate - exact) / standard error must stay under 4 at every
+// pixel. SE of the mean sqrt(var / n); of the sample variance
+// sqrt(kappa4 / n + 2 var^2 / (n - 1)). Prints the largest |z|.
+void expect_pixel_moments(double snr, std::span<const double> table, Sampler which,
+                          std::uint64_t seed) {
+  const SyntheticRow row = synthetic_row(snr, table);
+  const int trials = 40000;
+  const std::size_t width = row.width();
+  PoissonRowSampler per_frame(snr);
+  AggregatedRowSampler aggregated(snr);
+  std::vector<double> out(width), mean(width, 0.0), m2(width, 0.0);
+  for (int t = 1; t <= trials; ++t) {
+    observe_row(row, which, seed, static_cast<std::uint64_t>(t), per_frame, aggregated, out);
+    for (std::size_t x = 0; x < width; ++x) {  // Welford
+      const double delta = out[x] - mean[x];
+      mean[x] += delta / t;
+      m2[x] += delta * (out[x] - mean[x]);
+    }
+  }
+  const char* name = which == Sampler::kPerFrame ? "per-frame" : "aggregated";
+  double worst_mean = 0.0;
+  double worst_variance = 0.0;
+  for (std::size_t x = 0; x < width; ++x) {
+    const PixelLaw law = exact_law(row, x);
+    ASSERT_GT(law.variance, 0.0) << x;
+    const double variance = m2[x] / (trials - 1);
+    const double z_mean = (mean[x] - law.mean) / std::sqrt(law.variance / trials);
+    const double se_variance =
+        std::sqrt(law.cumulant4 / trials + 2.0 * law.variance * law.variance / (trials - 1));
+    const double z_variance = (variance - law.variance) / se_variance;
+    EXPECT_LT(std::abs(z_mean), 4.0) << name << " snr " << snr << " pixel " << x;
+    EXPECT_LT(std::abs(z_variance), 4.0) << name << " snr " << snr << " pixel " << x;
+    worst_mean = std::max(worst_mean, std::abs(z_mean));
+    worst_variance = std::max(worst_variance, std::abs(z_variance));
+  }
+  std::printf("  %s, snr %g, %zu pixels x %d draws: max |z| mean %.2f, variance %.2f\n", name, snr,
+              width, trials, worst_mean, worst_variance);
+}
+
+TEST(AggregatedRowSampler, MixedBranchesMatchTheExactLawAtSnr5) {
+  expect_pixel_moments(5.0, kMixedLambdas, Sampler::kAggregated, 301);
+  // The per-frame sampler obeys the same law: the reference the aggregated
+  // sampler must match, checked on the same rows.
+  expect_pixel_moments(5.0, kMixedLambdas, Sampler::kPerFrame, 302);
+}
+
+TEST(AggregatedRowSampler, MixedBranchesMatchTheExactLawAtSnr100) {
+  expect_pixel_moments(100.0, kMixedLambdas, Sampler::kAggregated, 303);
+  expect_pixel_moments(100.0, kMixedLambdas, Sampler::kPerFrame, 304);
+}
+
+TEST(AggregatedRowSampler, KnuthOnlyRowsMatchThePerFrameLaw) {
+  expect_pixel_moments(5.0, kKnuthLambdas, Sampler::kAggregated, 305);
+  expect_pixel_moments(100.0, kKnuthLambdas, Sampler::kAggregated, 306);
+}
+
+TEST(AggregatedRowSampler, KnuthOnlyRowIsKnuthsDrawFromItsLane) {
+  // With every frame below 50, the row is exactly sum_k alpha_k P_k /
+  // lambda2, P_k drawn by poisson_variate from frame k's kAggregateKnuth
+  // lane in pixel order, and finish() adds nothing.
+  for (const double snr : {5.0, 100.0}) {
+    const SyntheticRow row = synthetic_row(snr, kKnuthLambdas);
+    const std::size_t width = row.width();
+    AggregatedRowSampler sampler(snr);
+    std::vector<double> out(width, 0.0), expected(width, 0.0);
+    for (std::size_t k = 0; k < row.gains.size(); ++k) {
+      sampler.add_frame(row.e[k], {7, 2, k, 9}, row.gains[k], out);
+      RandomStream stream(7, 2, k, 9, static_cast<std::uint64_t>(NoiseLane::kAggregateKnuth));
+      for (std::size_t x = 0; x < width; ++x) {
+        const double lambda = std::max(row.e[k][x], 0.0) * sampler.lambda2();
+        expected[x] += row.gains[k] / sampler.lambda2() * poisson_variate(lambda, stream);
+      }
+    }
+    sampler.finish({7, 2, 0, 9}, out);
+    EXPECT_EQ(std::memcmp(out.data(), expected.data(), width * sizeof(double)), 0) << snr;
+  }
+}
+
+std::vector<double> aggregated_row(AggregatedRowSampler& sampler, const SyntheticRow& row,
+                                   std::uint64_t seed, std::uint64_t channel, std::uint64_t y) {
+  std::vector<double> out(row.width(), 0.0);
+  for (std::size_t k = 0; k < row.gains.size(); ++k) {
+    sampler.add_frame(row.e[k], {seed, channel, k, y}, row.gains[k], out);
+  }
+  sampler.finish({seed, channel, 0, y}, out);
+  return out;
+}
+
+bool same_bytes(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+TEST(AggregatedRowSampler, SameCoordinatesSameBytes) {
+  const SyntheticRow row = synthetic_row(100.0, kMixedLambdas);
+  AggregatedRowSampler a(100.0);
+  AggregatedRowSampler b(100.0);
+  EXPECT_TRUE(same_bytes(aggregated_row(a, row, 11, 1, 5), aggregated_row(b, row, 11, 1, 5)));
+}
+
+TEST(AggregatedRowSampler, ReusedSamplerStartsEachRowAfresh) {
+  // A sampler reused across rows (one per thread) gives what a fresh one
+  // gives, even after a row of another width.
+  const SyntheticRow row = synthetic_row(5.0, kMixedLambdas);
+  const SyntheticRow narrow = synthetic_row(5.0, kKnuthLambdas);
+  AggregatedRowSampler reused(5.0);
+  aggregated_row(reused, row, 12, 0, 1);
+  aggregated_row(reused, narrow, 12, 0, 2);
+  const std::vector<double> again = aggregated_row(reused, row, 12, 0, 3);
+  AggregatedRowSampler fresh(5.0);
+  EXPECT_TRUE(same_bytes(again, aggregated_row(fresh, row, 12, 0, 3)));
+}
+
+TEST(AggregatedRowSampler, RowsChannelsAndSeedsDiffer) {
+  // Every pixel of the mixed row has a normal-branch frame, so its value is
+  // continuous: a repeat would need a 2^-53 coincidence.
+  const SyntheticRow row = synthetic_row(100.0, kMixedLambdas);
+  AggregatedRowSampler sampler(100.0);
+  const std::vector<double> base = aggregated_row(sampler, row, 13, 0, 4);
+  const std::vector<std::vector<double>> others = {aggregated_row(sampler, row, 13, 0, 5),
+                                                   aggregated_row(sampler, row, 13, 1, 4),
+                                                   aggregated_row(sampler, row, 14, 0, 4)};
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    for (std::size_t x = 0; x < base.size(); ++x) {
+      EXPECT_NE(others[i][x], base[x]) << "variant " << i << " pixel " << x;
+    }
+  }
+}
+
+TEST(AggregatedRowSampler, LanesAreDistinctStreams) {
+  std::vector<std::uint64_t> firsts;
+  for (const NoiseLane lane : {NoiseLane::kFrameNormal, NoiseLane::kFrameKnuth,
+                               NoiseLane::kAggregateNormal, NoiseLane::kAggregateKnuth}) {
+    firsts.push_back(RandomStream(1, 2, 0, 4, static_cast<std::uint64_t>(lane)).next());
+  }
+  std::sort(firsts.begin(), firsts.end());
+  EXPECT_EQ(std::adjacent_find(firsts.begin(), firsts.end()), firsts.end());
+}
+
+TEST(AggregatedRowSampler, FinishWithoutFramesAddsNothing) {
+  AggregatedRowSampler sampler(100.0);
+  std::vector<double> out = {1.5, -2.0, 0.0};
+  const std::vector<double> before = out;
+  sampler.finish({1, 0, 0, 0}, out);
+  EXPECT_TRUE(same_bytes(out, before));
+  // After a row, finish() has reset the accumulators: a second one adds nothing.
+  const SyntheticRow row = synthetic_row(100.0, kMixedLambdas);
+  std::vector<double> drawn = aggregated_row(sampler, row, 1, 0, 0);
+  const std::vector<double> once = drawn;
+  sampler.finish({1, 0, 0, 0}, drawn);
+  EXPECT_TRUE(same_bytes(drawn, once));
+}
+
+// Pixel x's normal as the header documents it: output x of Box-Muller pairs
+// (U1, U2) taken in order from the lane's stream, here by the scalar libm
+// (the samplers use the vector library, equal to a few ulp).
+std::vector<double> documented_normals(RandomStream stream, std::size_t n) {
+  std::vector<double> normals;
+  while (normals.size() < n) {
+    const double radius = std::sqrt(-2.0 * std::log(stream.uniform_open_zero()));
+    const double angle = 2.0 * M_PI * stream.uniform();
+    normals.push_back(radius * std::cos(angle));
+    normals.push_back(radius * std::sin(angle));
+  }
+  return normals;
+}
+
+TEST(PoissonRowSampler, FollowsTheDocumentedStreamLayout) {
+  // snr 10 (lambda2 = 1) and gain 1: out[x] is the photon count itself.
+  // Counts on the normal branch are round(lambda + sqrt(lambda) N) with N
+  // from the kFrameNormal lane; a few ulp in N change a count only within
+  // about 1e-12 of a half-integer, never here. Counts on Knuth's branch are
+  // poisson_variate on the kFrameKnuth lane, in pixel order.
+  const std::size_t n = 1001;  // odd: the last pair's sine is unused
+  std::vector<double> e(n);
+  for (std::size_t x = 0; x < n; ++x) e[x] = static_cast<double>((x * 7919) % 600) - 20.0;
+  PoissonRowSampler sampler(10.0);
+  std::vector<double> out(n, 0.0);
+  const RowNoiseId id{21, 1, 4, 33};
+  sampler.accumulate(e, id, 1.0, out);
+  const std::vector<double> normals = documented_normals(
+      RandomStream(21, 1, 4, 33, static_cast<std::uint64_t>(NoiseLane::kFrameNormal)), n);
+  RandomStream knuth(21, 1, 4, 33, static_cast<std::uint64_t>(NoiseLane::kFrameKnuth));
+  for (std::size_t x = 0; x < n; ++x) {
+    const double lambda = std::max(e[x], 0.0);
+    const double expected = lambda < kKnuthLimit
+                                ? poisson_variate(lambda, knuth)
+                                : std::round(lambda + std::sqrt(lambda) * normals[x]);
+    ASSERT_EQ(out[x], expected) << "pixel " << x << " lambda " << lambda;
+  }
+}
+
+TEST(AggregatedRowSampler, FollowsTheDocumentedStreamLayout) {
+  // out[x] = Knuth counts (kAggregateKnuth lane of each frame) +
+  // (M + sqrt(V) N) / lambda2 with N from the row's kAggregateNormal lane.
+  const SyntheticRow row = synthetic_row(100.0, kMixedLambdas);
+  const std::size_t n = row.width();
+  AggregatedRowSampler sampler(100.0);
+  const std::vector<double> out = aggregated_row(sampler, row, 22, 2, 8);
+  const std::vector<double> normals = documented_normals(
+      RandomStream(22, 2, 0, 8, static_cast<std::uint64_t>(NoiseLane::kAggregateNormal)), n);
+  std::vector<double> expected(n, 0.0), mean(n, 0.0), variance(n, 0.0);
+  for (std::size_t k = 0; k < row.gains.size(); ++k) {
+    const double alpha = row.gains[k];
+    RandomStream knuth(22, 2, k, 8, static_cast<std::uint64_t>(NoiseLane::kAggregateKnuth));
+    for (std::size_t x = 0; x < n; ++x) {
+      const double lambda = std::max(row.e[k][x], 0.0) * row.lambda2;
+      if (lambda < kKnuthLimit) {
+        expected[x] += alpha / row.lambda2 * poisson_variate(lambda, knuth);
+      } else {
+        mean[x] += alpha * lambda;
+        variance[x] += alpha * alpha * (lambda + 1.0 / 12.0);
+      }
+    }
+  }
+  for (std::size_t x = 0; x < n; ++x) {
+    expected[x] += (mean[x] + std::sqrt(variance[x]) * normals[x]) / row.lambda2;
+    EXPECT_NEAR(out[x], expected[x], 1e-12 * (std::abs(mean[x]) + std::sqrt(variance[x])))
+        << "pixel " << x;
   }
 }
 

@@ -20,7 +20,7 @@ std::uint64_t splitmix64(std::uint64_t& state);
 // and three stream coordinates.
 class RandomStream {
  public:
-  // `lane` separates independent streams of the same row (see PoissonRowSampler).
+  // `lane` separates independent streams of the same row (see NoiseLane).
   RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint64_t frame, std::uint64_t row,
                std::uint64_t lane = 0);
 
@@ -69,9 +69,9 @@ struct RowNoiseId {
 
 // PoissonSNR over a whole row, the same algorithm as PoissonSNR but drawn in
 // batches so that it vectorizes: pixel x's normal is output x of a
-// Box-Muller batch (both outputs of each pair used) fed by lane 0 of the
-// row's stream; Knuth's uniforms come from lane 1, in pixel order. Holds
-// scratch buffers: one sampler per thread.
+// Box-Muller batch (both outputs of each pair used) fed by the frame row's
+// kFrameNormal lane; Knuth's uniforms come from its kFrameKnuth lane, in
+// pixel order (see NoiseLane). Holds scratch buffers: one sampler per thread.
 class PoissonRowSampler {
  public:
   explicit PoissonRowSampler(double snr);
@@ -87,9 +87,113 @@ class PoissonRowSampler {
   std::vector<double> normals_;
 };
 
+// The lanes of a row's random streams, RandomStream(seed, channel, frame,
+// row, lane). Every lane is a separate xoshiro256** stream, so the samplers
+// never share a variate:
+//   kFrameNormal      per (seed, channel, frame k, row): PoissonRowSampler's
+//                     Box-Muller uniforms, two per pair of pixels.
+//   kFrameKnuth       per (seed, channel, frame k, row): PoissonRowSampler's
+//                     Knuth uniforms, in pixel order.
+//   kAggregateNormal  per (seed, channel, row), frame coordinate 0:
+//                     AggregatedRowSampler's one normal per pixel, drawn in
+//                     finish() like kFrameNormal's (pixel x gets output x of
+//                     the Box-Muller batch).
+//   kAggregateKnuth   per (seed, channel, frame k, row): AggregatedRowSampler's
+//                     Knuth uniforms for frame k, in pixel order.
+enum class NoiseLane : std::uint64_t {
+  kFrameNormal = 0,
+  kFrameKnuth = 1,
+  kAggregateNormal = 2,
+  kAggregateKnuth = 3,
+};
+
+// Exact variance of PoissonSNR(e) as the samplers draw it, in units of e^2:
+// Var(P) / lambda2^2 with Var(P) = lambda on Knuth's branch (lambda < 50)
+// and lambda + 1/12 on the normal branch (the rounding of a normal of sd
+// sqrt(lambda) >= 7 adds a uniform error of variance 1/12), so
+//   Var = max(e, 0) / lambda2 + (lambda >= 50 ? 1 / (12 lambda2^2) : 0),
+// lambda = max(e, 0) lambda2. The mean is max(e, 0) on both branches.
+// (The normal branch's clamp at 0 and the lattice's effect on the mean and
+// on 1/12 are below 1e-12 relative: P(N < -7) ~ 1e-12.)
+double poisson_snr_variance(double e, double lambda2);
+
+// The numerical mode's observation of one row,
+//   o[x] = sum_k alpha_k PoissonSNR(e_k[x]),
+// with the normal-branch frames aggregated (docs/method.md §6c): for each
+// pixel, the frames with lambda_k = max(e_k[x], 0) lambda2 >= 50 are
+// replaced by ONE normal
+//   A[x] = M[x] + sqrt(V[x]) N[x],   M = sum alpha_k lambda_k,
+//                                    V = sum alpha_k^2 (lambda_k + 1/12),
+// added as A[x] / lambda2; the frames with lambda_k < 50 are drawn one by
+// one by Knuth's method, as PoissonRowSampler does. One normal per pixel and
+// row instead of one per pixel and frame.
+//
+// What is the same as PoissonRowSampler: the mean and the variance of o[x]
+// (each pixel's frames are independent, so both add up over frames; the
+// normal-branch frame's variance is lambda_k + 1/12, see
+// poisson_snr_variance), the Knuth-branch frames' distribution (the very
+// same algorithm), and independence between pixels, rows and channels.
+// What differs is the rounding lattice: the per-frame sampler adds alpha_k
+// round(lambda_k + sqrt(lambda_k) N_k), integers times the gains, so o[x]
+// lies on the lattice {sum_k alpha_k n_k} / lambda2; A is one continuous
+// normal, not rounded, with each frame's rounding kept as the 1/12 in its
+// variance. A is not rounded because the gains are arbitrary reals: the
+// per-frame sum is not an integer unless every gain is, and rounding A would
+// add a single 1/12 where the per-frame sum has one per frame, breaking the
+// variance it must match. (With integer gains, such as the 0/1 codes,
+// rounding A drawn with one 1/12 fewer would land on the per-frame lattice;
+// one rule for every code was preferred: a frame's lattice step, |alpha_k|
+// photons, is at most 1/7 of its standard deviation |alpha_k|
+// sqrt(lambda_k).) Beyond the variance: both sums are symmetric about their
+// mean on the normal branch (third cumulants 0); their fourth cumulants
+// differ by the roundings', -sum alpha_k^4 / 120 photons^4, an excess
+// kurtosis of at most 1 / (120 * 50^2) = 3.3e-6 since lambda_k >= 50; the
+// per-frame sampler clamps each frame at 0 (probability about 1e-12 a frame),
+// A does not. Different variates: the streams are the kAggregate lanes, so
+// the aggregated and per-frame observations of one seed are independent
+// draws. And as A is not rounded, the last bits of N (libmvec's AVX2 and SSE
+// variants may differ by a few ulp, see box_muller_batch) reach the output:
+// the same seed gives the same bytes on the same processor kind, equal to
+// about 1e-15 relative elsewhere.
+//
+// Use, per row: add_frame() for each frame with a nonzero gain, then
+// finish(). Each frame has its own Knuth stream, so the frames' order (or
+// skipping a zero gain) changes no variate, only the rounding of the sums;
+// the observer adds them in k order, as for the per-frame sampler. The
+// Knuth-branch frames go straight into `out`; the normal-branch ones are
+// summed into two row-sized accumulators, M and V, which finish() turns
+// into the normal and resets for the next row: no frame's row is kept.
+// Holds scratch buffers: one sampler per thread.
+class AggregatedRowSampler {
+ public:
+  explicit AggregatedRowSampler(double snr);
+  double lambda2() const { return lambda2_; }
+  // Frame id.frame of row (id.seed, id.channel, id.row): out[x] +=
+  // gain * PoissonSNR(e[x]) where lambda < 50, accumulated into M and V
+  // otherwise. e and out have the row's width, the same for every frame.
+  void add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
+                 std::span<double> out);
+  // out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from the row's
+  // kAggregateNormal lane (id.frame is ignored), then M = V = 0. Draws
+  // nothing when no pixel had a normal-branch frame.
+  void finish(const RowNoiseId& id, std::span<double> out);
+
+ private:
+  double lambda2_;
+  bool has_frame_ = false;   // add_frame() was called since the last finish()
+  bool has_normal_ = false;  // and some pixel of some frame was on the normal branch
+  std::vector<double> lambda_;
+  std::vector<double> mean_;      // M, in photons
+  std::vector<double> variance_;  // V, in photons^2
+  std::vector<double> u1_;
+  std::vector<double> u2_;
+  std::vector<double> normals_;
+};
+
 // Box-Muller on arrays: z[2j] = sqrt(-2 ln u1[j]) cos(2 pi u2[j]) and
 // z[2j+1] = sqrt(-2 ln u1[j]) sin(2 pi u2[j]), j < pairs; u1 in (0, 1].
-// Vectorized with glibc's vector math library where available.
+// Vectorized with glibc's vector math library where available, 4 wide on
+// processors with AVX2 (see noise_simd.cpp).
 void box_muller_batch(const double* u1, const double* u2, double* z, std::size_t pairs);
 
 // round(x) for x > 0 (halves away from zero), 0 for x <= 0; inline-friendly.

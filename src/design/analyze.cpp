@@ -7,8 +7,8 @@
 #include "fss/core/error.h"
 #include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
-#include "fss/pipeline/simulate.h"
 #include "fss/pipeline/prediction.h"
+#include "fss/pipeline/simulate.h"
 
 namespace fss {
 

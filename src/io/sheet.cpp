@@ -10,7 +10,8 @@ namespace fss {
 
 std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Image& input) {
   if (r.observed.data.empty()) {
-    throw_usage_error("sheet.png needs the observed image: run Simulate without an ObservedRowSink");
+    throw_usage_error(
+        "sheet.png needs the observed image: run Simulate without an ObservedRowSink");
   }
   char parameters[160];
   std::snprintf(parameters, sizeof parameters,

@@ -21,8 +21,8 @@
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
-#include "fss/pipeline/simulate.h"
 #include "fss/pipeline/prediction.h"
+#include "fss/pipeline/simulate.h"
 #include "support/test_util.h"
 
 namespace fss {

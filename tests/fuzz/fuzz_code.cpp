@@ -9,8 +9,8 @@
 #include <string>
 #include <string_view>
 
-#include "fss/model/code.h"
 #include "fss/core/error.h"
+#include "fss/model/code.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

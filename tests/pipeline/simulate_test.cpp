@@ -542,12 +542,14 @@ TEST(RestoreVelocity, NonFiniteIsRejectedByIsValid) {
 namespace fss {
 namespace {
 
+// The message of options that IsValid must refuse.
+std::string message(const SimulationOptions& options) {
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  return error;
+}
+
 TEST(IsValid, BoundsDtSnrAndTheMargin) {
-  auto message = [](const SimulationOptions& options) {
-    std::string error;
-    EXPECT_FALSE(options.IsValid(&error));
-    return error;
-  };
   SimulationOptions options;
   options.dt = 1e-200;
   EXPECT_NE(message(options).find("dt = 1e-200"), std::string::npos);
@@ -624,11 +626,6 @@ TEST(OptionRules, BrokenRulesAreNamed) {
 }
 
 TEST(OptionRules, IsValidSaysFieldValueAndRule) {
-  auto message = [](const SimulationOptions& options) {
-    std::string error;
-    EXPECT_FALSE(options.IsValid(&error));
-    return error;
-  };
   SimulationOptions options;
   options.dt = 1e-200;
   EXPECT_EQ(message(options), "dt = 1e-200: must lie in [1e-100, 1e100]");

@@ -69,8 +69,12 @@ void print_results(const fss::SimulationReport& report, const fss::SimulationOpt
   print_metric("Contrast Invariant PSNR", report.metrics.psnr_ci);
   const fss::Prediction& p = report.prediction;
   if (p.finite) {
+    // The exact expectation (docs/method.md §6b), then the paper's stationary
+    // approximation and the image-independent figure of merit (§6).
     std::printf("Predicted RMSE: %f (noise-free %f, noise %f)\n", p.rmse, p.rmse_noise_free,
-                p.sigma);
+                p.noise);
+    std::printf("Stationary approximation: RMSE %f (noise %f), SNR at level 100 %f\n",
+                p.rmse_stationary, p.sigma, p.snr_level100);
   } else {
     std::printf("Predicted RMSE: none (code not invertible, min |K| = %g at xi = %g)\n",
                 report.kernel.min_abs, report.kernel.min_abs_xi);

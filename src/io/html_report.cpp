@@ -140,13 +140,17 @@ void write_parameters(std::ostringstream& out, const SimulationReport& r, const 
   t.row("RMSE_CI columns", columns(r.rmse_ci_first, r.rmse_ci_end));
 }
 
-// The predicted error (docs/method.md §6) and |K| (§1).
+// The predicted error: the exact expectation (docs/method.md §6b), the
+// stationary approximation and the figure of merit (§6), and |K| (§1).
 void write_prediction_rows(Table& t, const SimulationReport& r) {
   if (r.prediction.finite) {
-    t.row("predicted RMSE", metric(r.prediction.rmse));
+    t.row("predicted RMSE (exact expectation)", metric(r.prediction.rmse));
     t.row("noise-free RMSE", metric(r.prediction.rmse_noise_free));
-    t.row("noise part σ", metric(r.prediction.sigma));
-    t.row("SNR at level 100", format("%.3f", r.prediction.snr_level100));
+    t.row("noise part (exact)", metric(r.prediction.noise));
+    t.row("stationary approximation: RMSE", metric(r.prediction.rmse_stationary));
+    t.row("stationary approximation: noise σ", metric(r.prediction.sigma));
+    t.row("SNR at level 100 (stationary figure of merit)",
+          format("%.3f", r.prediction.snr_level100));
   } else {
     t.row("predicted RMSE", "<span class=\"warning\">none: the code is not invertible</span>");
     t.row("noise-free RMSE", metric(r.prediction.rmse_noise_free));

@@ -37,12 +37,15 @@ json geometry_json(const SimulationReport& r) {
           {"rmse_ci_columns", {r.rmse_ci_first, r.rmse_ci_end}}};
 }
 
-// The predicted error, docs/method.md §6.
+// The predicted error: rmse and noise the exact expectation (docs/method.md
+// §6b), sigma and rmse_stationary the stationary approximation (§6).
 json prediction_json(const SimulationReport& r) {
   return {{"finite", r.prediction.finite},
           {"rmse_noise_free", finite_or_null(r.prediction.rmse_noise_free)},
-          {"sigma", finite_or_null(r.prediction.sigma)},
+          {"noise", finite_or_null(r.prediction.noise)},
           {"rmse", finite_or_null(r.prediction.rmse)},
+          {"sigma", finite_or_null(r.prediction.sigma)},
+          {"rmse_stationary", finite_or_null(r.prediction.rmse_stationary)},
           {"snr_level100", finite_or_null(r.prediction.snr_level100)},
           {"window_mean", r.prediction.window_mean},
           {"q", r.prediction.q},

@@ -66,17 +66,43 @@ std::span<const double> RowObserver::filtered(const std::vector<Complex>& filter
   return scratch.workspace.real();
 }
 
+namespace {
+
+// variance[x] += weight * Var(PoissonSNR(e[x])) (docs/method.md §6b).
+void add_variance(std::span<const double> e, double weight, double lambda2,
+                  std::span<double> variance) {
+  for (std::size_t x = 0; x < e.size(); ++x) {
+    variance[x] += weight * poisson_snr_variance(e[x], lambda2);
+  }
+}
+
+// variance[x] += weight * unit[(x - offset) mod W], offset in [0, W): the
+// variance of a slot whose exposure is e_0 shifted by `offset`.
+void add_shifted_variance(const std::vector<double>& unit, std::size_t offset, double weight,
+                          std::span<double> variance) {
+  const std::size_t n = unit.size();
+  for (std::size_t x = 0; x < offset; ++x) variance[x] += weight * unit[x + n - offset];
+  for (std::size_t x = offset; x < n; ++x) variance[x] += weight * unit[x - offset];
+}
+
+}  // namespace
+
 void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
-                          std::span<double> out) const {
+                          std::span<double> out, std::span<double> variance) const {
   const auto c = static_cast<std::uint64_t>(channel);
   const auto y = static_cast<std::uint64_t>(row);
   std::fill(out.begin(), out.end(), 0.0);
+  // Var(o), for the exact prediction: sum_k alpha_k^2 Var(PoissonSNR(e_k)).
+  const bool with_variance = !noisy && !variance.empty();
+  const double lambda2 = with_variance ? PoissonSNR(snr_).lambda2() : 0.0;
+  if (with_variance) std::fill(variance.begin(), variance.end(), 0.0);
   if (mode_ == ShutterMode::kAnalog) {
     const std::span<const double> e = filtered(filters_[0], scratch);
     if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
     } else {
       for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
+      if (with_variance) add_variance(e, 1.0, lambda2, variance);
     }
     return;
   }
@@ -87,6 +113,7 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
       for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+      if (with_variance && !shift_) add_variance(e, alpha * alpha, lambda2, variance);
     }
   };
   if (!shift_) {
@@ -97,6 +124,10 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   }
   const std::span<const double> e0 = filtered(filters_[0], scratch);
   scratch.shifted.resize(static_cast<std::size_t>(width_));
+  if (with_variance) {  // Var(PoissonSNR(e_0)) once; slot k's is its shift
+    scratch.unit_variance.assign(static_cast<std::size_t>(width_), 0.0);
+    add_variance(e0, 1.0, lambda2, scratch.unit_variance);
+  }
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;
     // e_k(x) = e_0((x - s k) mod W)
@@ -106,6 +137,10 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
     std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
     std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
     add_slot(k, scratch.shifted);
+    if (with_variance) {
+      add_shifted_variance(scratch.unit_variance, static_cast<std::size_t>(offset),
+                           gains_[k] * gains_[k], variance);
+    }
   }
 }
 

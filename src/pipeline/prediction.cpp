@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
+#include "fss/core/error.h"
 #include "fss/model/kernel.h"
+#include "fss/pipeline/noise_weights.h"
 #include "fss/pipeline/simulate.h"
 
 namespace fss {
@@ -39,31 +42,55 @@ double window_mean(const Image& image, int first, int end) {
   return sum / (static_cast<double>(end - first) * image.height * image.channels);
 }
 
+// sum_j W(j) S(j) / (rows * channels * window width): the noise part of
+// E[MSE] over the RMSE window (docs/method.md §6b).
+double exact_noise_power(const SimulationReport& report, double v_r, const NoiseFreeRun& run) {
+  const std::vector<double>& s = run.crop_variance_sums;
+  const int wa = report.geometry.observed_width;
+  if (s.size() != static_cast<std::size_t>(wa)) {
+    throw_usage_error("the exact prediction needs S(j) for each of the " + std::to_string(wa) +
+                      " observed-crop columns, but the noise-free run has " +
+                      std::to_string(s.size()));
+  }
+  const std::vector<double> w = noise_energy_weights(
+      report.geometry, report.gains, v_r, report.options.dt, report.rmse_first, report.rmse_end);
+  double total = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) total += w[j] * s[j];
+  const double count =
+      static_cast<double>(report.rmse_end - report.rmse_first) * report.height * report.channels;
+  return total / count;
+}
+
 }  // namespace
 
-Prediction predict(const SimulationReport& report, const Image& input, double rmse_noise_free) {
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free) {
   const SimulationOptions& options = report.options;
   const double v_r = options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot);
-  const int offset = report.output_first_column();
+  const bool noisy = options.noise != NoiseModel::kNone;
+  const double r0 = noise_free.rmse;
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   Prediction p;
   p.finite = report.kernel.invertible;
-  p.window_mean = window_mean(input, offset + report.rmse_first, offset + report.rmse_end);
+  p.window_mean = window_mean(input, report.output_first_column() + report.rmse_first,
+                              report.output_first_column() + report.rmse_end);
   p.q = noise_gain(report.gains, options.dt, options.mode);
   p.m_amplification =
       p.finite ? mean_inverse_power(report.gains, v_r, options.dt, report.geometry.mirror_width)
                : kInfinity;
-  p.rmse_noise_free = rmse_noise_free;
+  p.rmse_noise_free = r0;
   p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
-  p.sigma = options.noise == NoiseModel::kNone
-                ? 0.0
-                : noise_sigma(p.window_mean, p.q, p.m_amplification, options.snr);
-  // E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M
-  p.rmse = std::sqrt(rmse_noise_free * rmse_noise_free + p.sigma * p.sigma);
   if (!p.finite) {
-    p.sigma = kInfinity;
-    p.rmse = kInfinity;
+    p.noise = p.rmse = p.sigma = p.rmse_stationary = kInfinity;
+    return p;
   }
+  // Stationary (§6): E[RMSE^2] ~ RMSE_0^2 + m Q (100 / snr^2) M
+  p.sigma = noisy ? noise_sigma(p.window_mean, p.q, p.m_amplification, options.snr) : 0.0;
+  p.rmse_stationary = std::sqrt(r0 * r0 + p.sigma * p.sigma);
+  // Exact (§6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count
+  const double noise_power = noisy ? exact_noise_power(report, v_r, noise_free) : 0.0;
+  p.noise = std::sqrt(noise_power);
+  p.rmse = std::sqrt(r0 * r0 + noise_power);
   return p;
 }
 

@@ -55,6 +55,14 @@ class RowPipeline::Worker {
                                 observer_scratch_, observation_);
   }
 
+  // observation = E[o] of input row (c, y); returns Var(o), W values.
+  const double* observe_with_variance(int c, int y) {
+    variance_.resize(observation_.size());
+    pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
+    pipeline_.observer_.observe(false, 0, c, y, observer_scratch_, observation_, variance_);
+    return variance_.data();
+  }
+
   // Sends observation columns [3h, 3h + Wo) / divisor to `sink`; false when
   // one is not finite.
   bool send_observed(int c, int y, ObservedRowSink& sink) {
@@ -80,6 +88,7 @@ class RowPipeline::Worker {
   RowObserver::Scratch observer_scratch_;
   RowRestorer::Scratch restorer_scratch_;
   std::vector<double> observation_;  // W values
+  std::vector<double> variance_;     // W values, Var(o) of the noise-free pass
   std::vector<double> row_;          // Wo values: an observed or restored row
 };
 
@@ -103,17 +112,43 @@ bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& re
   return observed_finite;
 }
 
-double RowPipeline::noise_free_rmse(int first, int end) const {
-  std::vector<double> row_errors(static_cast<std::size_t>(input_.channels) * input_.height);
-  const int offset = 3 * geometry_.half_blur;
-  for_each_row([&](Worker& worker, int c, int y, int r) {
-    worker.observe(c, y, std::nullopt);
-    row_errors[r] = row_squared_error(input_.row(c, y) + offset, worker.restore(), first, end);
+NoiseFreeRun RowPipeline::noise_free_pass(int first, int end) const {
+  const int rows = input_.channels * input_.height;
+  const int wa = geometry_.observed_width;
+  const int h = geometry_.half_blur;
+  // Blocks of rows fixed by the image alone, at most kVarianceBlocks of them.
+  constexpr int kVarianceBlocks = 64;
+  const int blocks = std::min(rows, kVarianceBlocks);
+  std::vector<double> row_errors(static_cast<std::size_t>(rows));
+  std::vector<double> block_sums(static_cast<std::size_t>(blocks) * wa, 0.0);
+  parallel_for(blocks, threads_, [&](int block_begin, int block_end) {
+    Worker worker(*this);
+    for (int b = block_begin; b < block_end; ++b) {
+      double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
+      const auto row_begin = static_cast<int>(static_cast<long long>(rows) * b / blocks);
+      const auto row_end = static_cast<int>(static_cast<long long>(rows) * (b + 1) / blocks);
+      for (int r = row_begin; r < row_end; ++r) {
+        const int c = r / input_.height;
+        const int y = r % input_.height;
+        const double* variance = worker.observe_with_variance(c, y) + h;  // crop column 0
+        for (int j = 0; j < wa; ++j) sums[j] += variance[j];
+        row_errors[r] = row_squared_error(input_.row(c, y) + 3 * h, worker.restore(), first, end);
+      }
+    }
   });
+  NoiseFreeRun run;
   double total = 0.0;
   for (const double e : row_errors) total += e;
   // sqrt(mean (truth - restored)^2), as rmse() divides
-  return std::sqrt(total / (static_cast<double>(end - first) * input_.height * input_.channels));
+  run.rmse =
+      std::sqrt(total / (static_cast<double>(end - first) * input_.height * input_.channels));
+  // S(j) = sum over the blocks, in order
+  run.crop_variance_sums.assign(static_cast<std::size_t>(wa), 0.0);
+  for (int b = 0; b < blocks; ++b) {
+    const double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
+    for (int j = 0; j < wa; ++j) run.crop_variance_sums[j] += sums[j];
+  }
+  return run;
 }
 
 }  // namespace fss

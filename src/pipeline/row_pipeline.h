@@ -49,11 +49,15 @@ class RowPipeline {
   bool restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
                    ObservedRowSink* observed) const;
 
-  // RMSE_0: the RMSE of the noise-free restoration over output columns
-  // [first, end), computed as the rows stream by, without storing the
-  // restoration: each row's squared error (row_squared_error, metrics.h) is
-  // kept and the rows are summed in order, so the bits are rmse()'s.
-  double noise_free_rmse(int first, int end) const;
+  // The noise-free pass of a noisy run: RMSE_0, the RMSE of the noise-free
+  // restoration over output columns [first, end), and S(j), the sums over
+  // rows and channels of the observation noise's variance at observed-crop
+  // column j (docs/method.md §6b), computed as the rows stream by, without
+  // storing the restoration. Each row's squared error (row_squared_error,
+  // metrics.h) is kept and the rows are summed in order, so the bits are
+  // rmse()'s; S is summed over fixed blocks of rows in row order, then over
+  // the blocks in order: the same bits for any thread count.
+  NoiseFreeRun noise_free_pass(int first, int end) const;
 
  private:
   class Worker;

@@ -259,20 +259,22 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   }
   report.restored = Image(wo, input.height, input.channels);
 
-  // Metrics of the first trial and over all trials, and RMSE_0.
-  double rmse_noise_free = 0.0;
+  // Metrics of the first trial and over all trials; RMSE_0 and, with noise,
+  // the observation noise's variance sums S(j).
+  NoiseFreeRun noise_free;
   bool observed_finite = true;
   if (options.noise == NoiseModel::kNone) {
     observed_finite = run_noise_free(pipeline, options, input, report, observed_sink);
-    rmse_noise_free = report.metrics.rmse;
+    noise_free.rmse = report.metrics.rmse;
   } else {
-    rmse_noise_free = pipeline.noise_free_rmse(report.rmse_first, report.rmse_end);
+    noise_free = pipeline.noise_free_pass(report.rmse_first, report.rmse_end);
     observed_finite = run_trials(pipeline, options, input, report, observed_sink);
   }
   check_finite(report, code, observed_finite);
 
-  // Prediction (docs/method.md §6): E[RMSE^2] = RMSE_0^2 + m Q (100 / snr^2) M.
-  report.prediction = predict(report, input, rmse_noise_free);
+  // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
+  // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.
+  report.prediction = predict(report, input, noise_free);
   return report;
 }
 
@@ -348,6 +350,9 @@ std::string SimulationReport::FullReport() const {
   }
   if (prediction.finite) {
     out << "  predicted        RMSE " << format_number(prediction.rmse) << " = sqrt("
+        << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.noise)
+        << "^2), the exact expectation\n";
+    out << "  stationary       RMSE " << format_number(prediction.rmse_stationary) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.sigma)
         << "^2), SNR at level 100 " << format_number(prediction.snr_level100) << "\n";
   } else {

@@ -168,8 +168,9 @@ TEST_F(CliReference, PrintsTheFourMetricsFirst) {
 
 TEST_F(CliReference, PrintsThePredictionAndTheSeed) {
   const std::vector<std::string> lines = lines_of(result_->out);
-  ASSERT_GE(lines.size(), 6u) << result_->out;
+  ASSERT_GE(lines.size(), 7u) << result_->out;
   EXPECT_THAT(lines[4], StartsWith("Predicted RMSE: "));
+  EXPECT_THAT(lines[5], StartsWith("Stationary approximation: RMSE "));
   EXPECT_THAT(result_->out, HasSubstr("\nSeed: 0\n"));
 }
 

@@ -134,15 +134,19 @@ TEST(HtmlReport, ListsParametersAndMetrics) {
   const SimulationReport report = small_report();
   ASSERT_TRUE(report.prediction.finite);
   const std::string page = html_report(report, "in.png", output_file_names());
-  for (const double value : {report.metrics.rmse, report.metrics.psnr, report.metrics.rmse_ci,
-                             report.prediction.rmse, report.prediction.rmse_noise_free}) {
+  for (const double value :
+       {report.metrics.rmse, report.metrics.psnr, report.metrics.rmse_ci, report.prediction.rmse,
+        report.prediction.rmse_noise_free, report.prediction.noise,
+        report.prediction.rmse_stationary, report.prediction.sigma}) {
     EXPECT_THAT(page, HasSubstr(format6(value)));
   }
   char snr[32];
   std::snprintf(snr, sizeof snr, "%.3f", report.prediction.snr_level100);
   EXPECT_THAT(page, HasSubstr(snr));
-  for (const char* label : {"RMSE (measured)", "RMSE_CI", "PSNR", "predicted RMSE",
-                            "noise-free RMSE", "SNR at level 100", "velocity", "snr", "seed"}) {
+  for (const char* label :
+       {"RMSE (measured)", "RMSE_CI", "PSNR", "predicted RMSE (exact expectation)",
+        "noise-free RMSE", "stationary approximation", "SNR at level 100", "velocity", "snr",
+        "seed"}) {
     EXPECT_THAT(page, HasSubstr(label));
   }
 }

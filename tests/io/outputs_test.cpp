@@ -132,7 +132,8 @@ TEST(ReportJson, HasEveryDocumentedKey) {
        {"blur_length", "observed_width", "output_width", "rmse_columns", "rmse_ci_columns"}},
       {"metrics", {"rmse", "psnr", "rmse_ci", "psnr_ci"}},
       {"kernel", {"min_abs", "min_abs_xi", "invertible"}},
-      {"prediction", {"rmse_noise_free", "sigma", "rmse", "snr_level100"}},
+      {"prediction",
+       {"rmse_noise_free", "noise", "rmse", "sigma", "rmse_stationary", "snr_level100"}},
   };
   for (const auto& [section, names] : keys) {
     ASSERT_TRUE(j.contains(section)) << section;
@@ -177,6 +178,8 @@ TEST(ReportJson, ValuesAreThoseOfTheReport) {
   EXPECT_EQ(j["prediction"]["rmse_noise_free"], report.prediction.rmse_noise_free);
   EXPECT_EQ(j["prediction"]["sigma"], report.prediction.sigma);
   EXPECT_EQ(j["prediction"]["rmse"], report.prediction.rmse);
+  EXPECT_EQ(j["prediction"]["noise"], report.prediction.noise);
+  EXPECT_EQ(j["prediction"]["rmse_stationary"], report.prediction.rmse_stationary);
   EXPECT_EQ(j["prediction"]["snr_level100"], report.prediction.snr_level100);
 }
 
@@ -205,6 +208,8 @@ TEST(ReportJson, InfiniteValuesAreNull) {
   EXPECT_EQ(j["metrics"]["rmse"], 0.0);
   EXPECT_TRUE(j["prediction"]["rmse"].is_null());
   EXPECT_TRUE(j["prediction"]["sigma"].is_null());
+  EXPECT_TRUE(j["prediction"]["noise"].is_null());
+  EXPECT_TRUE(j["prediction"]["rmse_stationary"].is_null());
   EXPECT_EQ(j["kernel"]["invertible"], false);
   // And the text is valid JSON with a null where the infinity was.
   const json parsed = json::parse(j.dump(2));

@@ -201,6 +201,80 @@ TEST(ObserveNoiseFree, NumericalEqualsTheConvolutionForASmoothImage) {
   }
 }
 
+// The variance row of the noise-free observation (docs/method.md §6b), against
+// each pixel's variance computed by brute force: every slot's exposure e_k by
+// its own convolution, Var(o) = sum_k alpha_k^2 Var(PoissonSNR(e_k)) (analog:
+// Var(PoissonSNR(e))), Var as poisson_snr_variance.
+struct VarianceCase {
+  const char* code;
+  ShutterMode mode;
+  double velocity;  // 1: the numerical mode's shifts; 0.37: one transform per slot
+  double dt;
+  double snr;
+};
+
+class ObserveVariance : public ::testing::TestWithParam<VarianceCase> {};
+
+TEST_P(ObserveVariance, IsEachPixelsVarianceComputedSlotBySlot) {
+  const VarianceCase& c = GetParam();
+  const std::vector<double> gains = code_gains(c.code);
+  const int length = static_cast<int>(gains.size());
+  const Image input = dark_edges_image(120, 3);
+  const RowSpectra u = row_spectra(input, 1);
+  const ObservationParams p = make_params(c.velocity, c.dt, c.snr, 0, 1);
+  const double lambda2 = PoissonSNR(c.snr).lambda2();
+  // Brute force, and which branches of the sampler it went through.
+  Image expected(120, 3, 1);
+  int clipped = 0, knuth = 0, normal = 0;
+  const auto add = [&](const Image& e, double weight) {
+    for (std::size_t i = 0; i < e.data.size(); ++i) {
+      if (weight == 0.0) continue;
+      expected.data[i] += weight * poisson_snr_variance(e.data[i], lambda2);
+      clipped += e.data[i] < 0.0 ? 1 : 0;
+      (std::max(e.data[i], 0.0) * lambda2 < kKnuthLimit ? knuth : normal) += 1;
+    }
+  };
+  if (c.mode == ShutterMode::kAnalog) {
+    add(convolve_rows(u, gains, p), 1.0);
+  } else {
+    for (int k = 0; k < length; ++k)
+      add(convolve_rows(u, slot_code(k, length), p), gains[k] * gains[k]);
+  }
+  EXPECT_GT(clipped, 0);
+  EXPECT_GT(knuth, 0);
+  EXPECT_GT(normal, 0);
+  // The observer's variance row, and its expectation unchanged by asking for it.
+  const RowObserver observer(120, gains, c.mode, p);
+  RowObserver::Scratch scratch(observer);
+  std::vector<double> out(120), plain(120), variance(120, -1.0);
+  double largest = 0.0;
+  for (int y = 0; y < 3; ++y) {
+    observer.load_row(input.row(0, y), scratch);
+    observer.observe(false, 0, 0, y, scratch, plain);
+    observer.observe(false, 0, 0, y, scratch, out, variance);
+    EXPECT_EQ(out, plain);
+    for (int x = 0; x < 120; ++x) {
+      largest = std::max(largest, expected.at(0, y, x));
+      // Round-off of the FFT exposures only (relative 1e-12 of the row's scale).
+      ASSERT_NEAR(variance[x], expected.at(0, y, x), 1e-11 * (1.0 + largest))
+          << c.code << " y " << y << " x " << x;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Modes, ObserveVariance,
+    ::testing::Values(VarianceCase{"mip", ShutterMode::kNumerical, 1.0, 1.0, 5.0},
+                      VarianceCase{"raskar", ShutterMode::kNumerical, -1.0, 1.0, 200.0},
+                      VarianceCase{"random", ShutterMode::kNumerical, 0.37, 1.0, 200.0},
+                      VarianceCase{"mip", ShutterMode::kNumerical, -0.73, 0.5, 100.0},
+                      VarianceCase{"snapshot", ShutterMode::kAnalog, 1.0, 1.0, 5.0},
+                      VarianceCase{"raskar", ShutterMode::kAnalog, 0.37, 0.5, 200.0}),
+    [](const auto& info) {
+      return std::string(info.param.code) + "_" + to_string(info.param.mode) + "_" +
+             std::to_string(info.index);
+    });
+
 // ---------------------------------------------------------------------------
 // Noisy observations: validation, reproducibility and statistics.
 

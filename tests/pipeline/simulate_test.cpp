@@ -192,15 +192,18 @@ TEST_F(CameraRaskar, NoiseFreePredictionIsTheMeasuredError) {
   EXPECT_TRUE(p.finite);
   EXPECT_EQ(p.rmse_noise_free, report_->metrics.rmse);
   EXPECT_EQ(p.sigma, 0.0);
+  EXPECT_EQ(p.noise, 0.0);
   EXPECT_EQ(p.rmse, report_->metrics.rmse);
+  EXPECT_EQ(p.rmse_stationary, report_->metrics.rmse);
   EXPECT_EQ(report_->trials.n, 1);
   EXPECT_EQ(report_->trials.rmse_mean, report_->metrics.rmse);
   EXPECT_EQ(report_->trials.rmse_sd, 0.0);
 }
 
-TEST_F(CameraRaskar, NoisyRunMatchesTheExactErrorTable) {
-  // docs/method.md §6 table, raskar row: m = 123.67, sigma 2.311, predicted 2.348; the
-  // reference tool measured 2.352 +/- 0.013 over 12 runs.
+TEST_F(CameraRaskar, NoisyRunMatchesTheExactErrorTables) {
+  // docs/method.md §8 table, raskar row: m = 123.67, stationary sigma 2.311 and
+  // prediction 2.348; the reference tool measured 2.352 +/- 0.013 over 12 runs.
+  // §6b: the exact expectation is 2.34953.
   SimulationOptions options;
   options.seed = 1;
   const SimulationReport r = Simulate(options, *camera_, code("raskar"));
@@ -209,7 +212,8 @@ TEST_F(CameraRaskar, NoisyRunMatchesTheExactErrorTable) {
   EXPECT_NEAR(p.window_mean, 123.67, 0.005);            // the table rounds to 2 decimals
   EXPECT_DOUBLE_EQ(p.q, 26.0);                          // 26 gains of 1
   EXPECT_NEAR(p.sigma, 2.311, 0.0006);                  // the table rounds to 3 decimals
-  EXPECT_NEAR(p.rmse, 2.348, 0.002);                    // rounding plus RMSE_0's 1e-3 tolerance
+  EXPECT_NEAR(p.rmse_stationary, 2.348, 0.002);         // rounding plus RMSE_0's 1e-3 tolerance
+  EXPECT_NEAR(p.rmse, 2.34953, 0.00001);                // 5 significant digits
   EXPECT_EQ(p.rmse_noise_free, report_->metrics.rmse);  // same noise-free pipeline
   // One realization: 5 standard deviations of the reference's spread.
   EXPECT_NEAR(r.metrics.rmse, p.rmse, 5 * 0.013);
@@ -373,9 +377,33 @@ TEST(Simulate, ThreadCountDoesNotChangeTheResults) {
   EXPECT_EQ(one.trials.rmse_mean, two.trials.rmse_mean);
   EXPECT_EQ(one.trials.rmse_sd, two.trials.rmse_sd);
   EXPECT_EQ(one.prediction.rmse, two.prediction.rmse);
+  EXPECT_EQ(one.prediction.noise, two.prediction.noise);
   expect_same_image(one.observed, two.observed, "observed");
   expect_same_image(one.restored, two.restored, "restored");
   expect_same_image(residual_image(input, one), residual_image(input, two), "residual");
+}
+
+// The exact prediction sums S(j) over fixed blocks of rows (docs/method.md
+// §6b): the same bits for any thread count, in both modes, at a velocity
+// whose slots need their own transforms, with more rows than blocks.
+TEST(Simulate, ThreadCountDoesNotChangeTheExactPrediction) {
+  const Image input = test::make_test_image(480, 70, 3, 5);
+  for (const ShutterMode mode : {ShutterMode::kNumerical, ShutterMode::kAnalog}) {
+    SimulationOptions options;
+    options.mode = mode;
+    options.velocity_px_per_slot = -0.73;
+    options.dt = 0.5;
+    options.restore_velocity_px_per_slot = -0.7;
+    options.threads = 1;
+    const SimulationReport one = Simulate(options, input, code("raskar"));
+    for (const int threads : {2, 3, 7}) {
+      options.threads = threads;
+      const SimulationReport other = Simulate(options, input, code("raskar"));
+      EXPECT_EQ(one.prediction.noise, other.prediction.noise) << threads << " threads";
+      EXPECT_EQ(one.prediction.rmse, other.prediction.rmse) << threads << " threads";
+      EXPECT_EQ(one.prediction.rmse_noise_free, other.prediction.rmse_noise_free);
+    }
+  }
 }
 
 TEST(Simulate, SeedsDecideTheNoise) {

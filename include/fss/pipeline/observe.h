@@ -43,6 +43,7 @@ class RowObserver {
     RowFFT::Workspace workspace;
     std::vector<std::complex<double>> spectrum;
     std::vector<double> shifted;
+    std::vector<double> unit_variance;  // Var(PoissonSNR(e_0)), integer v dt only
     PoissonRowSampler sampler;
   };
 
@@ -56,8 +57,12 @@ class RowObserver {
   // out (width values) = the observation of the row last loaded into
   // `scratch`: noisy (PoissonSNR, streams of (seed, channel, slot k or 0,
   // row)) or, when `noisy` is false, its expectation (docs/method.md §2, §3).
+  // With `noisy` false and a `variance` row (width values), that row also
+  // receives each pixel's variance of the noisy observation, Var(o)
+  // (docs/method.md §6b): numerical sum_k alpha_k^2 Var(PoissonSNR(e_k)),
+  // analog Var(PoissonSNR(e)), Var as poisson_snr_variance (noise.h).
   void observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
-               std::span<double> out) const;
+               std::span<double> out, std::span<double> variance = {}) const;
 
  private:
   // e = IDFT(spectrum * filter) / width into scratch.workspace.real().

@@ -1,8 +1,13 @@
-// The exact (theoretical) error of the restoration (docs/method.md §6):
-//   E[RMSE^2] = RMSE_0^2 + sigma^2,  sigma^2 = m Q (100 / snr^2) M.
+// The predicted error of the restoration (docs/method.md §6, §6b):
+//   E[RMSE^2] = RMSE_0^2 + (noise part).
+// The exact noise part is sum_j W(j) S(j) / count (noise_weights.h), with each
+// pixel's own variance; the stationary approximation of the paper is
+// sigma^2 = m Q (100 / snr^2) M, which also gives the image-independent
+// figure of merit, the SNR at level 100.
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "fss/core/image.h"
 #include "fss/model/code.h"
@@ -22,21 +27,39 @@ double noise_sigma(double mean_level, double q, double m_amplification, double s
 // 100 / sqrt(100 Q (100 / snr^2) M); 0 when M is infinite.
 double snr_level100(double q, double m_amplification, double snr);
 
+// What the noise-free pass of a run measures for the prediction.
+struct NoiseFreeRun {
+  double rmse = 0.0;  // RMSE_0, the RMSE of the noise-free restoration
+  // S(j) for the observed-crop columns j in [0, Wa) (observation column
+  // h + j): the sum over rows and channels of the observation noise's
+  // variance at that column. Empty for a run without noise.
+  std::vector<double> crop_variance_sums;
+};
+
 struct Prediction {
   bool finite = false;           // false for a code that is not invertible
   double window_mean = 0.0;      // m, mean of the ground truth over the RMSE window
   double q = 0.0;                // Q
   double m_amplification = 0.0;  // M, mean of 1 / |K|^2 on the deconvolution grid
   double rmse_noise_free = 0.0;  // RMSE_0, from the noise-free run
-  double sigma = 0.0;            // noise part
-  double rmse = 0.0;             // sqrt(RMSE_0^2 + sigma^2)
-  double snr_level100 = 0.0;
+  // The exact expected error (§6b): rmse = sqrt(E[MSE]) = sqrt(RMSE_0^2 + noise^2),
+  // noise^2 = sum_j W(j) S(j) / (rows * channels * window width).
+  double noise = 0.0;
+  double rmse = 0.0;
+  // The stationary approximation (§6): sigma^2 = m Q (100 / snr^2) M and
+  // rmse_stationary = sqrt(RMSE_0^2 + sigma^2).
+  double sigma = 0.0;
+  double rmse_stationary = 0.0;
+  double snr_level100 = 0.0;  // the image-independent figure of merit, from Q and M
 };
 
 // The prediction for the run `report` describes (its options, code, geometry,
-// RMSE window and kernel) on `input`, given RMSE_0, the RMSE of the
-// noise-free restoration. sigma is 0 without noise; sigma and the RMSE are
-// infinite for a kernel that is not invertible.
-Prediction predict(const SimulationReport& report, const Image& input, double rmse_noise_free);
+// RMSE window and kernel) on `input`, from its noise-free pass. The noise
+// parts are 0 without noise, and infinite for a kernel that is not
+// invertible. Throws a usage fss::Error for a noisy run whose
+// noise_free.crop_variance_sums does not have one value per observed-crop
+// column.
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free);
 
 }  // namespace fss

@@ -57,7 +57,7 @@ for code in "${codes[@]}"; do
 done
 {
   echo
-  echo "Measured: mean ± sample sd over $trials noise realizations (seeds 0..$((trials - 1))). Predicted: sqrt(RMSE_0² + σ²), docs/method.md §6."
+  echo "Measured: mean ± sample sd over $trials noise realizations (seeds 0..$((trials - 1))). Predicted: the exact expectation sqrt(E[MSE]) = sqrt(RMSE_0² + noise part), docs/method.md §6b; SNR at level 100: the stationary, image-independent figure of merit, §6."
   echo "The paper's column is for the House image, which is not bundled; on camera.png the reference program gives"
   echo "snapshot 1.355, raskar 2.352, random 1.993, sinc 1.354, mip 2.116 (mean of 12 runs)."
 } >> "$md"

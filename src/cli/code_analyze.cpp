@@ -65,6 +65,8 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
   } else {
     std::printf("M (mean of 1/|K|^2, %s): infinite\n", grid_description(a.grid).c_str());
   }
+  // Not a simulated image's predicted RMSE, which is the exact expectation (§6b).
+  std::printf("Figure of merit (stationary approximation, image-independent):\n");
   std::printf("SNR at level 100: %f\n", a.snr_level100);
   std::printf("Snapshot SNR at level 100: %f\n", a.snapshot_snr_level100);
   std::printf("Ratio to the snapshot: %f\n", a.ratio_to_snapshot);
@@ -80,7 +82,8 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
 CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
   app_ = code.add_subcommand("analyze",
                              "figures of merit of a code without simulating an image: sums, min "
-                             "|K|, M, SNR at level 100 and its ratio to the snapshot's");
+                             "|K|, M, SNR at level 100 (the stationary, image-independent "
+                             "figure of merit) and its ratio to the snapshot's");
   app_->add_option("CODE", code_,
                    "a built-in code (snapshot, accumulation, raskar, random, mip, sinc) or a "
                    "code file")
@@ -96,7 +99,8 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
       ->check(CLI::IsMember({"numerical", "analog"}))
       ->capture_default_str();
   app_->add_option("--grid", grid_,
-                   "M on the N-point DFT grid (the simulator uses N = 2 (W - B)); 0: an " +
+                   "M on the N-point DFT grid (the simulator uses N = 2 (W - B): the SNR at "
+                   "level 100 is then the simulator's stationary figure of merit); 0: an " +
                        std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule")
       ->check(at_least(0))
       ->capture_default_str();

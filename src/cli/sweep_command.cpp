@@ -226,7 +226,7 @@ int SweepCommand::Sweep() const {
     const Curves& c = runner.curves();
     png = fss::plot_curves_png(c.x,
                                {{"measured (mean of " + trials + ")", c.measured, false, true},
-                                {"predicted, sqrt(RMSE_0^2 + sigma^2)", c.predicted, true, false}},
+                                {"predicted (exact expectation)", c.predicted, true, false}},
                                grid.by_velocity() ? "velocity (pixels per time slot)" : "snr",
                                "RMSE (gray levels)", plot_options);
   }

@@ -68,22 +68,51 @@ std::span<const double> RowObserver::filtered(const std::vector<Complex>& filter
 
 namespace {
 
-// variance[x] += weight * Var(PoissonSNR(e[x])) (docs/method.md §6b).
-void add_variance(std::span<const double> e, double weight, double lambda2,
-                  std::span<double> variance) {
-  for (std::size_t x = 0; x < e.size(); ++x) {
-    variance[x] += weight * poisson_snr_variance(e[x], lambda2);
+// Var(o) of the noise-free pass, sum_k alpha_k^2 V(e_k) with V(e) =
+// Var(PoissonSNR(e)) (poisson_snr_variance, docs/method.md §6b), into a row
+// the caller gives; every call does nothing for a noisy pass or an empty row.
+// With integer v dt (shifts), V(e_0) is computed once and slot k adds it
+// shifted like its exposure; otherwise each slot adds V of its own exposure.
+class VarianceRow {
+ public:
+  VarianceRow(bool noisy, bool shifts, double snr, std::span<double> variance)
+      : active_(!noisy && !variance.empty()),
+        shifts_(shifts),
+        lambda2_(active_ ? PoissonSNR(snr).lambda2() : 0.0),
+        variance_(variance) {
+    if (active_) std::fill(variance_.begin(), variance_.end(), 0.0);
   }
-}
 
-// variance[x] += weight * unit[(x - offset) mod W], offset in [0, W): the
-// variance of a slot whose exposure is e_0 shifted by `offset`.
-void add_shifted_variance(const std::vector<double>& unit, std::size_t offset, double weight,
-                          std::span<double> variance) {
-  const std::size_t n = unit.size();
-  for (std::size_t x = 0; x < offset; ++x) variance[x] += weight * unit[x + n - offset];
-  for (std::size_t x = offset; x < n; ++x) variance[x] += weight * unit[x - offset];
-}
+  // Slot k's exposure e_k (or the analog exposure, weight 1).
+  void add_slot(std::span<const double> e, double weight) {
+    if (active_ && !shifts_) add(e, weight, variance_);
+  }
+  // unit = V(e_0), for the shifts.
+  void set_unit(std::span<const double> e0, std::vector<double>& unit) const {
+    if (!active_) return;
+    unit.assign(e0.size(), 0.0);
+    add(e0, 1.0, unit);
+  }
+  // variance[x] += weight * unit[(x - offset) mod W], offset in [0, W).
+  void add_shifted(const std::vector<double>& unit, std::size_t offset, double weight) {
+    if (!active_) return;
+    const std::size_t n = unit.size();
+    for (std::size_t x = 0; x < offset; ++x) variance_[x] += weight * unit[x + n - offset];
+    for (std::size_t x = offset; x < n; ++x) variance_[x] += weight * unit[x - offset];
+  }
+
+ private:
+  void add(std::span<const double> e, double weight, std::span<double> into) const {
+    for (std::size_t x = 0; x < e.size(); ++x) {
+      into[x] += weight * poisson_snr_variance(e[x], lambda2_);
+    }
+  }
+
+  bool active_;
+  bool shifts_;
+  double lambda2_;
+  std::span<double> variance_;
+};
 
 }  // namespace
 
@@ -92,17 +121,14 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   const auto c = static_cast<std::uint64_t>(channel);
   const auto y = static_cast<std::uint64_t>(row);
   std::fill(out.begin(), out.end(), 0.0);
-  // Var(o), for the exact prediction: sum_k alpha_k^2 Var(PoissonSNR(e_k)).
-  const bool with_variance = !noisy && !variance.empty();
-  const double lambda2 = with_variance ? PoissonSNR(snr_).lambda2() : 0.0;
-  if (with_variance) std::fill(variance.begin(), variance.end(), 0.0);
+  VarianceRow var(noisy, shift_, snr_, variance);  // for the exact prediction
   if (mode_ == ShutterMode::kAnalog) {
     const std::span<const double> e = filtered(filters_[0], scratch);
     if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
     } else {
       for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
-      if (with_variance) add_variance(e, 1.0, lambda2, variance);
+      var.add_slot(e, 1.0);
     }
     return;
   }
@@ -113,7 +139,7 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
       for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
-      if (with_variance && !shift_) add_variance(e, alpha * alpha, lambda2, variance);
+      var.add_slot(e, alpha * alpha);
     }
   };
   if (!shift_) {
@@ -124,10 +150,7 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   }
   const std::span<const double> e0 = filtered(filters_[0], scratch);
   scratch.shifted.resize(static_cast<std::size_t>(width_));
-  if (with_variance) {  // Var(PoissonSNR(e_0)) once; slot k's is its shift
-    scratch.unit_variance.assign(static_cast<std::size_t>(width_), 0.0);
-    add_variance(e0, 1.0, lambda2, scratch.unit_variance);
-  }
+  var.set_unit(e0, scratch.unit_variance);
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;
     // e_k(x) = e_0((x - s k) mod W)
@@ -137,10 +160,7 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
     std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
     std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
     add_slot(k, scratch.shifted);
-    if (with_variance) {
-      add_shifted_variance(scratch.unit_variance, static_cast<std::size_t>(offset),
-                           gains_[k] * gains_[k], variance);
-    }
+    var.add_shifted(scratch.unit_variance, static_cast<std::size_t>(offset), gains_[k] * gains_[k]);
   }
 }
 

@@ -81,7 +81,7 @@ def run_fssim(args, outdir, code, mode, velocity, dt, snr, trials, extra=()):
 
 
 def admissible_in_analog(args, outdir, code):
-    """True when the code's gains lie in [0, 1] (a one-slot noise-free probe)."""
+    """True when the code's gains lie in [0, 1] (a noise-free probe)."""
     report, _ = run_fssim(args, outdir, code, "analog", 1.0, 1.0, 100.0, 1, ["--noise", "none"])
     return report is not None
 
@@ -118,6 +118,11 @@ def main():
                     continue
                 for v in args.velocities:
                     for dt in args.dts:
+                        probe, _ = run_fssim(args, work, code, mode, v, dt, 100.0, 1,
+                                             ["--noise", "none"])
+                        if probe is not None and not probe["prediction"]["finite"]:
+                            skipped.append("%s %s v %g dt %g: not invertible" % (code, mode, v, dt))
+                            continue
                         for snr in args.snrs:
                             name = "%s %s v %g dt %g snr %g" % (code, mode, v, dt, snr)
                             report, error = run_fssim(args, work, code, mode, v, dt, snr,

@@ -15,7 +15,7 @@ comparison), then the worst. The default matrix is the paper's: every
 built-in code in both modes where admissible (analog needs gains in [0, 1]),
 v in {1, 0.37, -0.73}, dt in {1, 0.5}, snr in {5, 100, 200}; codes that are
 not invertible at a velocity have no finite prediction and are listed as
-skipped. A case passes when |z| < 4 and |rel| < 0.2% (with a hundred cases,
+skipped (a noise-free probe finds them before any trial runs). A case passes when |z| < 4 and |rel| < 0.2% (with a hundred cases,
 a few |z| above 3 are expected by chance: they are counted, not failed).
 Exit status 1 when a case fails.
 

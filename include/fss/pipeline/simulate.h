@@ -138,7 +138,8 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 // when its rows go to an `observed_sink`, as Simulate's) and restored outputs (one more restoration
 // buffer when trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel of one
 // channel's window and the sorter's buffers, metrics.h) and the PNG encoding buffers. Rows in
-// flight are a few kilobytes a thread and are not counted.
+// flight are a few kilobytes a thread and are not counted, nor are the exact prediction's
+// variance sums (at most 64 rows of W - B doubles, docs/method.md §6b).
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
                                           const ObservedRowSink* observed_sink = nullptr);

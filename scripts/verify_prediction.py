@@ -17,7 +17,11 @@ v in {1, 0.37, -0.73}, dt in {1, 0.5}, snr in {5, 100, 200}; codes that are
 not invertible at a velocity have no finite prediction and are listed as
 skipped (a noise-free probe finds them before any trial runs). A case passes when |z| < 4 and |rel| < 0.2% (with a hundred cases,
 a few |z| above 3 are expected by chance: they are counted, not failed).
-Exit status 1 when a case fails.
+Exit status 1 when a case fails. Every case uses seeds --seed .. --seed + N - 1,
+and fssim's noise streams depend on the seed, channel, slot and row but not on
+snr or dt, so cases that differ only in snr or dt see the same normals and
+uniforms: their z-scores are correlated (a fluctuation shows up in several
+rows at once; rerun such a case with another --seed to tell).
 
 The default RMSE margin is B (--rmse-margin 52 for the paper's codes at
 |v| dt <= 1): a window 5.7 times wider than fssim's default 3B on a 512-wide

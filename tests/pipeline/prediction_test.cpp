@@ -189,9 +189,19 @@ TEST(Predict, ExactNoisePartIsTheBruteForceSum) {
     options.dt = c.dt;
     options.snr = c.snr;
     options.rmse_margin_columns = 10;
-    const SimulationReport r = Simulate(options, input, *builtin_code(c.code));
+    const ShutterCode code = *builtin_code(c.code);
+    const SimulationReport r = Simulate(options, input, code);
     ASSERT_TRUE(r.prediction.finite) << c.code;
-    const double expected = exact_noise_power(r, brute_force_variance_sums(input, r));
+    const std::vector<double> s = brute_force_variance_sums(input, r);
+    // The noise-free pass's S(j), column by column, and its RMSE_0.
+    const RowPipeline pipeline(input, code, options, r.geometry, r.observed_divisor);
+    const NoiseFreeRun run = pipeline.noise_free_pass(r.rmse_first, r.rmse_end);
+    EXPECT_EQ(run.rmse, r.prediction.rmse_noise_free) << c.code;
+    ASSERT_EQ(run.crop_variance_sums.size(), s.size());
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      ASSERT_NEAR(run.crop_variance_sums[j], s[j], 1e-10 * s[j]) << c.code << " j " << j;
+    }
+    const double expected = exact_noise_power(r, s);
     // Round-off of the FFT exposures and of the sums' order only.
     EXPECT_NEAR(r.prediction.noise * r.prediction.noise, expected, 1e-10 * expected) << c.code;
     // And the exact figure is not the stationary one.

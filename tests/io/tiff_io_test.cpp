@@ -460,6 +460,48 @@ TEST(TiffReading, HugeDimensionsAreRefusedFromTheHeaderBeforeDecoding) {
   EXPECT_TRUE(refused(header_only_tiff(8, 8, 64), {"memory limit"}, ErrorKind::kLimit, 100));
 }
 
+// The fuzzer's seed corpus (tests/fuzz/make_corpus.py writes it by hand,
+// without libtiff): what its names say is accepted reads with the values the
+// script wrote, the rest is refused.
+TEST(TiffReading, TheFuzzSeedsAreReadOrRefusedAsTheirNamesSay) {
+  const auto level = [](int x, int y, int s, int top) {
+    return static_cast<double>((x * 37 + y * 19 + s * 71) % 251 * top / 250);
+  };
+  const auto seed = [](const std::string& name) {
+    const std::string text = test::read_file(test::source_path("tests/fuzz/corpus/tiff/" + name));
+    return Bytes(text.begin(), text.end());
+  };
+  struct Accepted {
+    const char* name;
+    int width, height, channels, top;  // top: 0 for float samples
+  };
+  for (const Accepted& a : {Accepted{"gray8.tif", 16, 12, 1, 255},
+                            Accepted{"gray8-big-endian.tif", 9, 7, 1, 255},
+                            Accepted{"gray16-deflate.tif", 20, 10, 1, 65535},
+                            Accepted{"gray16-big-endian-packbits.tif", 18, 6, 1, 65535},
+                            Accepted{"graya8.tif", 10, 8, 1, 255},
+                            Accepted{"rgb8-tiled.tif", 20, 18, 3, 255},
+                            Accepted{"rgba16-separate.tif", 7, 5, 3, 65535},
+                            Accepted{"rgb-float32.tif", 8, 6, 3, 0},
+                            Accepted{"gray-float32-tiled-separate.tif", 17, 3, 1, 0},
+                            Accepted{"gray8-1x1.tif", 1, 1, 1, 255},
+                            Accepted{"bigtiff-gray8.tif", 12, 5, 1, 255}}) {
+    SCOPED_TRACE(a.name);
+    const Image image = decode(seed(a.name));
+    ASSERT_EQ(image.width, a.width);
+    ASSERT_EQ(image.height, a.height);
+    ASSERT_EQ(image.channels, a.channels);
+    const int x = a.width - 1, y = a.height - 1, c = a.channels - 1;
+    const double want = a.top == 0     ? x * 3.25 - y * 1.5 + c * 40.0 - 12.0
+                        : a.top == 255 ? level(x, y, c, 255)
+                                       : level(x, y, c, 65535) / 257.0;
+    EXPECT_EQ(image.at(c, y, x), want);
+  }
+  for (const char* name : {"two-pages.tif", "palette8.tif", "int16.tif", "float64.tif"}) {
+    EXPECT_TRUE(refused(seed(name))) << name;
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Dispatch by signature.
 

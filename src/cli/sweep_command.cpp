@@ -8,8 +8,8 @@
 
 #include "cli_common.h"
 #include "fss/core/error.h"
-#include "fss/io/plot.h"
 #include "fss/io/image_io.h"
+#include "fss/io/plot.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/simulate.h"

@@ -43,8 +43,8 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   const std::vector<RunFile> files = files_to_write(options);
   const std::vector<std::string> names = output_file_names(options);
-  const RunFileSources sources{report,   input, input_path, observed, options.rendered_plots,
-                               names,    options.image_depth};
+  const RunFileSources sources{
+      report, input, input_path, observed, options.rendered_plots, names, options.image_depth};
   const std::vector<OutputFile> made = make_files(files, sources);
   std::vector<std::string> inputs = options.other_inputs;
   inputs.insert(inputs.begin(), input_path);
@@ -74,9 +74,8 @@ void check_outputs_memory(const SimulationOptions& simulation, const Image& inpu
     return;
   }
   const Geometry geometry = Geometry::compute(input.width, code.length(), speed, simulation.dt);
-  const std::size_t needed =
-      estimate_working_memory_bytes(input.width, input.height, input.channels, geometry,
-                                    simulation.trials, observed_sink, extra);
+  const std::size_t needed = estimate_working_memory_bytes(
+      input.width, input.height, input.channels, geometry, simulation.trials, observed_sink, extra);
   if (needed > simulation.max_memory_bytes) {
     throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
                       std::to_string(input.height) + " x " + std::to_string(input.channels) +

@@ -311,8 +311,8 @@ void check_encodable(int width, int height, int channels) {
 
 // Encodes samples interleaved as PNG stores them (`bit_depth` 8 or 16, 16-bit
 // ones big-endian), after check_encodable.
-std::vector<std::uint8_t> encode_stored_samples(int width, int height, int channels,
-                                                int bit_depth, const std::uint8_t* samples,
+std::vector<std::uint8_t> encode_stored_samples(int width, int height, int channels, int bit_depth,
+                                                const std::uint8_t* samples,
                                                 PngCompression compression) {
   const std::size_t row_bytes = static_cast<std::size_t>(width) * channels * (bit_depth / 8);
   std::vector<png_bytep> rows(static_cast<std::size_t>(height));
@@ -386,10 +386,9 @@ std::vector<std::uint8_t> encode_png8(
   return encode_png8_samples(width, height, channels, pixels, compression);
 }
 
-std::vector<std::uint8_t> encode_png(
-    int width, int height, int channels,
-    const std::function<void(int c, int y, double* row)>& fill_row, PngDepth depth,
-    PngCompression compression) {
+std::vector<std::uint8_t> encode_png(int width, int height, int channels,
+                                     const std::function<void(int c, int y, double* row)>& fill_row,
+                                     PngDepth depth, PngCompression compression) {
   return depth == PngDepth::k16 ? encode_png16(width, height, channels, fill_row, compression)
                                 : encode_png8(width, height, channels, fill_row, compression);
 }

@@ -29,7 +29,7 @@ struct RunFileSources {
   ObservedSource observed;
   const std::optional<RunPlots>& plots_drawn_ahead;
   const std::vector<std::string>& names;  // every file written, in order
-  PngDepth image_depth = PngDepth::k8;     // of observed, restored, groundtruth, residual.png
+  PngDepth image_depth = PngDepth::k8;    // of observed, restored, groundtruth, residual.png
 };
 
 }  // namespace fss

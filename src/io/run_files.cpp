@@ -114,14 +114,14 @@ std::string make_residual_tif(const RunFileSources& s) {
   const int offset = s.report.output_first_column(), wo = s.report.restored.width;
   const Image& input = s.input;
   const Image& restored = s.report.restored;
-  return as_string(encode_tiff_float(wo, input.height, input.channels,
-                                     [&](int c, int y, double* row) {
-                                       const double* truth = input.row(c, y) + offset;
-                                       const double* restored_row = restored.row(c, y);
-                                       for (int x = 0; x < wo; ++x) {
-                                         row[x] = truth[x] - restored_row[x];
-                                       }
-                                     }));
+  return as_string(
+      encode_tiff_float(wo, input.height, input.channels, [&](int c, int y, double* row) {
+        const double* truth = input.row(c, y) + offset;
+        const double* restored_row = restored.row(c, y);
+        for (int x = 0; x < wo; ++x) {
+          row[x] = truth[x] - restored_row[x];
+        }
+      }));
 }
 
 std::string make_code_txt(const RunFileSources& s) {

@@ -153,13 +153,13 @@ struct TiffLayout {
   std::uint16_t samples_per_pixel = 1;
   std::uint16_t bits = 1;
   SampleKind kind = SampleKind::kUint8;
-  int channels = 0;        // 1 (gray) or 3 (RGB) read, the rest ignored
-  bool separate = false;   // one plane a sample
+  int channels = 0;       // 1 (gray) or 3 (RGB) read, the rest ignored
+  bool separate = false;  // one plane a sample
   bool tiled = false;
   std::uint32_t tile_width = 0;  // tiles only
   std::uint32_t tile_height = 0;
   std::uint16_t compression = COMPRESSION_NONE;
-  std::size_t chunk_bytes = 0;     // a scanline or a tile, as libtiff decodes it
+  std::size_t chunk_bytes = 0;      // a scanline or a tile, as libtiff decodes it
   std::uint64_t decoded_bytes = 0;  // every strip or tile, as libtiff decodes them
 };
 
@@ -303,7 +303,8 @@ std::size_t decode_bytes(const TiffLayout& layout) {
 // and (max_bytes > 0) a decoding over max_bytes.
 void check_decodable(const TiffLayout& layout, std::size_t size, const std::string& name,
                      std::size_t max_bytes) {
-  if (layout.decoded_bytes > max_compression_ratio(layout.compression) * (static_cast<std::uint64_t>(size) + 1)) {
+  if (layout.decoded_bytes >
+      max_compression_ratio(layout.compression) * (static_cast<std::uint64_t>(size) + 1)) {
     throw_runtime_error(quoted(name) + " declares " + std::to_string(layout.width) + "x" +
                         std::to_string(layout.height) + " pixels, more than its " +
                         std::to_string(size) +
@@ -387,10 +388,10 @@ void read_strips(TIFF* tiff, const TiffLayout& layout, std::uint8_t* buffer, Ima
       }
       for (int c = first_channel(layout, plane); c < last_channel(layout, plane); ++c) {
         const std::size_t offset = layout.separate ? 0 : c * sample_bytes;
-        store_row(layout,
-                  {buffer + offset, c, static_cast<int>(y), 0, static_cast<int>(layout.width),
-                   stride},
-                  image, name);
+        store_row(
+            layout,
+            {buffer + offset, c, static_cast<int>(y), 0, static_cast<int>(layout.width), stride},
+            image, name);
       }
     }
   }
@@ -414,10 +415,10 @@ void read_tiles(TIFF* tiff, const TiffLayout& layout, std::uint8_t* buffer, Imag
           const std::uint8_t* line = buffer + r * stride * layout.tile_width;
           for (int c = first_channel(layout, plane); c < last_channel(layout, plane); ++c) {
             const std::size_t offset = layout.separate ? 0 : c * sample_bytes;
-            store_row(layout,
-                      {line + offset, c, static_cast<int>(ty + r), static_cast<int>(tx), count,
-                       stride},
-                      image, name);
+            store_row(
+                layout,
+                {line + offset, c, static_cast<int>(ty + r), static_cast<int>(tx), count, stride},
+                image, name);
           }
         }
       }
@@ -429,10 +430,10 @@ void read_tiles(TIFF* tiff, const TiffLayout& layout, std::uint8_t* buffer, Imag
 
 bool has_tiff_signature(const std::uint8_t* bytes, std::size_t size) {
   if (size < 4) return false;
-  const bool little = bytes[0] == 'I' && bytes[1] == 'I' && bytes[3] == 0 &&
-                      (bytes[2] == 42 || bytes[2] == 43);
-  const bool big = bytes[0] == 'M' && bytes[1] == 'M' && bytes[2] == 0 &&
-                   (bytes[3] == 42 || bytes[3] == 43);
+  const bool little =
+      bytes[0] == 'I' && bytes[1] == 'I' && bytes[3] == 0 && (bytes[2] == 42 || bytes[2] == 43);
+  const bool big =
+      bytes[0] == 'M' && bytes[1] == 'M' && bytes[2] == 0 && (bytes[3] == 42 || bytes[3] == 43);
   return little || big;
 }
 
@@ -494,8 +495,9 @@ void set_float_fields(TIFF* tiff, int width, int height, int channels) {
   TIFFSetField(tiff, TIFFTAG_SAMPLESPERPIXEL, static_cast<std::uint16_t>(channels));
   TIFFSetField(tiff, TIFFTAG_BITSPERSAMPLE, static_cast<std::uint16_t>(32));
   TIFFSetField(tiff, TIFFTAG_SAMPLEFORMAT, static_cast<std::uint16_t>(SAMPLEFORMAT_IEEEFP));
-  TIFFSetField(tiff, TIFFTAG_PHOTOMETRIC,
-               static_cast<std::uint16_t>(channels == 1 ? PHOTOMETRIC_MINISBLACK : PHOTOMETRIC_RGB));
+  TIFFSetField(
+      tiff, TIFFTAG_PHOTOMETRIC,
+      static_cast<std::uint16_t>(channels == 1 ? PHOTOMETRIC_MINISBLACK : PHOTOMETRIC_RGB));
   TIFFSetField(tiff, TIFFTAG_PLANARCONFIG, static_cast<std::uint16_t>(PLANARCONFIG_CONTIG));
   TIFFSetField(tiff, TIFFTAG_COMPRESSION, static_cast<std::uint16_t>(COMPRESSION_NONE));
   TIFFSetField(tiff, TIFFTAG_ROWSPERSTRIP, TIFFDefaultStripSize(tiff, 0));

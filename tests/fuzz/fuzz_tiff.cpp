@@ -22,10 +22,10 @@ namespace {
 constexpr std::size_t kMaxDecodeBytes = std::size_t{256} << 20;
 
 bool follows_conventions(const fss::Image& image) {
-  const bool valid_size =
-      image.width >= 1 && image.height >= 1 && image.width <= fss::kMaxImageSide &&
-      image.height <= fss::kMaxImageSide && (image.channels == 1 || image.channels == 3) &&
-      image.data.size() == image.plane_size() * image.channels;
+  const bool valid_size = image.width >= 1 && image.height >= 1 &&
+                          image.width <= fss::kMaxImageSide && image.height <= fss::kMaxImageSide &&
+                          (image.channels == 1 || image.channels == 3) &&
+                          image.data.size() == image.plane_size() * image.channels;
   if (!valid_size) return false;
   for (const double value : image.data) {
     if (!std::isfinite(value)) return false;

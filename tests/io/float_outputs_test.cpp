@@ -73,8 +73,8 @@ TEST(FloatOutputs, HoldTheReportsValuesUnclampedAndTheResidualUnstretched) {
   for (const int channels : {1, 3}) {
     const Image input = edges_input(channels);
     const SimulationReport report = run(input, {1.0, -0.9, 1.0, 0.8, -0.7, 1.0});
-    const auto [low, high] = std::minmax_element(report.observed.data.begin(),
-                                                 report.observed.data.end());
+    const auto [low, high] =
+        std::minmax_element(report.observed.data.begin(), report.observed.data.end());
     ASSERT_LT(*low, 0.0) << "the test needs negative observations";
     ASSERT_GT(*high, 255.0);
     test::TempDir dir;
@@ -170,9 +170,9 @@ TEST(OutputsMemory, FloatAnd16BitOutputsAreCountedInTheLimit) {
   ASSERT_GT(with_floats, plain);
   simulation.max_memory_bytes = plain;  // enough for Simulate, not for the TIFFs
   EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, OutputOptions{}, nullptr));
-  EXPECT_TRUE(test::throws_error(
-      [&] { check_outputs_memory(simulation, input, code, floats, nullptr); }, ErrorKind::kLimit,
-      {"float or 16-bit outputs", "memory limit"}));
+  EXPECT_TRUE(
+      test::throws_error([&] { check_outputs_memory(simulation, input, code, floats, nullptr); },
+                         ErrorKind::kLimit, {"float or 16-bit outputs", "memory limit"}));
   simulation.max_memory_bytes = with_floats;
   EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, floats, nullptr));
   simulation.max_memory_bytes = 0;  // no limit

@@ -106,11 +106,11 @@ TEST(RunFiles, OutputFileNamesAreTheRowsTheOptionsSelectInOrder) {
                                       "code.png", "spectrum.png", "sheet.png", "report.html"}));
   OutputOptions floats;
   floats.float_outputs = true;
-  EXPECT_EQ(output_file_names(floats),
-            (std::vector<std::string>{"observed.png", "restored.png", "groundtruth.png",
-                                      "residual.png", "observed.tif", "restored.tif",
-                                      "residual.tif", "code.txt", "spectrum.txt", "report.json",
-                                      "code.png", "spectrum.png"}));
+  EXPECT_EQ(
+      output_file_names(floats),
+      (std::vector<std::string>{"observed.png", "restored.png", "groundtruth.png", "residual.png",
+                                "observed.tif", "restored.tif", "residual.tif", "code.txt",
+                                "spectrum.txt", "report.json", "code.png", "spectrum.png"}));
   for (const bool plots : {false, true}) {
     for (const bool sheet : {false, true}) {
       for (const bool html : {false, true}) {

@@ -78,8 +78,7 @@ TEST(TiffCli, AnEightBitTiffGivesTheSameOutputsAsThePng) {
   EXPECT_EQ(results(from_tiff.out), results(from_png.out));
   EXPECT_EQ(from_tiff.err, "");
   const std::string png_path = test::source_path("data/camera.png").string();
-  EXPECT_EQ(files_of(dir / "tif", (dir / "camera.tif").string(), png_path),
-            files_of(dir / "png"));
+  EXPECT_EQ(files_of(dir / "tif", (dir / "camera.tif").string(), png_path), files_of(dir / "png"));
 }
 
 TEST(TiffCli, FloatAndSixteenBitOutputsAreTheSameForAnyThreadCount) {
@@ -108,14 +107,14 @@ TEST(TiffCli, PngDepthAutoFollowsTheInput) {
   ASSERT_EQ(deep.exit_code, 0) << deep.err;
   EXPECT_EQ(static_cast<int>(test::read_file(dir / "deep/restored.png")[24]), 16);
   // An 8-bit input: auto gives today's bytes.
-  const auto plain = run_fssim("--input " + camera() + " --no-plots --outdir " +
-                               quote(dir / "plain"));
+  const auto plain =
+      run_fssim("--input " + camera() + " --no-plots --outdir " + quote(dir / "plain"));
   const auto autod = run_fssim("--input " + camera() + " --png-depth auto --no-plots --outdir " +
                                quote(dir / "auto"));
   ASSERT_EQ(autod.exit_code, 0) << autod.err;
   EXPECT_EQ(files_of(dir / "auto"), files_of(dir / "plain"));
-  const auto bad = run_fssim("--input " + camera() + " --png-depth 12 --outdir " +
-                             quote(dir / "bad"));
+  const auto bad =
+      run_fssim("--input " + camera() + " --png-depth 12 --outdir " + quote(dir / "bad"));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--png-depth"), std::string::npos) << bad.err;
 }

@@ -290,8 +290,10 @@ TEST(TiffReading, EverySampleTypeColourAndLayoutGivesTheExpectedValues) {
   const std::vector<std::pair<std::uint16_t, std::uint16_t>> types = {
       {8, SAMPLEFORMAT_UINT}, {16, SAMPLEFORMAT_UINT}, {32, SAMPLEFORMAT_IEEEFP}};
   const std::vector<std::pair<std::uint16_t, std::uint16_t>> colours = {
-      {PHOTOMETRIC_MINISBLACK, 1}, {PHOTOMETRIC_MINISBLACK, 2},  // gray, gray + alpha
-      {PHOTOMETRIC_RGB, 3}, {PHOTOMETRIC_RGB, 4}};                // RGB, RGBA
+      {PHOTOMETRIC_MINISBLACK, 1},
+      {PHOTOMETRIC_MINISBLACK, 2},  // gray, gray + alpha
+      {PHOTOMETRIC_RGB, 3},
+      {PHOTOMETRIC_RGB, 4}};  // RGB, RGBA
   for (const auto& [bits, format] : types) {
     for (const auto& [photometric, spp] : colours) {
       for (const std::uint16_t planar : {PLANARCONFIG_CONTIG, PLANARCONFIG_SEPARATE}) {
@@ -305,9 +307,9 @@ TEST(TiffReading, EverySampleTypeColourAndLayoutGivesTheExpectedValues) {
           spec.samples_per_pixel = spp;
           spec.planar = planar;
           spec.tile = tile;
-          SCOPED_TRACE(testing::Message() << bits << "-bit format " << format << " photometric "
-                                          << photometric << " spp " << spp << " planar "
-                                          << planar << " tile " << tile);
+          SCOPED_TRACE(testing::Message()
+                       << bits << "-bit format " << format << " photometric " << photometric
+                       << " spp " << spp << " planar " << planar << " tile " << tile);
           const Bytes bytes = craft_tiff(spec);
           expect_silent([&] { expect_values(spec, decode(bytes)); });
         }
@@ -389,7 +391,8 @@ TEST(TiffReading, RefusesOtherCompressions) {
     spec.height = 16;
     spec.rows_per_strip = 16;
     spec.compression = compression;
-    EXPECT_TRUE(refused(craft_tiff(spec), {"compression", "uncompressed, PackBits, LZW and Deflate"}))
+    EXPECT_TRUE(
+        refused(craft_tiff(spec), {"compression", "uncompressed, PackBits, LZW and Deflate"}))
         << compression;
     ++tried;
   }
@@ -401,8 +404,8 @@ TEST(TiffReading, RefusesTruncatedFiles) {
   spec.width = 64;
   spec.height = 64;
   const Bytes whole = craft_tiff(spec);
-  for (const std::size_t size : {std::size_t{4}, std::size_t{8}, whole.size() / 2,
-                                 whole.size() - 20}) {
+  for (const std::size_t size :
+       {std::size_t{4}, std::size_t{8}, whole.size() / 2, whole.size() - 20}) {
     const Bytes cut(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(size));
     EXPECT_TRUE(refused(cut)) << size;
   }
@@ -430,9 +433,9 @@ Bytes header_only_tiff(std::uint32_t width, std::uint32_t height, std::uint32_t 
     std::uint32_t value;
   };
   const std::uint32_t data_offset = 8 + 2 + 9 * 12 + 4;
-  const Entry entries[] = {{256, 4, width},       {257, 4, height},     {258, 3, 8},
-                           {259, 3, 1},           {262, 3, 1},          {273, 4, data_offset},
-                           {277, 3, 1},           {278, 4, height},     {279, 4, strip_bytes}};
+  const Entry entries[] = {{256, 4, width}, {257, 4, height}, {258, 3, 8},
+                           {259, 3, 1},     {262, 3, 1},      {273, 4, data_offset},
+                           {277, 3, 1},     {278, 4, height}, {279, 4, strip_bytes}};
   put16(9);
   for (const Entry& e : entries) {
     put16(e.tag);
@@ -445,7 +448,7 @@ Bytes header_only_tiff(std::uint32_t width, std::uint32_t height, std::uint32_t 
       put32(e.value);
     }
   }
-  put32(0);  // no next IFD
+  put32(0);                        // no next IFD
   out.resize(out.size() + 64, 7);  // a little pixel data
   return out;
 }
@@ -475,17 +478,14 @@ TEST(TiffReading, TheFuzzSeedsAreReadOrRefusedAsTheirNamesSay) {
     const char* name;
     int width, height, channels, top;  // top: 0 for float samples
   };
-  for (const Accepted& a : {Accepted{"gray8.tif", 16, 12, 1, 255},
-                            Accepted{"gray8-big-endian.tif", 9, 7, 1, 255},
-                            Accepted{"gray16-deflate.tif", 20, 10, 1, 65535},
-                            Accepted{"gray16-big-endian-packbits.tif", 18, 6, 1, 65535},
-                            Accepted{"graya8.tif", 10, 8, 1, 255},
-                            Accepted{"rgb8-tiled.tif", 20, 18, 3, 255},
-                            Accepted{"rgba16-separate.tif", 7, 5, 3, 65535},
-                            Accepted{"rgb-float32.tif", 8, 6, 3, 0},
-                            Accepted{"gray-float32-tiled-separate.tif", 17, 3, 1, 0},
-                            Accepted{"gray8-1x1.tif", 1, 1, 1, 255},
-                            Accepted{"bigtiff-gray8.tif", 12, 5, 1, 255}}) {
+  for (const Accepted& a :
+       {Accepted{"gray8.tif", 16, 12, 1, 255}, Accepted{"gray8-big-endian.tif", 9, 7, 1, 255},
+        Accepted{"gray16-deflate.tif", 20, 10, 1, 65535},
+        Accepted{"gray16-big-endian-packbits.tif", 18, 6, 1, 65535},
+        Accepted{"graya8.tif", 10, 8, 1, 255}, Accepted{"rgb8-tiled.tif", 20, 18, 3, 255},
+        Accepted{"rgba16-separate.tif", 7, 5, 3, 65535}, Accepted{"rgb-float32.tif", 8, 6, 3, 0},
+        Accepted{"gray-float32-tiled-separate.tif", 17, 3, 1, 0},
+        Accepted{"gray8-1x1.tif", 1, 1, 1, 255}, Accepted{"bigtiff-gray8.tif", 12, 5, 1, 255}}) {
     SCOPED_TRACE(a.name);
     const Image image = decode(seed(a.name));
     ASSERT_EQ(image.width, a.width);
@@ -534,8 +534,8 @@ TEST(ImageDispatch, RefusesOtherFilesInOneLine) {
   test::write_file(dir / "empty.tif", "");
   EXPECT_TRUE(test::throws_error([&] { read_image(dir / "empty.tif"); }, ErrorKind::kRuntime,
                                  {"empty.tif", "is empty"}));
-  EXPECT_TRUE(test::throws_error([&] { read_image(dir.path()); }, ErrorKind::kRuntime,
-                                 {"is a directory"}));
+  EXPECT_TRUE(
+      test::throws_error([&] { read_image(dir.path()); }, ErrorKind::kRuntime, {"is a directory"}));
 }
 
 TEST(ImageDispatch, AnEightBitTiffReadsAsTheSamePng) {

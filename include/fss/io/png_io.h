@@ -84,10 +84,10 @@ std::vector<std::uint8_t> encode_png8(
 
 // Same at `depth` bits a sample: PngDepth::k8 gives encode_png8's bytes,
 // PngDepth::k16 stores png16_sample(value) of each value.
-std::vector<std::uint8_t> encode_png(
-    int width, int height, int channels,
-    const std::function<void(int c, int y, double* row)>& fill_row, PngDepth depth,
-    PngCompression compression = PngCompression::kImage);
+std::vector<std::uint8_t> encode_png(int width, int height, int channels,
+                                     const std::function<void(int c, int y, double* row)>& fill_row,
+                                     PngDepth depth,
+                                     PngCompression compression = PngCompression::kImage);
 std::vector<std::uint8_t> encode_png(const Image& image, PngDepth depth,
                                      PngCompression compression = PngCompression::kImage);
 

@@ -397,11 +397,28 @@ void read_strips(TIFF* tiff, const TiffLayout& layout, std::uint8_t* buffer, Ima
   }
 }
 
+// Stores the part of the decoded tile of plane `plane` at (tx, ty) that lies
+// inside the image.
+void store_tile(const TiffLayout& layout, const std::uint8_t* tile, int plane, std::uint32_t tx,
+                std::uint32_t ty, Image* image, const std::string& name) {
+  const std::size_t stride = pixel_stride(layout);
+  const std::size_t sample_bytes = layout.bits / 8;
+  const std::uint32_t rows = std::min(layout.tile_height, layout.height - ty);
+  const auto count = static_cast<int>(std::min(layout.tile_width, layout.width - tx));
+  for (std::uint32_t r = 0; r < rows; ++r) {
+    const std::uint8_t* line = tile + r * stride * layout.tile_width;
+    for (int c = first_channel(layout, plane); c < last_channel(layout, plane); ++c) {
+      const std::size_t offset = layout.separate ? 0 : c * sample_bytes;
+      store_row(layout,
+                {line + offset, c, static_cast<int>(ty + r), static_cast<int>(tx), count, stride},
+                image, name);
+    }
+  }
+}
+
 void read_tiles(TIFF* tiff, const TiffLayout& layout, std::uint8_t* buffer, Image* image,
                 const TiffMessages& messages, const std::string& name) {
   const int planes = layout.separate ? layout.channels : 1;
-  const std::size_t stride = pixel_stride(layout);
-  const std::size_t sample_bytes = layout.bits / 8;
   for (int plane = 0; plane < planes; ++plane) {
     for (std::uint32_t ty = 0; ty < layout.height; ty += layout.tile_height) {
       for (std::uint32_t tx = 0; tx < layout.width; tx += layout.tile_width) {
@@ -409,18 +426,7 @@ void read_tiles(TIFF* tiff, const TiffLayout& layout, std::uint8_t* buffer, Imag
           throw_runtime_error("cannot read " + quoted(name) + ": " +
                               (messages.error[0] ? messages.error : "damaged tile data"));
         }
-        const std::uint32_t rows = std::min(layout.tile_height, layout.height - ty);
-        const auto count = static_cast<int>(std::min(layout.tile_width, layout.width - tx));
-        for (std::uint32_t r = 0; r < rows; ++r) {
-          const std::uint8_t* line = buffer + r * stride * layout.tile_width;
-          for (int c = first_channel(layout, plane); c < last_channel(layout, plane); ++c) {
-            const std::size_t offset = layout.separate ? 0 : c * sample_bytes;
-            store_row(
-                layout,
-                {line + offset, c, static_cast<int>(ty + r), static_cast<int>(tx), count, stride},
-                image, name);
-          }
-        }
+        store_tile(layout, buffer, plane, tx, ty, image, name);
       }
     }
   }

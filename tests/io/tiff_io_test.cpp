@@ -524,6 +524,10 @@ TEST(ImageDispatch, ReadsTiffAndPngByTheirBytesWhateverTheirName) {
   EXPECT_FALSE(info.floating);
   EXPECT_EQ(from_png.data, decode_png(png.data(), png.size(), "x.png").data);
   EXPECT_EQ(read_tiff(dir / "really_a_tiff.png").data, from_tiff.data);
+  const Bytes png16 = encode_png(image, PngDepth::k16);
+  decode_image(png16.data(), png16.size(), "deep.png", 0, &info);
+  EXPECT_EQ(info.format, ImageFileFormat::kPng);
+  EXPECT_EQ(info.bits_per_sample, 16);
 }
 
 TEST(ImageDispatch, RefusesOtherFilesInOneLine) {

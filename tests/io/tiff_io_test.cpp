@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <tiffio.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -95,29 +96,42 @@ void set_fields(TIFF* tiff, const TiffSpec& spec) {
   }
 }
 
+// Where a chunk (a scanline or a tile) of a test TIFF lies.
+struct ChunkPlace {
+  int plane;
+  std::uint32_t x0, y0, width, height;
+  int per_pixel;  // samples a pixel in the chunk
+};
+
+// Fills `chunk` with the test samples; zero outside the image.
+void fill_chunk(const TiffSpec& spec, const ChunkPlace& at, std::vector<std::uint8_t>* chunk) {
+  const std::size_t bytes = spec.bits / 8;
+  std::fill(chunk->begin(), chunk->end(), 0);
+  for (std::uint32_t r = 0; r < at.height && at.y0 + r < spec.height; ++r) {
+    for (std::uint32_t i = 0; i < at.width && at.x0 + i < spec.width; ++i) {
+      for (int k = 0; k < at.per_pixel; ++k) {
+        const int s = at.per_pixel == 1 ? at.plane : k;
+        put_sample(spec, test_sample(spec, at.x0 + i, at.y0 + r, s),
+                   chunk->data() + ((r * at.width + i) * at.per_pixel + k) * bytes);
+      }
+    }
+  }
+}
+
 // Writes the chunks of one page: scanlines or tiles, one plane at a time
 // when samples are separate.
 void write_page(TIFF* tiff, const TiffSpec& spec) {
   const bool separate = spec.planar == PLANARCONFIG_SEPARATE;
   const int planes = separate ? spec.samples_per_pixel : 1;
   const int per_pixel = separate ? 1 : spec.samples_per_pixel;
-  const std::size_t bytes = spec.bits / 8;
   const std::uint32_t chunk_w = spec.tile > 0 ? spec.tile : spec.width;
   const std::uint32_t chunk_h = spec.tile > 0 ? spec.tile : 1;
-  std::vector<std::uint8_t> chunk(static_cast<std::size_t>(chunk_w) * chunk_h * per_pixel * bytes);
+  std::vector<std::uint8_t> chunk(static_cast<std::size_t>(chunk_w) * chunk_h * per_pixel *
+                                  (spec.bits / 8));
   for (int plane = 0; plane < planes; ++plane) {
     for (std::uint32_t y0 = 0; y0 < spec.height; y0 += chunk_h) {
       for (std::uint32_t x0 = 0; x0 < spec.width; x0 += chunk_w) {
-        std::fill(chunk.begin(), chunk.end(), 0);
-        for (std::uint32_t r = 0; r < chunk_h && y0 + r < spec.height; ++r) {
-          for (std::uint32_t i = 0; i < chunk_w && x0 + i < spec.width; ++i) {
-            for (int k = 0; k < per_pixel; ++k) {
-              const int s = separate ? plane : k;
-              put_sample(spec, test_sample(spec, x0 + i, y0 + r, s),
-                         chunk.data() + ((r * chunk_w + i) * per_pixel + k) * bytes);
-            }
-          }
-        }
+        fill_chunk(spec, {plane, x0, y0, chunk_w, chunk_h, per_pixel}, &chunk);
         const auto p = static_cast<std::uint16_t>(plane);
         const bool ok = spec.tile > 0 ? TIFFWriteTile(tiff, chunk.data(), x0, y0, 0, p) >= 0
                                       : TIFFWriteScanline(tiff, chunk.data(), y0, p) == 1;
@@ -228,7 +242,7 @@ TEST(FloatTiff, RoundTripGivesTheNearestFloatOfEveryValueBitForBit) {
     for (std::size_t i = 0; i < image.data.size(); ++i) {
       const auto expected = static_cast<float>(image.data[i]);
       const auto got = static_cast<float>(back.data[i]);
-      ASSERT_EQ(std::memcmp(&expected, &got, sizeof got), 0) << i;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(expected), std::bit_cast<std::uint32_t>(got)) << i;
       ASSERT_EQ(back.data[i], static_cast<double>(expected)) << i;  // a float, widened exactly
     }
   }
@@ -468,7 +482,8 @@ TEST(TiffReading, HugeDimensionsAreRefusedFromTheHeaderBeforeDecoding) {
 // script wrote, the rest is refused.
 TEST(TiffReading, TheFuzzSeedsAreReadOrRefusedAsTheirNamesSay) {
   const auto level = [](int x, int y, int s, int top) {
-    return static_cast<double>((x * 37 + y * 19 + s * 71) % 251 * top / 250);
+    const int whole = (x * 37 + y * 19 + s * 71) % 251 * top / 250;  // as the script's //
+    return static_cast<double>(whole);
   };
   const auto seed = [](const std::string& name) {
     const std::string text = test::read_file(test::source_path("tests/fuzz/corpus/tiff/" + name));

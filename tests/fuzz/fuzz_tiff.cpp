@@ -1,9 +1,8 @@
 // libFuzzer target: fss::decode_tiff on arbitrary bytes. An fss::Error is the
 // expected end for most inputs; any other exception escaping, a crash, a
-// sanitizer report, a leak, or a decoded
-// image that breaks the conventions of image.h is a bug. A decoded image is
-// also written as a float TIFF and read back: its values must come back as
-// their nearest floats.
+// sanitizer report, a leak, or a decoded image that breaks the conventions
+// of image.h is a bug. A decoded image is also written as a float TIFF and
+// read back: its values must come back as their nearest floats.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

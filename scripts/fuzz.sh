@@ -4,7 +4,8 @@
 # tests/fuzz/corpus/. Fails on any crash, leak, timeout, out-of-memory or
 # sanitizer report; prints the number of inputs each target executed.
 # Limits: 2 GiB of resident memory, no single allocation above 1 GiB (the PNG
-# target skips images of more than 2^24 pixels that a file could really hold),
+# target skips images of more than 2^24 pixels that a file could really hold,
+# the TIFF target refuses decodings over 256 MiB),
 # 20 s per input.
 # Usage: [FUZZ_SECONDS=N] scripts/fuzz.sh [build-dir]   (default: build-fuzz)
 # Inputs found interesting go to <build-dir>/corpus/<target>/ (the seed
@@ -20,7 +21,7 @@ if ! command -v clang++ >/dev/null; then
 fi
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DFSS_FUZZ=ON -DFSS_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_code
+cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code
 export ASAN_OPTIONS=detect_leaks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
@@ -45,5 +46,6 @@ run() {
   fi
 }
 run fuzz_png tests/fuzz/corpus/png 65536 tests/fuzz/png.dict
+run fuzz_tiff tests/fuzz/corpus/tiff 65536 tests/fuzz/tiff.dict
 run fuzz_code tests/fuzz/corpus/code 4096 tests/fuzz/code.dict
 exit "$status"

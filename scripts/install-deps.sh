@@ -6,7 +6,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libpng-dev libfftw3-dev libcli11-dev nlohmann-json3-dev
+  libpng-dev libtiff-dev libfftw3-dev libcli11-dev nlohmann-json3-dev
   libplplot-dev plplot-driver-cairo fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev
   jq time

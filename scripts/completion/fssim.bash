@@ -11,7 +11,7 @@ _fssim_options() {
     main)
       echo "-h --help --version -i --input -c --code -m --mode -v --velocity --restore-velocity
             --dt --snr --seed --noise --rmse-margin --trials --threads --max-memory -o --outdir
-            --no-plots --sheet --report" ;;
+            --no-plots --sheet --report --save-float --png-depth" ;;
     spectra) echo "-h --help -o --output -v --velocity --dt --linear --width --height --title" ;;
     code) echo "-h --help" ;;
     generate) echo "-h --help -L --length -v --velocity --dt --seed --analog -o --output" ;;
@@ -29,7 +29,7 @@ _fssim_options() {
 # option but the flags).
 _fssim_takes_value() {
   case $1 in
-    -h | --help | --version | --no-plots | --sheet | --report | --linear | --analog | --binary) return 1 ;;
+    -h | --help | --version | --no-plots | --sheet | --report | --save-float | --linear | --analog | --binary) return 1 ;;
     -*=*) return 1 ;;
     -*) return 0 ;;
   esac
@@ -79,6 +79,9 @@ _fssim() {
       return ;;
     --noise)
       _fssim_add "poisson none" "$cur"
+      return ;;
+    --png-depth)
+      _fssim_add "8 16 auto" "$cur"
       return ;;
     -i | --input | --json | --plot)
       _fssim_paths -f "$cur"

@@ -14,6 +14,7 @@
 
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
+#include "fss/io/image_io.h"
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/simulate.h"
@@ -57,6 +58,12 @@ std::string describe_simulation(const std::string& input, const fss::Image& imag
   return "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
          std::to_string(image.height) + ", " + std::to_string(image.channels) +
          (image.channels == 1 ? " channel)" : " channels)");
+}
+
+// --png-depth: 8, 16, or auto (16 for an input of more than 8 bits a sample).
+fss::PngDepth resolve_png_depth(const std::string& choice, const fss::ImageFileInfo& input) {
+  if (choice == "auto") return input.bits_per_sample > 8 ? fss::PngDepth::k16 : fss::PngDepth::k8;
+  return *fss::png_depth_from_string(choice);
 }
 
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
@@ -113,8 +120,9 @@ int flush_results() {
 SimulateCommand::SimulateCommand(CLI::App& app) {
   // Required unless a subcommand runs instead (checked in Run).
   input_option_ = app.add_option("-i,--input", input_,
-                                 "input PNG image (8/16-bit gray, RGB, palette; alpha ignored); "
-                                 "required without a subcommand")
+                                 "input image: PNG (8/16-bit gray, RGB, palette) or TIFF (8/16-bit "
+                                 "or 32-bit float, gray or RGB); alpha ignored; required without "
+                                 "a subcommand")
                       ->check(not_empty());
   flags_.AddAll(app);
   app.add_option("-o,--outdir", outdir_, "output directory, created if missing")
@@ -125,6 +133,14 @@ SimulateCommand::SimulateCommand(CLI::App& app) {
                "also write sheet.png: observed | restored | residual side by side");
   app.add_flag("--report", output_options_.html_report,
                "also write report.html: parameters, metrics, images and plots on one page");
+  app.add_flag("--save-float", output_options_.float_outputs,
+               "also write observed.tif, restored.tif and residual.tif: 32-bit float, unclamped, "
+               "residual not stretched");
+  app.add_option("--png-depth", png_depth_,
+                 "bits a sample of observed, restored, groundtruth and residual.png: 8, 16 (value "
+                 "x 257), or auto (16 for a 16-bit or float input)")
+      ->check(CLI::IsMember({"8", "16", "auto"}))
+      ->capture_default_str();
 }
 
 int SimulateCommand::Run() const {
@@ -146,15 +162,21 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const fss::ShutterCode code = fss::load_code(code_name);
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
-  const fss::Image image = fss::read_png(input_, options.max_memory_bytes);
+  fss::ImageFileInfo input_info;
+  const fss::Image image = fss::read_image(input_, options.max_memory_bytes, &input_info);
+  output_options.image_depth = resolve_png_depth(png_depth_, input_info);
   context->activity = describe_simulation(input_, image);
   show_progress_on_terminal(options);
-  // observed.png is all fssim needs of the observed image unless the sheet
-  // shows it: keep its rows as 8-bit samples, not doubles.
+  // An 8-bit observed.png is all fssim needs of the observed image unless
+  // the sheet or observed.tif shows it: keep its rows as 8-bit samples, not
+  // doubles.
   std::optional<fss::ObservedPng8> observed_png8;
-  if (!output_options.sheet) {
+  if (!output_options.sheet && !output_options.float_outputs &&
+      output_options.image_depth == fss::PngDepth::k8) {
     observed_png8.emplace(image.height, image.channels);
   }
+  fss::check_outputs_memory(options, image, code, output_options,
+                            observed_png8 ? &*observed_png8 : nullptr);
   const fss::SimulationReport report =
       fss::Simulate(options, image, code, observed_png8 ? &*observed_png8 : nullptr);
   for (const auto& warning : report.warnings) {

@@ -32,6 +32,7 @@ class SimulateCommand {
   std::string outdir_ = "out";
   fss::OutputOptions output_options_;
   bool no_plots_ = false;
+  std::string png_depth_ = "8";  // 8, 16 or auto
 };
 
 }  // namespace fssim

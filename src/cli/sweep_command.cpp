@@ -8,8 +8,8 @@
 
 #include "cli_common.h"
 #include "fss/core/error.h"
+#include "fss/io/image_io.h"
 #include "fss/io/plot.h"
-#include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/simulate.h"
@@ -142,7 +142,7 @@ SweepCommand::SweepCommand(CLI::App& app) {
       "sweep",
       "simulate over a range of velocities and/or snr values and write one CSV row per setting "
       "(measured and predicted RMSE)");
-  sweep_->add_option("-i,--input", input_, "input PNG image")->required();
+  sweep_->add_option("-i,--input", input_, "input PNG or TIFF image")->required();
   flags_.AddCode(*sweep_);
   flags_.AddMode(*sweep_);
   sweep_
@@ -199,7 +199,7 @@ int SweepCommand::Sweep() const {
   const Grid grid = ParseGrid();
   CheckPaths();
   const fss::ShutterCode code = fss::load_code(flags_.code_name());
-  const fss::Image image = fss::read_png(input_);
+  const fss::Image image = fss::read_image(input_);
   const fss::SimulationOptions options = flags_.Options();
   // Refuse a code the mode cannot use before any row runs (Simulate would, at
   // the first setting that fits the image).

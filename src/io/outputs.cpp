@@ -1,10 +1,13 @@
 #include "fss/io/outputs.h"
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <utility>
 
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
+#include "fss/pipeline/geometry.h"
 #include "io/run_file_sources.h"
 
 namespace fss {
@@ -40,7 +43,8 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   const std::vector<RunFile> files = files_to_write(options);
   const std::vector<std::string> names = output_file_names(options);
-  const RunFileSources sources{report, input, input_path, observed, options.rendered_plots, names};
+  const RunFileSources sources{
+      report, input, input_path, observed, options.rendered_plots, names, options.image_depth};
   const std::vector<OutputFile> made = make_files(files, sources);
   std::vector<std::string> inputs = options.other_inputs;
   inputs.insert(inputs.begin(), input_path);
@@ -48,6 +52,39 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
 }
 
 }  // namespace
+
+std::size_t output_encoding_bytes_per_sample(const OutputOptions& options) {
+  std::size_t bytes = 0;
+  if (options.image_depth == PngDepth::k16) bytes += 8;
+  if (options.float_outputs) bytes += 3 * 2 * sizeof(float);
+  return bytes;
+}
+
+void check_outputs_memory(const SimulationOptions& simulation, const Image& input,
+                          const ShutterCode& code, const OutputOptions& options,
+                          const ObservedRowSink* observed_sink) {
+  const std::size_t extra = output_encoding_bytes_per_sample(options);
+  if (simulation.max_memory_bytes == 0 || extra == 0 || !simulation.IsValid(nullptr)) return;
+  const double v = simulation.velocity_px_per_slot;
+  const double v_r = simulation.restore_velocity_px_per_slot.value_or(v);
+  const double speed = std::max(std::abs(v), std::abs(v_r));
+  if (!too_narrow_reason(input.width, code.length(), speed, simulation.dt,
+                         simulation.rmse_margin_columns)
+           .empty()) {
+    return;
+  }
+  const Geometry geometry = Geometry::compute(input.width, code.length(), speed, simulation.dt);
+  const std::size_t needed = estimate_working_memory_bytes(
+      input.width, input.height, input.channels, geometry, simulation.trials, observed_sink, extra);
+  if (needed > simulation.max_memory_bytes) {
+    throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
+                      std::to_string(input.height) + " x " + std::to_string(input.channels) +
+                      " image with its float or 16-bit outputs needs about " +
+                      format_bytes(static_cast<double>(needed)) +
+                      " of memory, more than the memory limit of " +
+                      format_bytes(static_cast<double>(simulation.max_memory_bytes)));
+  }
+}
 
 bool is_written(RunFileCondition when, const OutputOptions& options) {
   switch (when) {
@@ -59,6 +96,8 @@ bool is_written(RunFileCondition when, const OutputOptions& options) {
       return options.sheet;
     case RunFileCondition::kHtmlReport:
       return options.html_report;
+    case RunFileCondition::kFloat:
+      return options.float_outputs;
   }
   return false;
 }

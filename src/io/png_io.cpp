@@ -126,8 +126,8 @@ bool read_rows(PngContext* ctx, png_bytepp rows) {
   return true;
 }
 
-bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int color_type,
-                 png_bytepp rows, PngCompression compression) {
+bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int bit_depth,
+                 int color_type, png_bytepp rows, PngCompression compression) {
   if (setjmp(png_jmpbuf(ctx->png))) return false;
   png_set_write_fn(ctx->png, ctx, write_to_memory, flush_nothing);
 
@@ -138,7 +138,7 @@ bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int col
   png_set_filter(ctx->png, 0, PNG_FILTER_UP);
   png_set_compression_level(ctx->png, 3);
   if (compression == PngCompression::kImage) png_set_compression_strategy(ctx->png, Z_RLE);
-  png_set_IHDR(ctx->png, ctx->info, width, height, 8, color_type, PNG_INTERLACE_NONE,
+  png_set_IHDR(ctx->png, ctx->info, width, height, bit_depth, color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(ctx->png, ctx->info);
   png_write_image(ctx->png, rows);
@@ -309,7 +309,64 @@ void check_encodable(int width, int height, int channels) {
   }
 }
 
+// Encodes samples interleaved as PNG stores them (`bit_depth` 8 or 16, 16-bit
+// ones big-endian), after check_encodable.
+std::vector<std::uint8_t> encode_stored_samples(int width, int height, int channels, int bit_depth,
+                                                const std::uint8_t* samples,
+                                                PngCompression compression) {
+  const std::size_t row_bytes = static_cast<std::size_t>(width) * channels * (bit_depth / 8);
+  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+  for (int y = 0; y < height; ++y) {
+    // libpng's row pointers are not const, but writing only reads them.
+    rows[y] = const_cast<png_bytep>(samples + static_cast<std::size_t>(y) * row_bytes);
+  }
+  std::vector<std::uint8_t> out;
+  auto structs = std::make_unique<WriteStructs>();
+  PngContext* ctx = &structs->ctx;
+  ctx->sink = &out;
+  ctx->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
+  if (!ctx->png) throw_runtime_error("PNG encoding: out of memory");
+  ctx->info = png_create_info_struct(ctx->png);
+  if (!ctx->info) throw_runtime_error("PNG encoding: out of memory");
+  const int color_type = channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
+  if (!write_image(ctx, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
+                   bit_depth, color_type, rows.data(), compression)) {
+    throw_runtime_error(std::string("PNG encoding failed: ") + ctx->message);
+  }
+  return out;
+}
+
+// The 16-bit PNG of fill_row's values: png16_sample, stored big-endian.
+std::vector<std::uint8_t> encode_png16(
+    int width, int height, int channels,
+    const std::function<void(int c, int y, double* row)>& fill_row, PngCompression compression) {
+  check_encodable(width, height, channels);
+  const std::size_t row_samples = static_cast<std::size_t>(width) * channels;
+  std::vector<std::uint8_t> pixels(2 * row_samples * static_cast<std::size_t>(height));
+  std::vector<double> row(static_cast<std::size_t>(width));
+  for (int y = 0; y < height; ++y) {
+    for (int c = 0; c < channels; ++c) {
+      fill_row(c, y, row.data());
+      std::uint8_t* out = pixels.data() + 2 * (static_cast<std::size_t>(y) * row_samples + c);
+      for (int x = 0; x < width; ++x) {
+        const std::uint16_t sample = png16_sample(row[x]);
+        out[2 * static_cast<std::size_t>(x) * channels] = static_cast<std::uint8_t>(sample >> 8);
+        out[2 * static_cast<std::size_t>(x) * channels + 1] = static_cast<std::uint8_t>(sample);
+      }
+    }
+  }
+  return encode_stored_samples(width, height, channels, 16, pixels.data(), compression);
+}
+
 }  // namespace
+
+std::string to_string(PngDepth depth) { return depth == PngDepth::k16 ? "16" : "8"; }
+
+std::optional<PngDepth> png_depth_from_string(std::string_view text) {
+  if (text == "8") return PngDepth::k8;
+  if (text == "16") return PngDepth::k16;
+  return std::nullopt;
+}
 
 std::vector<std::uint8_t> encode_png8(
     int width, int height, int channels,
@@ -329,6 +386,23 @@ std::vector<std::uint8_t> encode_png8(
   return encode_png8_samples(width, height, channels, pixels, compression);
 }
 
+std::vector<std::uint8_t> encode_png(int width, int height, int channels,
+                                     const std::function<void(int c, int y, double* row)>& fill_row,
+                                     PngDepth depth, PngCompression compression) {
+  return depth == PngDepth::k16 ? encode_png16(width, height, channels, fill_row, compression)
+                                : encode_png8(width, height, channels, fill_row, compression);
+}
+
+std::vector<std::uint8_t> encode_png(const Image& image, PngDepth depth,
+                                     PngCompression compression) {
+  return encode_png(
+      image.width, image.height, image.channels,
+      [&](int c, int y, double* row) {
+        std::copy(image.row(c, y), image.row(c, y) + image.width, row);
+      },
+      depth, compression);
+}
+
 std::vector<std::uint8_t> encode_png8_samples(int width, int height, int channels,
                                               std::span<const std::uint8_t> samples,
                                               PngCompression compression) {
@@ -340,25 +414,7 @@ std::vector<std::uint8_t> encode_png8_samples(int width, int height, int channel
                       std::to_string(row_bytes * static_cast<std::size_t>(height)) +
                       " samples, got " + std::to_string(samples.size()));
   }
-  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
-  for (int y = 0; y < height; ++y) {
-    // libpng's row pointers are not const, but writing only reads them.
-    rows[y] = const_cast<png_bytep>(samples.data() + static_cast<std::size_t>(y) * row_bytes);
-  }
-  std::vector<std::uint8_t> out;
-  auto structs = std::make_unique<WriteStructs>();
-  PngContext* ctx = &structs->ctx;
-  ctx->sink = &out;
-  ctx->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
-  if (!ctx->png) throw_runtime_error("PNG encoding: out of memory");
-  ctx->info = png_create_info_struct(ctx->png);
-  if (!ctx->info) throw_runtime_error("PNG encoding: out of memory");
-  const int color_type = channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
-  if (!write_image(ctx, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
-                   color_type, rows.data(), compression)) {
-    throw_runtime_error(std::string("PNG encoding failed: ") + ctx->message);
-  }
-  return out;
+  return encode_stored_samples(width, height, channels, 8, samples.data(), compression);
 }
 
 }  // namespace fss

@@ -10,6 +10,7 @@
 
 #include "fss/core/image.h"
 #include "fss/io/observed_png8.h"
+#include "fss/io/png_io.h"
 #include "fss/io/run_files.h"
 #include "fss/io/run_plots.h"
 #include "fss/pipeline/simulate.h"
@@ -28,6 +29,7 @@ struct RunFileSources {
   ObservedSource observed;
   const std::optional<RunPlots>& plots_drawn_ahead;
   const std::vector<std::string>& names;  // every file written, in order
+  PngDepth image_depth = PngDepth::k8;    // of observed, restored, groundtruth, residual.png
 };
 
 }  // namespace fss

@@ -12,6 +12,7 @@
 #include "fss/io/report_json.h"
 #include "fss/io/run_text.h"
 #include "fss/io/sheet.h"
+#include "fss/io/tiff_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/metrics.h"
 #include "io/run_file_sources.h"
@@ -24,17 +25,19 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
   return {bytes.begin(), bytes.end()};
 }
 
-std::vector<std::uint8_t> encode_observed(const Image& kept, const SimulationReport& /*report*/) {
+std::vector<std::uint8_t> encode_observed(const Image& kept, const SimulationReport& /*report*/,
+                                          PngDepth depth) {
   if (kept.data.empty()) {
     throw_usage_error(
         "observed.png: the report keeps no observed image (Simulate ran with an ObservedRowSink) "
         "and no "
         "ObservedPng8 was given to write_outputs");
   }
-  return encode_png8(kept);
+  return encode_png(kept, depth);
 }
 
-std::vector<std::uint8_t> encode_observed(const ObservedPng8& rows, const SimulationReport& r) {
+std::vector<std::uint8_t> encode_observed(const ObservedPng8& rows, const SimulationReport& r,
+                                          PngDepth depth) {
   const Image& outputs = r.restored;
   if (rows.width() != outputs.width || rows.height() != outputs.height ||
       rows.channels() != outputs.channels) {
@@ -44,16 +47,22 @@ std::vector<std::uint8_t> encode_observed(const ObservedPng8& rows, const Simula
                       std::to_string(outputs.width) + " x " + std::to_string(outputs.height) +
                       " x " + std::to_string(outputs.channels));
   }
+  if (depth != PngDepth::k8) {
+    throw_usage_error(
+        "observed.png: 16-bit outputs need the report's observed image; an ObservedPng8 holds "
+        "8-bit samples");
+  }
   return rows.encode();
 }
 
 std::string make_observed(const RunFileSources& s) {
   return as_string(std::visit(
-      [&](const auto& source) { return encode_observed(source.get(), s.report); }, s.observed));
+      [&](const auto& source) { return encode_observed(source.get(), s.report, s.image_depth); },
+      s.observed));
 }
 
 std::string make_restored(const RunFileSources& s) {
-  return as_string(encode_png8(s.report.restored));
+  return as_string(encode_png(s.report.restored, s.image_depth));
 }
 
 // The ground truth and the residual are encoded straight from the input and
@@ -61,9 +70,12 @@ std::string make_restored(const RunFileSources& s) {
 std::string make_groundtruth(const RunFileSources& s) {
   const int offset = s.report.output_first_column(), wo = s.report.restored.width;
   const Image& input = s.input;
-  return as_string(encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
-    std::copy(input.row(c, y) + offset, input.row(c, y) + offset + wo, row);
-  }));
+  return as_string(encode_png(
+      wo, input.height, input.channels,
+      [&](int c, int y, double* row) {
+        std::copy(input.row(c, y) + offset, input.row(c, y) + offset + wo, row);
+      },
+      s.image_depth));
 }
 
 // groundtruth - restored, stretched affinely to [0, 255] (docs/method.md §5).
@@ -72,11 +84,44 @@ std::string make_residual(const RunFileSources& s) {
   const Image& input = s.input;
   const Image& restored = s.report.restored;
   const ResidualRange range = residual_range(input, offset, restored);
-  return as_string(encode_png8(wo, input.height, input.channels, [&](int c, int y, double* row) {
-    const double* truth = input.row(c, y) + offset;
-    const double* restored_row = restored.row(c, y);
-    for (int x = 0; x < wo; ++x) row[x] = range.stretch(truth[x] - restored_row[x]);
-  }));
+  return as_string(encode_png(
+      wo, input.height, input.channels,
+      [&](int c, int y, double* row) {
+        const double* truth = input.row(c, y) + offset;
+        const double* restored_row = restored.row(c, y);
+        for (int x = 0; x < wo; ++x) row[x] = range.stretch(truth[x] - restored_row[x]);
+      },
+      s.image_depth));
+}
+
+// The float TIFFs hold the values themselves: no rounding, no clamping.
+std::string make_observed_tif(const RunFileSources& s) {
+  const auto* kept = std::get_if<std::reference_wrapper<const Image>>(&s.observed);
+  if (kept == nullptr || kept->get().data.empty()) {
+    throw_usage_error(
+        "observed.tif: float outputs need the report's observed image; an ObservedPng8 holds "
+        "8-bit samples and Simulate kept none");
+  }
+  return as_string(encode_tiff_float(kept->get()));
+}
+
+std::string make_restored_tif(const RunFileSources& s) {
+  return as_string(encode_tiff_float(s.report.restored));
+}
+
+// groundtruth - restored, as it is (docs/method.md §5).
+std::string make_residual_tif(const RunFileSources& s) {
+  const int offset = s.report.output_first_column(), wo = s.report.restored.width;
+  const Image& input = s.input;
+  const Image& restored = s.report.restored;
+  return as_string(
+      encode_tiff_float(wo, input.height, input.channels, [&](int c, int y, double* row) {
+        const double* truth = input.row(c, y) + offset;
+        const double* restored_row = restored.row(c, y);
+        for (int x = 0; x < wo; ++x) {
+          row[x] = truth[x] - restored_row[x];
+        }
+      }));
 }
 
 std::string make_code_txt(const RunFileSources& s) {
@@ -130,6 +175,15 @@ constexpr std::array kRunFiles = {
             .figure = kImage,
             .caption = "residual (ground truth − restored, stretched to [0, 255])",
             .frame = {204, 0, 122}},
+    RunFile{.name = "observed.tif", .when = kFloat,
+            .content = "the observation divided by K(0), output crop, 32-bit float, unclamped",
+            .make = make_observed_tif},
+    RunFile{.name = "restored.tif", .when = kFloat,
+            .content = "the restoration, output crop, 32-bit float, unclamped",
+            .make = make_restored_tif},
+    RunFile{.name = "residual.tif", .when = kFloat,
+            .content = "ground truth − restored, 32-bit float, not stretched",
+            .make = make_residual_tif},
     RunFile{.name = "code.txt", .when = kAlways, .content = "the gains, reference format",
             .make = make_code_txt},
     RunFile{.name = "spectrum.txt", .when = kAlways,

@@ -280,7 +280,8 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
-                                          const ObservedRowSink* observed_sink) {
+                                          const ObservedRowSink* observed_sink,
+                                          std::size_t extra_encoding_bytes_per_sample) {
   const bool keep_observed = observed_sink == nullptr;
   const auto w = static_cast<std::size_t>(width);
   const auto h = static_cast<std::size_t>(height);
@@ -303,7 +304,7 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
       (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels + 2 * sorter : 16 * ci_pixels + sorter) +
       groups;
   // Four 8-bit rasters and their encoded copies, at most.
-  const std::size_t encoding = 8 * wo * h * c;
+  const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
   return input + outputs + std::max(midway, encoding);
 }
 

@@ -1,10 +1,15 @@
 #!/usr/bin/env python3
-"""Writes the seed corpus of the fuzz targets: tests/fuzz/corpus/{png,code}/.
+"""Writes the seed corpus of the fuzz targets: tests/fuzz/corpus/{png,tiff,code}/.
 
 The files are committed; this script documents how they were made and remakes
 them (python3 standard library only): python3 tests/fuzz/make_corpus.py
 PNGs are small (under 2 KB) and cover every colour type and bit depth,
 interlacing, tRNS, several IDAT chunks, ancillary chunks and an iCCP profile.
+TIFFs are small (under 2 KB) and cover every sample type read (8, 16-bit
+unsigned, 32-bit float), gray, gray + alpha, RGB and RGBA, both byte orders,
+strips and tiles, contiguous and separate planes, no compression, PackBits and
+Deflate, BigTIFF, and layouts that are refused (palette, signed, 64-bit float,
+two pages).
 Files named regression-* are inputs the fuzzer found; this script leaves them.
 """
 import os
@@ -136,6 +141,151 @@ def write_pngs(directory):
             f.write(data)
 
 
+# ---------------------------------------------------------------------------
+# TIFF, written by hand: header, strip or tile data, then each page's IFD.
+
+SHORT, LONG, LONG8 = 3, 4, 16
+PACK = {SHORT: "H", LONG: "I", LONG8: "Q"}
+
+
+def packbits(data):
+    """PackBits: runs of 3 to 128 equal bytes replicated, the rest literal."""
+    out = bytearray()
+    i = 0
+    while i < len(data):
+        run = 1
+        while i + run < len(data) and run < 128 and data[i + run] == data[i]:
+            run += 1
+        if run >= 3:
+            out += bytes([257 - run, data[i]])
+            i += run
+            continue
+        start = i
+        while i < len(data) and i - start < 128:
+            if i + 2 < len(data) and data[i] == data[i + 1] == data[i + 2]:
+                break
+            i += 1
+        out += bytes([i - start - 1]) + data[start:i]
+    return bytes(out)
+
+
+def compress(raw, compression, row_bytes):
+    if compression == 8:
+        return zlib.compress(raw, 9)
+    if compression == 32773:  # row by row, as TIFF requires
+        return b"".join(packbits(raw[i:i + row_bytes]) for i in range(0, len(raw), row_bytes))
+    return raw
+
+
+def tiff_page(width, height, spp, bits, fmt, photometric, sample, order="<", planar=1, tile=0,
+              compression=1, rows=0, extra=0, colormap=False):
+    """(tags, chunks, tiled) of one page whose sample (x, y, s) is sample(x, y, s)."""
+    code = {(1, 8): "B", (1, 16): "H", (3, 32): "f", (3, 64): "d", (2, 16): "h"}[(fmt, bits)]
+    planes, per_pixel = (spp, 1) if planar == 2 else (1, spp)
+    chunk_w, chunk_h = (tile, tile) if tile else (width, rows or height)
+    chunks = []
+    for plane in range(planes):
+        for y0 in range(0, height, chunk_h):
+            for x0 in range(0, width, chunk_w):
+                values = []
+                for r in range(chunk_h if tile else min(chunk_h, height - y0)):
+                    for i in range(chunk_w):
+                        for k in range(per_pixel):
+                            inside = y0 + r < height and x0 + i < width
+                            s = plane if planar == 2 else k
+                            values.append(sample(x0 + i, y0 + r, s) if inside else 0)
+                raw = struct.pack(order + code * len(values), *values)
+                chunks.append(compress(raw, compression, len(raw) // max(len(values), 1) *
+                                       chunk_w * per_pixel))
+    tags = {256: (LONG, [width]), 257: (LONG, [height]), 258: (SHORT, [bits] * spp),
+            259: (SHORT, [compression]), 262: (SHORT, [photometric]), 277: (SHORT, [spp]),
+            284: (SHORT, [planar]), 339: (SHORT, [fmt] * spp)}
+    if tile:
+        tags[322] = (LONG, [tile])
+        tags[323] = (LONG, [tile])
+    else:
+        tags[278] = (LONG, [chunk_h])
+    if extra:
+        tags[338] = (SHORT, [2] * extra)  # unassociated alpha
+    if colormap:
+        tags[320] = (SHORT, [(i * 257 * 7) % 65536 for i in range(3 << bits)])
+    return tags, chunks, bool(tile)
+
+
+def tiff_file(pages, order="<", big=False):
+    """A TIFF (or BigTIFF) of the pages of tiff_page, IFDs after the data."""
+    offset = "Q" if big else "I"
+    out = bytearray(b"II" if order == "<" else b"MM")
+    out += struct.pack(order + "HHHQ", 43, 8, 0, 0) if big else struct.pack(order + "HI", 42, 0)
+    next_pointer = 8 if big else 4
+    for tags, chunks, tiled in pages:
+        offsets = []
+        for data in chunks:
+            offsets.append(len(out))
+            out += data + b"\0" * (len(data) % 2)
+        tags = dict(tags)
+        kind = LONG8 if big else LONG
+        tags[324 if tiled else 273] = (kind, offsets)
+        tags[325 if tiled else 279] = (kind, [len(data) for data in chunks])
+        inline = 8 if big else 4
+        entries = []
+        for tag in sorted(tags):
+            kind_of, values = tags[tag]
+            data = struct.pack(order + PACK[kind_of] * len(values), *values)
+            if len(data) <= inline:
+                value = data.ljust(inline, b"\0")
+            else:
+                value = struct.pack(order + offset, len(out))
+                out += data + b"\0" * (len(data) % 2)
+            entries.append(struct.pack(order + "HH" + offset, tag, kind_of, len(values)) + value)
+        struct.pack_into(order + offset, out, next_pointer, len(out))
+        out += struct.pack(order + ("Q" if big else "H"), len(entries)) + b"".join(entries)
+        next_pointer = len(out)
+        out += bytes(inline)
+    return bytes(out)
+
+
+def levels(top):
+    return lambda x, y, s: (x * 37 + y * 19 + s * 71) % 251 * top // 250
+
+
+def real(x, y, s):
+    return (x * 3.25 - y * 1.5 + s * 40.0) - 12.0
+
+
+def write_tiffs(directory):
+    gray, rgb, palette = 1, 2, 3
+    files = {  # name: (pages, byte order, BigTIFF)
+        "gray8.tif": ([tiff_page(16, 12, 1, 8, 1, gray, levels(255), rows=4)], "<", False),
+        "gray8-big-endian.tif": ([tiff_page(9, 7, 1, 8, 1, gray, levels(255), order=">")], ">",
+                                 False),
+        "gray16-deflate.tif": ([tiff_page(20, 10, 1, 16, 1, gray, levels(65535), compression=8,
+                                          rows=3)], "<", False),
+        "gray16-big-endian-packbits.tif": ([tiff_page(18, 6, 1, 16, 1, gray, levels(65535),
+                                                      order=">", compression=32773)], ">", False),
+        "graya8.tif": ([tiff_page(10, 8, 2, 8, 1, gray, levels(255), extra=1)], "<", False),
+        "rgb8-tiled.tif": ([tiff_page(20, 18, 3, 8, 1, rgb, levels(255), tile=16,
+                                      compression=8)], "<", False),
+        "rgba16-separate.tif": ([tiff_page(7, 5, 4, 16, 1, rgb, levels(65535), planar=2, extra=1,
+                                           rows=2)], "<", False),
+        "rgb-float32.tif": ([tiff_page(8, 6, 3, 32, 3, rgb, real)], "<", False),
+        "gray-float32-tiled-separate.tif": ([tiff_page(17, 3, 1, 32, 3, gray, real, tile=16,
+                                                       planar=2, compression=8)], "<", False),
+        "gray8-1x1.tif": ([tiff_page(1, 1, 1, 8, 1, gray, levels(255))], "<", False),
+        "bigtiff-gray8.tif": ([tiff_page(12, 5, 1, 8, 1, gray, levels(255))], "<", True),
+        "two-pages.tif": ([tiff_page(6, 4, 1, 8, 1, gray, levels(255))] * 2, "<", False),
+        "palette8.tif": ([tiff_page(6, 4, 1, 8, 1, palette, levels(255), colormap=True)], "<",
+                         False),
+        "int16.tif": ([tiff_page(6, 4, 1, 16, 2, gray, levels(255))], "<", False),
+        "float64.tif": ([tiff_page(6, 4, 1, 64, 3, gray, real)], "<", False),
+    }
+    for name, (pages, order, big) in files.items():
+        data = tiff_file(pages, order, big)
+        assert len(data) < 2048, (name, len(data))
+        with open(os.path.join(directory, name), "wb") as f:
+            f.write(data)
+
+
 RASKAR = "1010000111000001010000110011110111010111001001100111"
 
 
@@ -158,7 +308,7 @@ def write_codes(directory):
 
 
 if __name__ == "__main__":
-    for kind, writer in (("png", write_pngs), ("code", write_codes)):
+    for kind, writer in (("png", write_pngs), ("tiff", write_tiffs), ("code", write_codes)):
         directory = os.path.join(HERE, "corpus", kind)
         os.makedirs(directory, exist_ok=True)
         writer(directory)

@@ -37,7 +37,10 @@ std::vector<std::pair<std::string, RunFileCondition>> table_rows() {
 // How the README says when a file is written, at the end of its content.
 RunFileCondition readme_condition(const std::string& content) {
   const std::vector<std::pair<std::string, RunFileCondition>> markers = {
-      {"(not with `--no-plots`)", kPlots}, {"(`--sheet`)", kSheet}, {"(`--report`)", kHtmlReport}};
+      {"(not with `--no-plots`)", kPlots},
+      {"(`--sheet`)", kSheet},
+      {"(`--report`)", kHtmlReport},
+      {"(`--save-float`)", kFloat}};
   RunFileCondition found = kAlways;
   int count = 0;
   for (const auto& [marker, condition] : markers) {
@@ -70,11 +73,11 @@ std::vector<std::pair<std::string, RunFileCondition>> readme_rows() {
 }
 
 // The names of the table's rows written under these options, in order.
-std::vector<std::string> names_written(bool plots, bool sheet, bool html) {
+std::vector<std::string> names_written(bool plots, bool sheet, bool html, bool floats) {
   std::vector<std::string> names;
   for (const auto& [name, when] : table_rows()) {
     if (when == kAlways || (when == kPlots && plots) || (when == kSheet && sheet) ||
-        (when == kHtmlReport && html)) {
+        (when == kHtmlReport && html) || (when == kFloat && floats)) {
       names.push_back(name);
     }
   }
@@ -101,11 +104,21 @@ TEST(RunFiles, OutputFileNamesAreTheRowsTheOptionsSelectInOrder) {
             (std::vector<std::string>{"observed.png", "restored.png", "groundtruth.png",
                                       "residual.png", "code.txt", "spectrum.txt", "report.json",
                                       "code.png", "spectrum.png", "sheet.png", "report.html"}));
+  OutputOptions floats;
+  floats.float_outputs = true;
+  EXPECT_EQ(
+      output_file_names(floats),
+      (std::vector<std::string>{"observed.png", "restored.png", "groundtruth.png", "residual.png",
+                                "observed.tif", "restored.tif", "residual.tif", "code.txt",
+                                "spectrum.txt", "report.json", "code.png", "spectrum.png"}));
   for (const bool plots : {false, true}) {
     for (const bool sheet : {false, true}) {
       for (const bool html : {false, true}) {
-        EXPECT_EQ(output_file_names({plots, sheet, html}), names_written(plots, sheet, html))
-            << plots << sheet << html;
+        for (const bool float_outputs : {false, true}) {
+          EXPECT_EQ(output_file_names({plots, sheet, html, float_outputs}),
+                    names_written(plots, sheet, html, float_outputs))
+              << plots << sheet << html << float_outputs;
+        }
       }
     }
   }

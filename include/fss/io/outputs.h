@@ -11,6 +11,7 @@
 #include "fss/core/image.h"
 #include "fss/io/observed_png8.h"
 #include "fss/io/output_set.h"
+#include "fss/io/png_io.h"
 #include "fss/io/run_files.h"
 #include "fss/io/run_plots.h"
 #include "fss/pipeline/simulate.h"
@@ -22,6 +23,13 @@ struct OutputOptions {
   bool plots = true;         // code.png and spectrum.png (plot.h)
   bool sheet = false;        // sheet.png: observed | restored | residual (sheet.h)
   bool html_report = false;  // report.html (html_report.h)
+  // observed.tif, restored.tif and residual.tif: 32-bit float, unclamped
+  // (tiff_io.h). They need the report's observed image, not an ObservedPng8.
+  bool float_outputs = false;
+  // Bits a sample of observed.png, restored.png, groundtruth.png and
+  // residual.png (png_io.h: png8_sample, png16_sample); the plots and
+  // sheet.png stay 8-bit. 16 bits need the report's observed image.
+  PngDepth image_depth = PngDepth::k8;
   // Files besides the input image that must never be overwritten (the code file).
   std::vector<std::string> other_inputs;
   // code.png and spectrum.png drawn ahead (render_run_plots) for the
@@ -29,6 +37,21 @@ struct OutputOptions {
   // error if they were drawn for another run. Empty: write_outputs draws them.
   std::optional<RunPlots> rendered_plots;
 };
+
+// Bytes a sample of the output crop that the outputs `options` asks for take
+// while they are made, beyond the default ones (estimate_working_memory_bytes,
+// simulate.h): 16-bit PNGs double the 8 of the four image PNGs; each float
+// TIFF holds 4 and is copied once into its output file.
+std::size_t output_encoding_bytes_per_sample(const OutputOptions& options);
+
+// Throws the kLimit error Simulate throws, with the memory of the outputs
+// `options` asks for counted as well (output_encoding_bytes_per_sample, and
+// the observed image kept as doubles when `observed_sink` is null). Does
+// nothing when options.max_memory_bytes is 0 or when Simulate would refuse
+// the run for another reason (it says why then).
+void check_outputs_memory(const SimulationOptions& simulation, const Image& input,
+                          const ShutterCode& code, const OutputOptions& options,
+                          const ObservedRowSink* observed_sink);
 
 // Whether a file written `when` is written under `options`.
 bool is_written(RunFileCondition when, const OutputOptions& options);

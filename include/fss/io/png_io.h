@@ -1,11 +1,13 @@
-// PNG reading and 8-bit PNG encoding (libpng). Conventions: image.h.
+// PNG reading and 8- or 16-bit PNG encoding (libpng). Conventions: image.h.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fss/core/image.h"
@@ -50,6 +52,24 @@ inline std::uint8_t png8_sample(double value) {
   return static_cast<std::uint8_t>(whole + (value - whole >= 0.5 ? 1 : 0));
 }
 
+// A value as a 16-bit PNG sample, on the scale a 16-bit PNG is read with
+// (image.h: sample / 257): value x 257 rounded to the nearest integer
+// (halves away from zero), clamped to [0, 65535]; NaN gives 0. A value
+// read from a 16-bit PNG gives back its sample exactly, and an integer
+// gray level g gives 257 g, the 16-bit sample of the same brightness.
+inline std::uint16_t png16_sample(double value) {
+  const double scaled = value * 257.0;
+  if (!(scaled >= 0.5)) return 0;  // negatives, [0, 0.5) and NaN
+  if (scaled >= 65535.0) return 65535;
+  const int whole = static_cast<int>(scaled);  // truncation; exact in [0.5, 65535)
+  return static_cast<std::uint16_t>(whole + (scaled - whole >= 0.5 ? 1 : 0));
+}
+
+// Bits per sample of an encoded image PNG.
+enum class PngDepth { k8, k16 };
+std::string to_string(PngDepth depth);  // "8", "16"
+std::optional<PngDepth> png_depth_from_string(std::string_view text);
+
 // Encodes an 8-bit gray (1 channel) or RGB (3 channels) PNG; each value
 // becomes png8_sample(value).
 std::vector<std::uint8_t> encode_png8(const Image& image,
@@ -61,6 +81,15 @@ std::vector<std::uint8_t> encode_png8(
     int width, int height, int channels,
     const std::function<void(int c, int y, double* row)>& fill_row,
     PngCompression compression = PngCompression::kImage);
+
+// Same at `depth` bits a sample: PngDepth::k8 gives encode_png8's bytes,
+// PngDepth::k16 stores png16_sample(value) of each value.
+std::vector<std::uint8_t> encode_png(int width, int height, int channels,
+                                     const std::function<void(int c, int y, double* row)>& fill_row,
+                                     PngDepth depth,
+                                     PngCompression compression = PngCompression::kImage);
+std::vector<std::uint8_t> encode_png(const Image& image, PngDepth depth,
+                                     PngCompression compression = PngCompression::kImage);
 
 // Same for 8-bit samples already interleaved as PNG stores them (gray, or
 // RGB triplets; rows top down, width x channels bytes each).

@@ -18,6 +18,7 @@ enum class RunFileCondition {
   kPlots,       // OutputOptions::plots (fssim: unless --no-plots)
   kSheet,       // OutputOptions::sheet (fssim --sheet)
   kHtmlReport,  // OutputOptions::html_report (fssim --report)
+  kFloat,       // OutputOptions::float_outputs (fssim --save-float)
 };
 
 // How report.html shows a file besides linking it.

@@ -139,10 +139,13 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 // buffer when trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel of one
 // channel's window and the sorter's buffers, metrics.h) and the PNG encoding buffers. Rows in
 // flight are a few kilobytes a thread and are not counted, nor are the exact prediction's
-// variance sums (at most 64 rows of W - B doubles, docs/method.md §6b).
+// variance sums (at most 64 rows of W - B doubles, docs/method.md §6b). Outputs beyond the
+// default ones add `extra_encoding_bytes_per_sample` bytes a sample of the output crop to the
+// encoding buffers (outputs.h: output_encoding_bytes_per_sample).
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
-                                          const ObservedRowSink* observed_sink = nullptr);
+                                          const ObservedRowSink* observed_sink = nullptr,
+                                          std::size_t extra_encoding_bytes_per_sample = 0);
 
 // The ground truth aligned with report.restored: input columns
 // [output_first_column(), output_first_column() + Wo).

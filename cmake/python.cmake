@@ -27,7 +27,8 @@ if(NOT DEFINED Python3_EXECUTABLE AND NOT FSS_SANITIZE AND NOT FSS_FUZZ)
       execute_process(COMMAND "${_fss_dir}/python3" -c "import numpy"
                       RESULT_VARIABLE _fss_numpy_status OUTPUT_QUIET ERROR_QUIET)
       if(_fss_numpy_status EQUAL 0)
-        set(Python3_EXECUTABLE "${_fss_dir}/python3")
+        set(Python3_EXECUTABLE "${_fss_dir}/python3" CACHE FILEPATH
+            "The Python interpreter the module is built for")
         break()
       endif()
     endif()
@@ -73,6 +74,16 @@ if(NOT DEFINED FSS_PYTHON_INSTALL_DIR)
     OUTPUT_VARIABLE _fss_platlib OUTPUT_STRIP_TRAILING_WHITESPACE)
   set(FSS_PYTHON_INSTALL_DIR "${_fss_platlib}" CACHE STRING
       "Where the Python module is installed, relative to the prefix")
+endif()
+# A module linked to a shared libfss finds it in the prefix wherever the
+# prefix is moved: RUNPATH $ORIGIN/<module dir to libdir>.
+include(GNUInstallDirs)
+get_target_property(_fss_library_type fss TYPE)
+if(_fss_library_type STREQUAL "SHARED_LIBRARY")
+  get_filename_component(_fss_python_dir "${FSS_PYTHON_INSTALL_DIR}" ABSOLUTE
+                         BASE_DIR "${CMAKE_INSTALL_PREFIX}")
+  file(RELATIVE_PATH _fss_python_to_lib "${_fss_python_dir}" "${CMAKE_INSTALL_FULL_LIBDIR}")
+  set_target_properties(fss_python PROPERTIES INSTALL_RPATH "$ORIGIN/${_fss_python_to_lib}")
 endif()
 install(TARGETS fss_python LIBRARY DESTINATION ${FSS_PYTHON_INSTALL_DIR})
 

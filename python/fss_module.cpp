@@ -1,5 +1,6 @@
 // The Python module `fss` (pybind11): the simulator and the code design
-// functions of the library on numpy arrays. python/README.md documents it.
+// functions of the library on numpy arrays. The README's section "Python"
+// documents it.
 //
 // Conventions of the module (on top of fss/core/image.h):
 //  - Images are numpy arrays H x W (gray) or H x W x 3 (RGB) of any real
@@ -45,9 +46,7 @@ using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecas
 // ---------------------------------------------------------------------------
 // Arguments
 
-[[noreturn]] void throw_value_error(const std::string& message) {
-  throw py::value_error(message);
-}
+[[noreturn]] void throw_value_error(const std::string& message) { throw py::value_error(message); }
 
 // The dtype kinds accepted for images and gains: bool, signed and unsigned
 // integers, floating point.
@@ -71,8 +70,8 @@ std::string shape_text(const py::array& array) {
 // data[(c H + y) W + x] = array[y, x, c].
 fss::Image image_from_array(const py::array& array) {
   check_real_dtype(array, "image");
-  const bool layout_ok = array.ndim() == 2 ||
-                         (array.ndim() == 3 && (array.shape(2) == 1 || array.shape(2) == 3));
+  const bool layout_ok =
+      array.ndim() == 2 || (array.ndim() == 3 && (array.shape(2) == 1 || array.shape(2) == 3));
   if (!layout_ok) {
     throw_value_error("image: shape " + shape_text(array) +
                       " is not H x W (gray) or H x W x 3 (RGB)");
@@ -94,8 +93,7 @@ fss::Image image_from_array(const py::array& array) {
         const double value = *source++;
         if (!std::isfinite(value)) {
           throw_value_error("image: value " + fss::format_number(value) + " at row " +
-                            std::to_string(y) + ", column " + std::to_string(x) +
-                            " is not finite");
+                            std::to_string(y) + ", column " + std::to_string(x) + " is not finite");
         }
         image.at(c, y, x) = value;
       }
@@ -166,8 +164,7 @@ fss::NoiseModel noise_from_string(const std::string& noise) {
 // A non-negative Python int as a uint64 seed.
 std::uint64_t seed_from_int(const py::int_& seed) {
   if (seed < py::int_(0) || seed > py::int_(UINT64_MAX)) {
-    throw_value_error("seed: " + py::repr(seed).cast<std::string>() +
-                      " must lie in [0, 2^64 - 1]");
+    throw_value_error("seed: " + py::repr(seed).cast<std::string>() + " must lie in [0, 2^64 - 1]");
   }
   return seed.cast<std::uint64_t>();
 }
@@ -392,7 +389,10 @@ py::array_t<double> read_png(const py::object& path_object) {
   return array_from_image(image);
 }
 
-void register_errors(py::module_& m) {
+// pybind11 calls the translator with every C++ exception an exposed function
+// lets out (its signature takes the exception_ptr by value).
+void register_errors() {
+  // NOLINTNEXTLINE(performance-unnecessary-value-param)
   py::register_exception_translator([](std::exception_ptr pointer) {
     try {
       if (pointer) std::rethrow_exception(pointer);
@@ -401,7 +401,6 @@ void register_errors(py::module_& m) {
                       e.what());
     }
   });
-  static_cast<void>(m);
 }
 
 void define_result(py::module_& m) {
@@ -438,10 +437,9 @@ void define_simulate(py::module_& m) {
                                 restore_velocity, threads, rmse_margin, max_memory});
       },
       py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
-      py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0,
-      py::arg("seed") = 0, py::arg("trials") = 1, py::arg("noise") = "poisson",
-      py::arg("restore_velocity") = py::none(), py::arg("threads") = 0,
-      py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
+      py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
+      py::arg("trials") = 1, py::arg("noise") = "poisson", py::arg("restore_velocity") = py::none(),
+      py::arg("threads") = 0, py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
       "Simulates a flutter shutter run on `image` (H x W or H x W x 3, gray levels on the "
       "0..255 scale) as `fssim --input` does; returns a SimulationResult.");
 }
@@ -483,7 +481,7 @@ PYBIND11_MODULE(fss, m) {
   m.doc() = "fssim, the flutter shutter camera simulator, on numpy arrays";
   m.attr("__version__") = FSS_VERSION_FULL;
   m.attr("REPORT_SCHEMA_VERSION") = fss::kReportSchemaVersion;
-  register_errors(m);
+  register_errors();
   define_result(m);
   define_simulate(m);
   define_codes(m);

@@ -7,7 +7,8 @@
 #       find_package(fss CONFIG) gives the target fss::fss
 #   lib/pkgconfig/fss.pc
 #   share/fssim/codes/*.txt                  the paper's six codes
-#   share/man/man1/fssim.1
+#   share/man/man1/fssim.1                   docs/fssim.1, version and date made true
+#   lib/python3.X/site-packages/fss*.so      the Python module (cmake/python.cmake)
 #   share/bash-completion/completions/fssim
 #
 # (lib is CMAKE_INSTALL_LIBDIR: lib/x86_64-linux-gnu under /usr on Debian.)
@@ -45,9 +46,30 @@ install(TARGETS fssim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY include/fss DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
 install(FILES ${FSS_CODE_FILES} DESTINATION ${CMAKE_INSTALL_DATADIR}/fssim/codes)
-install(FILES docs/fssim.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+install(FILES ${PROJECT_BINARY_DIR}/fssim.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 install(FILES scripts/completion/fssim.bash DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
         RENAME fssim)
+
+# The installed man page is docs/fssim.1 with its .TH line made true at
+# configure time: the project's version, and the date of the last commit that
+# changed the page (the date in the source is kept outside a git checkout).
+file(READ ${PROJECT_SOURCE_DIR}/docs/fssim.1 _fss_man)
+set(_fss_man_date "")
+if(GIT_FOUND)
+  execute_process(
+    COMMAND "${GIT_EXECUTABLE}" log -1 --format=%cs -- docs/fssim.1
+    WORKING_DIRECTORY "${PROJECT_SOURCE_DIR}"
+    OUTPUT_VARIABLE _fss_man_date
+    OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+endif()
+if(NOT _fss_man_date MATCHES "^[0-9]+-[0-9]+-[0-9]+$")
+  string(REGEX MATCH "\n[.]TH FSSIM 1 \"([^\"]*)\"" _fss_match "${_fss_man}")
+  set(_fss_man_date "${CMAKE_MATCH_1}")
+endif()
+string(REGEX REPLACE "\n[.]TH FSSIM 1 \"[^\"]*\" \"fssim [^\"]*\""
+       "\n.TH FSSIM 1 \"${_fss_man_date}\" \"fssim ${PROJECT_VERSION}\"" _fss_man "${_fss_man}")
+file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/fssim.1 CONTENT "${_fss_man}" @ONLY)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/docs/fssim.1)
 
 # The CMake package. The library links PLplot and libtiff privately: a shared
 # libfss carries them, a static one needs them at the consumer's link, so the

@@ -8,9 +8,10 @@
 # git's HEAD and branch files; edits that are not committed do not, so the
 # "-dirty" mark is the state of the last configure.
 #
-# Only fssim gets the revision. The library keeps FSS_VERSION at the plain
-# PROJECT_VERSION: it is written into report.html, whose bytes must not change
-# with each commit, and a changed definition would recompile all of it.
+# fssim, the Python module and report.json (below) get the revision. The rest
+# of the library keeps FSS_VERSION at the plain PROJECT_VERSION: it is written
+# into report.html, whose bytes must not change with each commit, and a
+# changed definition would recompile all of it.
 
 set(FSS_VERSION_FULL "${PROJECT_VERSION}")
 
@@ -63,3 +64,9 @@ if(GIT_FOUND)
   endif()
 endif()
 message(STATUS "fssim version: ${FSS_VERSION_FULL}")
+
+# report.json records the same version ("fssim_version"): the definition is
+# given to its one source file, so that a new commit recompiles only that
+# file of the library.
+set_property(SOURCE ${PROJECT_SOURCE_DIR}/src/io/report_json.cpp APPEND
+             PROPERTY COMPILE_DEFINITIONS "FSS_VERSION_FULL=\"${FSS_VERSION_FULL}\"")

@@ -5,7 +5,9 @@
 # libfss.so through its RUNPATH), its man page renders, its bash completion
 # completes, and two consumers build and run against the prefix: one with
 # find_package(fss) (tests/install/cmake_consumer), one with pkg-config
-# (tests/install/pkgconfig_consumer).
+# (tests/install/pkgconfig_consumer); and, when the build made the Python
+# module, the installed module imports from the prefix (PYTHONPATH) and runs a
+# small simulation.
 #
 # Usage: scripts/test-install.sh [--reuse-build DIR] [--keep]
 #   --reuse-build DIR  install the variant of the existing, already built
@@ -147,6 +149,17 @@ check_man() {
   echo "$text" | head -n 5
 }
 
+# The installed page's .TH line: the project's version, and the date of the
+# last commit that changed docs/fssim.1 (cmake/install.cmake).
+check_man_version() {
+  local page=$1 build=$2 version date
+  version=$(sed -n 's/^CMAKE_PROJECT_VERSION:[A-Z]*=//p' "$build/CMakeCache.txt")
+  date=$(git -C "$root" log -1 --format=%cs -- docs/fssim.1 2>/dev/null) || date=""
+  grep '^\.TH' "$page"
+  grep -q "^\.TH FSSIM 1 \"[0-9-]*\" \"fssim $version\"" "$page" &&
+    { [ -z "$date" ] || grep -q "^\.TH FSSIM 1 \"$date\"" "$page"; }
+}
+
 # complete_words SCRIPT WORDS...: what the completion offers after WORDS (the
 # last word is the one being completed), one per line.
 complete_words() {
@@ -188,6 +201,29 @@ check_pkgconfig_consumer() {
     env -u LD_LIBRARY_PATH "$dir/pkgconfig_consumer" "$dir/out"
 }
 
+# The installed Python module (when the build made one): imported from the
+# prefix alone, with the version of the installed fssim, and a small
+# simulation (600 x 8 ramp, snapshot, no noise) whose report matches its
+# arrays.
+check_python() {
+  local prefix=$1 build=$2 python pydir
+  python=$(sed -n 's/^_\{0,1\}Python3_EXECUTABLE:[A-Z]*=//p' "$build/CMakeCache.txt" | head -n 1)
+  pydir=$(sed -n 's/^FSS_PYTHON_INSTALL_DIR:[A-Z]*=//p' "$build/CMakeCache.txt")
+  [[ $pydir == /* ]] || pydir="$prefix/$pydir"
+  ls "$pydir" &&
+    (cd "$work" && env -u LD_LIBRARY_PATH PYTHONPATH="$pydir" FSSIM="$prefix/bin/fssim" "$python" -c '
+import os, subprocess, numpy as np, fss
+assert os.path.realpath(fss.__file__).startswith(os.path.realpath(os.environ["PYTHONPATH"])), fss.__file__
+version = subprocess.run([os.environ["FSSIM"], "--version"], capture_output=True, text=True).stdout
+assert version.strip() == "fssim " + fss.__version__, (version, fss.__version__)
+image = np.tile(np.arange(600, dtype=np.uint16) % 256, (8, 1))
+run = fss.simulate(image, code="snapshot", noise="none")
+assert run.restored.shape == (8, 600 - 3 * 52) and run.restored.dtype == np.float64
+assert run.geometry["output_width"] == 444 and run.report["fssim_version"] == fss.__version__
+print("fss", fss.__version__, "from", fss.__file__, "RMSE", run.metrics["rmse"])
+')
+}
+
 # Checks one variant: static or shared.
 test_variant() {
   local variant=$1 build prefix libdir
@@ -213,11 +249,18 @@ test_variant() {
   echo "      $(last_output | tail -n 1)"
   check "$variant: fssim code analyze raskar" check_analyze "$prefix"
   check "$variant: man page" check_man "$prefix/share/man/man1/fssim.1"
+  check "$variant: man page names the version" check_man_version "$prefix/share/man/man1/fssim.1" "$build"
   check "$variant: bash completion" check_completion "$prefix/share/bash-completion/completions/fssim"
   check "$variant: find_package(fss) consumer" check_cmake_consumer "$prefix" "$work/cmake-consumer-$variant"
   last_output | grep -E '^(raskar|snapshot|cmake_consumer)' | sed 's/^/      /'
   check "$variant: pkg-config consumer" check_pkgconfig_consumer "$prefix" "$libdir" "$work/pkgconfig-consumer-$variant"
   last_output | grep -E '^(snapshot|pkgconfig_consumer)' | sed 's/^/      /'
+  if grep -q '^FSS_BUILD_PYTHON:BOOL=ON' "$build/CMakeCache.txt"; then
+    check "$variant: Python module from the prefix" check_python "$prefix" "$build"
+    last_output | grep -E '^fss ' | sed 's/^/      /'
+  else
+    echo "skip  $variant: Python module (not built: FSS_BUILD_PYTHON is OFF)"
+  fi
 }
 
 test_variant static

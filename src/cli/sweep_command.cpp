@@ -108,11 +108,12 @@ std::string SweepRunner::Row(double velocity, double snr) {
   curves_.measured.push_back(r.trials.rmse_mean);
   curves_.predicted.push_back(p.finite ? p.rmse : std::nan(""));
   if (p.finite) {
-    std::printf("velocity %g, snr %g: RMSE %f (sd %f, %d trials), predicted %f\n", velocity, snr,
-                r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n, p.rmse);
+    std::printf("velocity %g, snr %g: RMSE %f (sd %f, %d trial%s), predicted %f\n", velocity, snr,
+                r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n, r.trials.n == 1 ? "" : "s",
+                p.rmse);
   } else {
-    std::printf("velocity %g, snr %g: RMSE %g (%d trials), not invertible\n", velocity, snr,
-                r.trials.rmse_mean, r.trials.n);
+    std::printf("velocity %g, snr %g: RMSE %g (%d trial%s), not invertible\n", velocity, snr,
+                r.trials.rmse_mean, r.trials.n, r.trials.n == 1 ? "" : "s");
   }
   return setting + std::to_string(r.geometry.blur_length) + "," + csv_number(r.trials.rmse_mean) +
          "," + csv_number(r.trials.rmse_sd) + "," + csv_number(p.rmse) + "," +
@@ -231,7 +232,7 @@ int SweepCommand::Sweep() const {
                                "RMSE (gray levels)", plot_options);
   }
   write_file_atomically(output_, csv);
-  std::printf("Wrote %d rows to %s\n", rows, output_.c_str());
+  std::printf("Wrote %d row%s to %s\n", rows, rows == 1 ? "" : "s", output_.c_str());
   if (!plot_.empty()) {
     write_file_atomically(plot_, std::string(png.begin(), png.end()));
     std::printf("Plot: %s\n", plot_.c_str());

@@ -54,8 +54,14 @@ json prediction_json(const SimulationReport& r) {
 
 }  // namespace
 
+// FSS_VERSION_FULL is defined for this file only (cmake/version.cmake), so
+// that a new commit recompiles nothing else of the library.
+std::string report_fssim_version() { return FSS_VERSION_FULL; }
+
 json report_json(const SimulationReport& r, const std::string& input_path) {
   json j;
+  j["fssim_version"] = report_fssim_version();
+  j["schema_version"] = kReportSchemaVersion;
   j["input"] = {
       {"path", input_path}, {"width", r.width}, {"height", r.height}, {"channels", r.channels}};
   j["parameters"] = parameters_json(r);

@@ -351,6 +351,9 @@ TEST_F(CodeCli, SweepWithAMarginAndANonInvertibleCode) {
   EXPECT_EQ(f[5], "inf");
   EXPECT_EQ(f[8], "false");
   EXPECT_EQ(f[9], "not-invertible");
+  // Singular words for one trial and one row.
+  EXPECT_THAT(r.out, HasSubstr("(1 trial), not invertible"));
+  EXPECT_THAT(r.out, HasSubstr("Wrote 1 row to"));
 }
 
 // ---------------------------------------------------------------------------

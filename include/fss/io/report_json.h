@@ -10,6 +10,16 @@
 
 namespace fss {
 
+// The version of report.json's layout, recorded in it as "schema_version"
+// (docs/report-schema.md lists every field): raised whenever a field is
+// renamed, removed or changes meaning; added fields do not raise it.
+inline constexpr int kReportSchemaVersion = 1;
+
+// The version recorded in report.json as "fssim_version": what
+// `fssim --version` prints after "fssim ", with the git revision of a build
+// from a checkout ("0.1.0 (git 0396604)").
+std::string report_fssim_version();
+
 // report.json content; `input_path` is recorded as given. Infinite and NaN
 // values are null.
 nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);

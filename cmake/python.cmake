@@ -1,0 +1,97 @@
+# The Python module `fss` (python/, pybind11), its install rule and its
+# pytest suite (CTest label python).
+#
+#   FSS_BUILD_PYTHON        build the module; default ON when pybind11 and the
+#                           Python headers are found (Debian: pybind11-dev,
+#                           python3-dev), OFF under the sanitizers and the
+#                           fuzzer (an instrumented module cannot be loaded
+#                           by an uninstrumented interpreter).
+#   Python3_EXECUTABLE      the interpreter the module is built for. Unset, it
+#                           is the first python3 on PATH that imports numpy,
+#                           else the first python3 on PATH.
+#   FSS_PYTHON_INSTALL_DIR  where `cmake --install` puts the module, relative
+#                           to the prefix (or absolute): the interpreter's
+#                           posix_prefix platlib, lib/python3.X/site-packages.
+#                           Debian's own interpreter searches
+#                           /usr/local/lib/python3/dist-packages and
+#                           /usr/lib/python3/dist-packages instead: pass
+#                           -DFSS_PYTHON_INSTALL_DIR=lib/python3/dist-packages
+#                           to install there, or set PYTHONPATH.
+
+if(NOT DEFINED Python3_EXECUTABLE AND NOT FSS_SANITIZE AND NOT FSS_FUZZ)
+  # pyenv shims and the like may come first on PATH without numpy: prefer an
+  # interpreter that has it.
+  string(REPLACE ":" ";" _fss_path "$ENV{PATH}")
+  foreach(_fss_dir IN LISTS _fss_path)
+    if(EXISTS "${_fss_dir}/python3")
+      execute_process(COMMAND "${_fss_dir}/python3" -c "import numpy"
+                      RESULT_VARIABLE _fss_numpy_status OUTPUT_QUIET ERROR_QUIET)
+      if(_fss_numpy_status EQUAL 0)
+        set(Python3_EXECUTABLE "${_fss_dir}/python3" CACHE FILEPATH
+            "The Python interpreter the module is built for")
+        break()
+      endif()
+    endif()
+  endforeach()
+endif()
+
+set(_fss_python_default OFF)
+if(NOT FSS_SANITIZE AND NOT FSS_FUZZ)
+  find_package(Python3 COMPONENTS Interpreter Development.Module QUIET)
+  if(Python3_FOUND)
+    find_package(pybind11 CONFIG QUIET)
+  endif()
+  if(Python3_FOUND AND pybind11_FOUND)
+    set(_fss_python_default ON)
+  endif()
+endif()
+option(FSS_BUILD_PYTHON "Build the Python module fss (needs pybind11 and the Python headers)"
+       ${_fss_python_default})
+if(NOT FSS_BUILD_PYTHON)
+  message(STATUS "Python module: not built (FSS_BUILD_PYTHON is OFF; needs pybind11-dev and python3-dev)")
+  return()
+endif()
+if(NOT Python3_FOUND OR NOT pybind11_FOUND)
+  message(FATAL_ERROR "FSS_BUILD_PYTHON is ON but pybind11 or the Python headers were not found "
+                      "(Debian: pybind11-dev python3-dev)")
+endif()
+message(STATUS "Python module: built for ${Python3_EXECUTABLE} (${Python3_VERSION})")
+
+# A static libfss goes into a shared module.
+set_target_properties(fss PROPERTIES POSITION_INDEPENDENT_CODE ON)
+# NO_EXTRAS: no link-time optimization (it only slows the link down here).
+pybind11_add_module(fss_python MODULE NO_EXTRAS python/fss_module.cpp)
+set_target_properties(fss_python PROPERTIES OUTPUT_NAME fss LIBRARY_OUTPUT_DIRECTORY
+                                            ${PROJECT_BINARY_DIR}/python)
+target_link_libraries(fss_python PRIVATE fss)
+target_compile_options(fss_python PRIVATE -Wall -Wextra)
+target_compile_definitions(fss_python PRIVATE FSS_VERSION_FULL="${FSS_VERSION_FULL}")
+
+if(NOT DEFINED FSS_PYTHON_INSTALL_DIR)
+  execute_process(
+    COMMAND "${Python3_EXECUTABLE}" -c
+            "import sysconfig; print(sysconfig.get_path('platlib', 'posix_prefix', vars={'platbase': '', 'base': ''}).lstrip('/'))"
+    OUTPUT_VARIABLE _fss_platlib OUTPUT_STRIP_TRAILING_WHITESPACE)
+  set(FSS_PYTHON_INSTALL_DIR "${_fss_platlib}" CACHE STRING
+      "Where the Python module is installed, relative to the prefix")
+endif()
+# A module linked to a shared libfss finds it in the prefix wherever the
+# prefix is moved: RUNPATH $ORIGIN/<module dir to libdir>.
+include(GNUInstallDirs)
+get_target_property(_fss_library_type fss TYPE)
+if(_fss_library_type STREQUAL "SHARED_LIBRARY")
+  get_filename_component(_fss_python_dir "${FSS_PYTHON_INSTALL_DIR}" ABSOLUTE
+                         BASE_DIR "${CMAKE_INSTALL_PREFIX}")
+  file(RELATIVE_PATH _fss_python_to_lib "${_fss_python_dir}" "${CMAKE_INSTALL_FULL_LIBDIR}")
+  set_target_properties(fss_python PROPERTIES INSTALL_RPATH "$ORIGIN/${_fss_python_to_lib}")
+endif()
+install(TARGETS fss_python LIBRARY DESTINATION ${FSS_PYTHON_INSTALL_DIR})
+
+if(FSS_BUILD_TESTS)
+  add_test(NAME python
+           COMMAND "${Python3_EXECUTABLE}" -m pytest -q -p no:cacheprovider
+                   ${PROJECT_SOURCE_DIR}/python/tests)
+  set_tests_properties(python PROPERTIES
+    LABELS python TIMEOUT 600
+    ENVIRONMENT "PYTHONPATH=${PROJECT_BINARY_DIR}/python;FSSIM=$<TARGET_FILE:fssim>;FSS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+endif()

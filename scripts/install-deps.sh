@@ -12,6 +12,8 @@ packages=(
   jq time
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
+  slurmctld slurmd slurm-client munge  # the campaign's single-node Slurm cluster test (label slurm)
+  parallel  # the README's GNU parallel recipe for campaign shards
 )
 for argument in "$@"; do
   case "$argument" in

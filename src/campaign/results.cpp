@@ -18,7 +18,7 @@ constexpr ColumnKind kNumber = ColumnKind::kNumber;
 constexpr ColumnKind kBoolean = ColumnKind::kBoolean;
 
 enum Column {
-  kImage, kImageSha256, kCode, kCodeSha256, kMode, kVelocity, kRestoreVelocity, kSnr, kDt,
+  kImage, kImageSha256, kCode, kCodeSha256, kCodeNormalizedL1, kMode, kVelocity, kRestoreVelocity, kSnr, kDt,
   kNoise, kRmseMargin, kSeed, kTrials, kBlurLength, kRmseMean, kRmseSd, kRmseCiMean, kRmseCiSd,
   kPsnrMean, kPredictedRmse, kPredictedNoiseFree, kPredictedSigma, kSnrLevel100, kInvertible,
   kStatus, kMessage, kFssimVersion, kColumnCount
@@ -30,6 +30,7 @@ const std::vector<ResultColumn>& campaign_columns() {
   static const std::vector<ResultColumn> columns = {
       {"image", kText},          {"image_sha256", kText},
       {"code", kText},           {"code_sha256", kText},
+      {"code_normalized_l1", kNumber},
       {"mode", kText},           {"velocity", kNumber},
       {"restore_velocity", kNumber}, {"snr", kNumber},
       {"dt", kNumber},           {"noise", kText},
@@ -63,6 +64,7 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   row[kImageSha256] = c.images[s.image].sha256;
   row[kCode] = c.codes[s.code].name;
   row[kCodeSha256] = c.codes[s.code].sha256;
+  row[kCodeNormalizedL1] = shortest(normalized_l1(c.codes[s.code].code.gains));
   row[kMode] = to_string(o.mode);
   row[kVelocity] = shortest(o.velocity_px_per_slot);
   row[kRestoreVelocity] = shortest(o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot));

@@ -17,11 +17,12 @@ int CheckReport::failures() const {
 }
 
 bool CheckOptions::IsValid(std::string* error) const {
-  for (const auto& [name, value] : {std::pair{"abs_tolerance", abs_tolerance},
-                                    std::pair{"rel_tolerance", rel_tolerance},
-                                    std::pair{"k_standard_errors", k_standard_errors}}) {
+  for (const auto& [name, value] :
+       {std::pair{"abs_tolerance", abs_tolerance}, std::pair{"rel_tolerance", rel_tolerance},
+        std::pair{"k_standard_errors", k_standard_errors}}) {
     if (!(value >= 0.0) || !std::isfinite(value)) {
-      if (error) *error = std::string(name) + " = " + format_number(value) + ": must be finite and >= 0";
+      if (error)
+        *error = std::string(name) + " = " + format_number(value) + ": must be finite and >= 0";
       return false;
     }
   }
@@ -79,10 +80,11 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
 
 namespace {
 
-const char* const kSettingColumns[] = {"image", "code", "mode", "velocity", "restore_velocity",
-                                       "snr", "dt", "noise", "rmse_margin"};
-const char* const kNotCompared[] = {"image_sha256", "code_sha256", "seed", "trials", "rmse_sd",
-                                    "rmse_ci_sd", "blur_length", "message", "fssim_version"};
+const char* const kSettingColumns[] = {"image", "code", "mode",  "velocity",   "restore_velocity",
+                                       "snr",   "dt",   "noise", "rmse_margin"};
+const char* const kNotCompared[] = {"image_sha256", "code_sha256", "seed",
+                                    "trials",       "rmse_sd",     "rmse_ci_sd",
+                                    "blur_length",  "message",     "fssim_version"};
 
 bool is_setting(const std::string& c) {
   for (const char* s : kSettingColumns) {
@@ -116,7 +118,8 @@ bool same_setting_value(const std::string& column, const std::string& result,
     return base_name(result) == expected;
   }
   const double r = number(result), e = number(expected);
-  if (!std::isnan(r) && !std::isnan(e)) return std::abs(r - e) <= 1e-12 * std::max(1.0, std::abs(e));
+  if (!std::isnan(r) && !std::isnan(e))
+    return std::abs(r - e) <= 1e-12 * std::max(1.0, std::abs(e));
   return result == expected;
 }
 
@@ -169,7 +172,8 @@ CheckCase Comparison::compare(std::size_t r, std::size_t e, const std::string& c
                      format_number(options.rel_tolerance);
   if (options.k_standard_errors > 0.0 && column.size() > 5 &&
       column.compare(column.size() - 5, 5, "_mean") == 0) {
-    const double se_r = standard_error(results, r, column), se_e = standard_error(expected, e, column);
+    const double se_r = standard_error(results, r, column),
+                 se_e = standard_error(expected, e, column);
     if (!std::isnan(se_r) && !std::isnan(se_e)) {
       const double k = options.k_standard_errors * std::hypot(se_r, se_e);
       tolerance = std::max(tolerance, k);
@@ -208,18 +212,22 @@ CheckReport CheckCampaignResults(const std::string& results_csv, const std::stri
   CheckReport report;
   for (std::size_t e = 1; e < expected.rows.size(); ++e) {
     std::string setting;
-    for (const std::string& k : keys) setting += (setting.empty() ? "" : " ") + k + "=" + *expected.cell(e, k);
+    for (const std::string& k : keys)
+      setting += (setting.empty() ? "" : " ") + k + "=" + *expected.cell(e, k);
     std::size_t match = 0;
     for (std::size_t r = 1; r < results.rows.size() && match == 0; ++r) {
       bool same = true;
-      for (const std::string& k : keys) same = same && same_setting_value(k, *results.cell(r, k), *expected.cell(e, k));
+      for (const std::string& k : keys)
+        same = same && same_setting_value(k, *results.cell(r, k), *expected.cell(e, k));
       if (same) match = r;
     }
     if (match == 0) {
-      report.cases.push_back({setting, "", false, setting + ": no such row in '" + results_name + "'"});
+      report.cases.push_back(
+          {setting, "", false, setting + ": no such row in '" + results_name + "'"});
       continue;
     }
-    for (const std::string& q : quantities) report.cases.push_back(comparison.compare(match, e, q, setting));
+    for (const std::string& q : quantities)
+      report.cases.push_back(comparison.compare(match, e, q, setting));
   }
   return report;
 }
@@ -230,11 +238,20 @@ std::string xml_escape(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;

@@ -35,7 +35,8 @@ std::vector<Axis> swept_axes(const ResolvedCampaign& c) {
   std::vector<Axis> swept;
   for (Axis& a : axes) {
     if (a.values.size() < 2) continue;
-    a.log = a.log && std::all_of(a.values.begin(), a.values.end(), [](double v) { return v > 0.0; });
+    a.log =
+        a.log && std::all_of(a.values.begin(), a.values.end(), [](double v) { return v > 0.0; });
     swept.push_back(a);
   }
   return swept;
@@ -51,7 +52,8 @@ std::string fixed_settings(const ResolvedCampaign& c, const Setting& s, const Ax
     if (std::string(axis.name) != name) text += std::string(", ") + label + " " + value;
   };
   add("velocity", "v", shortest(c.velocities.values[s.velocity]));
-  if (const auto& r = c.restore_velocities[s.restore_velocity]) add("restore_velocity", "v_r", shortest(*r));
+  if (const auto& r = c.restore_velocities[s.restore_velocity])
+    add("restore_velocity", "v_r", shortest(*r));
   add("snr", "snr", shortest(c.snrs.values[s.snr]));
   add("dt", "dt", shortest(c.dts.values[s.dt]));
   return text;
@@ -96,17 +98,17 @@ std::vector<CampaignFigure> campaign_figures(const ResolvedCampaign& c,
       const double x = axis.values[s.*axis.field];
       const int code = s.code;
       s.*axis.field = 0;
-      const std::vector<int> key = {s.image, s.mode, s.velocity, s.restore_velocity, s.snr, s.dt,
-                                    code / kMaxCodesPerFigure};
+      const std::vector<int> key = {
+          s.image, s.mode, s.velocity, s.restore_velocity, s.snr, s.dt, code / kMaxCodesPerFigure};
       FigureData& f = groups[key];
       if (f.x.empty()) {
         f.x = xs;
         f.log_x = axis.log;
         f.x_label = axis.label;
-        f.title = "RMSE vs " + std::string(axis.name) + ": " + fixed_settings(c, s, axis) + "; " +
-                  std::to_string(c.trials) + (c.trials == 1 ? " trial" : " trials") +
-                  ", margin " +
-                  (c.rmse_margin_columns < 0 ? std::string("3B") : std::to_string(c.rmse_margin_columns));
+        f.title =
+            "RMSE vs " + std::string(axis.name) + ": " + fixed_settings(c, s, axis) + "; " +
+            std::to_string(c.trials) + (c.trials == 1 ? " trial" : " trials") + ", margin " +
+            (c.rmse_margin_columns < 0 ? std::string("3B") : std::to_string(c.rmse_margin_columns));
       }
       auto [it, added] = code_series[key].try_emplace(code, f.series.size());
       if (added) {
@@ -126,10 +128,11 @@ std::vector<CampaignFigure> campaign_figures(const ResolvedCampaign& c,
       options.width = 800;
       options.height = 500;
       options.title = f.title;
-      figures.push_back({"rmse_vs_" + std::string(axis.name) + "_" + std::to_string(++n),
-                         plot_error_bar_curves_png(f.x, f.series, f.x_label,
-                                                   "RMSE (gray levels), mean ± sd", f.log_x, options),
-                         figure_svg(f)});
+      figures.push_back(
+          {"rmse_vs_" + std::string(axis.name) + "_" + std::to_string(++n),
+           plot_error_bar_curves_png(f.x, f.series, f.x_label, "RMSE (gray levels), mean ± sd",
+                                     f.log_x, options),
+           figure_svg(f)});
     }
   }
   return figures;
@@ -145,10 +148,14 @@ const char* const kColours[] = {"#1f5caa", "#d67814", "#28963c", "#963caa",
 std::string svg_escape(const std::string& text) {
   std::string out;
   for (const char ch : text) {
-    if (ch == '&') out += "&amp;";
-    else if (ch == '<') out += "&lt;";
-    else if (ch == '>') out += "&gt;";
-    else out += ch;
+    if (ch == '&')
+      out += "&amp;";
+    else if (ch == '<')
+      out += "&lt;";
+    else if (ch == '>')
+      out += "&gt;";
+    else
+      out += ch;
   }
   return out;
 }
@@ -193,22 +200,30 @@ std::string figure_svg(const FigureData& f) {
   const auto sy = [&](double y) {
     return kPlotBottom - (y - y_low) / (y_high - y_low) * (kPlotBottom - kPlotTop);
   };
-  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"500\" "
-                    "viewBox=\"0 0 800 500\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  std::string svg =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"500\" "
+      "viewBox=\"0 0 800 500\" font-family=\"sans-serif\" font-size=\"12\">\n";
   svg += "<rect width=\"800\" height=\"500\" fill=\"white\"/>\n";
-  svg += "<text x=\"430\" y=\"25\" text-anchor=\"middle\" font-size=\"14\">" + svg_escape(f.title) + "</text>\n";
+  svg += "<text x=\"430\" y=\"25\" text-anchor=\"middle\" font-size=\"14\">" + svg_escape(f.title) +
+         "</text>\n";
   svg += "<rect x=\"80\" y=\"50\" width=\"700\" height=\"390\" fill=\"none\" stroke=\"#222\"/>\n";
   for (const double t : ticks(y_low, y_high)) {
-    svg += "<line x1=\"76\" x2=\"80\" y1=\"" + fixed(sy(t)) + "\" y2=\"" + fixed(sy(t)) + "\" stroke=\"#222\"/>";
-    svg += "<text x=\"72\" y=\"" + fixed(sy(t) + 4) + "\" text-anchor=\"end\">" + campaign_text::shortest(t) + "</text>\n";
+    svg += "<line x1=\"76\" x2=\"80\" y1=\"" + fixed(sy(t)) + "\" y2=\"" + fixed(sy(t)) +
+           "\" stroke=\"#222\"/>";
+    svg += "<text x=\"72\" y=\"" + fixed(sy(t) + 4) + "\" text-anchor=\"end\">" +
+           campaign_text::shortest(t) + "</text>\n";
   }
   for (const double x : f.x) {
-    svg += "<line y1=\"440\" y2=\"444\" x1=\"" + fixed(sx(x)) + "\" x2=\"" + fixed(sx(x)) + "\" stroke=\"#222\"/>";
-    svg += "<text y=\"458\" x=\"" + fixed(sx(x)) + "\" text-anchor=\"middle\">" + campaign_text::shortest(x) + "</text>\n";
+    svg += "<line y1=\"440\" y2=\"444\" x1=\"" + fixed(sx(x)) + "\" x2=\"" + fixed(sx(x)) +
+           "\" stroke=\"#222\"/>";
+    svg += "<text y=\"458\" x=\"" + fixed(sx(x)) + "\" text-anchor=\"middle\">" +
+           campaign_text::shortest(x) + "</text>\n";
   }
   svg += "<text x=\"430\" y=\"485\" text-anchor=\"middle\">" + svg_escape(f.x_label) +
          (f.log_x ? " (log scale)" : "") + "</text>\n";
-  svg += "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">RMSE (gray levels), mean ± sd</text>\n";
+  svg +=
+      "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">RMSE (gray "
+      "levels), mean ± sd</text>\n";
   for (std::size_t i = 0; i < f.series.size(); ++i) {
     const ErrorBarSeries& s = f.series[i];
     const std::string colour = kColours[i % 8];
@@ -218,16 +233,22 @@ std::string figure_svg(const FigureData& f) {
         path += " ";
         continue;
       }
-      path += (path.empty() || path.back() == ' ' ? "M" : "L") + fixed(sx(f.x[j])) + "," + fixed(sy(s.y[j]));
+      path += (path.empty() || path.back() == ' ' ? "M" : "L") + fixed(sx(f.x[j])) + "," +
+              fixed(sy(s.y[j]));
       const double e = std::isfinite(s.error[j]) ? s.error[j] : 0.0;
       svg += "<line x1=\"" + fixed(sx(f.x[j])) + "\" x2=\"" + fixed(sx(f.x[j])) + "\" y1=\"" +
-             fixed(sy(s.y[j] - e)) + "\" y2=\"" + fixed(sy(s.y[j] + e)) + "\" stroke=\"" + colour + "\"/>";
-      svg += "<circle cx=\"" + fixed(sx(f.x[j])) + "\" cy=\"" + fixed(sy(s.y[j])) + "\" r=\"3.5\" fill=\"" + colour + "\"/>\n";
+             fixed(sy(s.y[j] - e)) + "\" y2=\"" + fixed(sy(s.y[j] + e)) + "\" stroke=\"" + colour +
+             "\"/>";
+      svg += "<circle cx=\"" + fixed(sx(f.x[j])) + "\" cy=\"" + fixed(sy(s.y[j])) +
+             "\" r=\"3.5\" fill=\"" + colour + "\"/>\n";
     }
-    svg += "<path d=\"" + path + "\" fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"1.8\"/>\n";
+    svg +=
+        "<path d=\"" + path + "\" fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"1.8\"/>\n";
     const std::string ly = fixed(70 + 18 * static_cast<double>(i));
-    svg += "<line x1=\"95\" x2=\"120\" y1=\"" + ly + "\" y2=\"" + ly + "\" stroke=\"" + colour + "\" stroke-width=\"1.8\"/>";
-    svg += "<text x=\"126\" y=\"" + fixed(70 + 18 * static_cast<double>(i) + 4) + "\">" + svg_escape(s.name) + "</text>\n";
+    svg += "<line x1=\"95\" x2=\"120\" y1=\"" + ly + "\" y2=\"" + ly + "\" stroke=\"" + colour +
+           "\" stroke-width=\"1.8\"/>";
+    svg += "<text x=\"126\" y=\"" + fixed(70 + 18 * static_cast<double>(i) + 4) + "\">" +
+           svg_escape(s.name) + "</text>\n";
   }
   return svg + "</svg>\n";
 }

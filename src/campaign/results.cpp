@@ -18,31 +18,68 @@ constexpr ColumnKind kNumber = ColumnKind::kNumber;
 constexpr ColumnKind kBoolean = ColumnKind::kBoolean;
 
 enum Column {
-  kImage, kImageSha256, kCode, kCodeSha256, kCodeNormalizedL1, kMode, kVelocity, kRestoreVelocity, kSnr, kDt,
-  kNoise, kRmseMargin, kSeed, kTrials, kBlurLength, kRmseMean, kRmseSd, kRmseCiMean, kRmseCiSd,
-  kPsnrMean, kPredictedRmse, kPredictedNoiseFree, kPredictedSigma, kSnrLevel100, kInvertible,
-  kStatus, kMessage, kFssimVersion, kColumnCount
+  kImage,
+  kImageSha256,
+  kCode,
+  kCodeSha256,
+  kCodeNormalizedL1,
+  kMode,
+  kVelocity,
+  kRestoreVelocity,
+  kSnr,
+  kDt,
+  kNoise,
+  kRmseMargin,
+  kSeed,
+  kTrials,
+  kBlurLength,
+  kRmseMean,
+  kRmseSd,
+  kRmseCiMean,
+  kRmseCiSd,
+  kPsnrMean,
+  kPredictedRmse,
+  kPredictedNoiseFree,
+  kPredictedSigma,
+  kSnrLevel100,
+  kInvertible,
+  kStatus,
+  kMessage,
+  kFssimVersion,
+  kColumnCount
 };
 
 }  // namespace
 
 const std::vector<ResultColumn>& campaign_columns() {
-  static const std::vector<ResultColumn> columns = {
-      {"image", kText},          {"image_sha256", kText},
-      {"code", kText},           {"code_sha256", kText},
-      {"code_normalized_l1", kNumber},
-      {"mode", kText},           {"velocity", kNumber},
-      {"restore_velocity", kNumber}, {"snr", kNumber},
-      {"dt", kNumber},           {"noise", kText},
-      {"rmse_margin", kNumber},  {"seed", kText},
-      {"trials", kNumber},       {"blur_length", kNumber},
-      {"rmse_mean", kNumber},    {"rmse_sd", kNumber},
-      {"rmse_ci_mean", kNumber}, {"rmse_ci_sd", kNumber},
-      {"psnr_mean", kNumber},    {"predicted_rmse", kNumber},
-      {"predicted_rmse_noise_free", kNumber}, {"predicted_sigma", kNumber},
-      {"snr_level100", kNumber}, {"invertible", kBoolean},
-      {"status", kText},         {"message", kText},
-      {"fssim_version", kText}};
+  static const std::vector<ResultColumn> columns = {{"image", kText},
+                                                    {"image_sha256", kText},
+                                                    {"code", kText},
+                                                    {"code_sha256", kText},
+                                                    {"code_normalized_l1", kNumber},
+                                                    {"mode", kText},
+                                                    {"velocity", kNumber},
+                                                    {"restore_velocity", kNumber},
+                                                    {"snr", kNumber},
+                                                    {"dt", kNumber},
+                                                    {"noise", kText},
+                                                    {"rmse_margin", kNumber},
+                                                    {"seed", kText},
+                                                    {"trials", kNumber},
+                                                    {"blur_length", kNumber},
+                                                    {"rmse_mean", kNumber},
+                                                    {"rmse_sd", kNumber},
+                                                    {"rmse_ci_mean", kNumber},
+                                                    {"rmse_ci_sd", kNumber},
+                                                    {"psnr_mean", kNumber},
+                                                    {"predicted_rmse", kNumber},
+                                                    {"predicted_rmse_noise_free", kNumber},
+                                                    {"predicted_sigma", kNumber},
+                                                    {"snr_level100", kNumber},
+                                                    {"invertible", kBoolean},
+                                                    {"status", kText},
+                                                    {"message", kText},
+                                                    {"fssim_version", kText}};
   return columns;
 }
 
@@ -139,7 +176,8 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
 std::string results_csv(const std::vector<ResultRow>& rows) {
   std::string out;
   const auto& columns = campaign_columns();
-  for (std::size_t i = 0; i < columns.size(); ++i) out += (i ? "," : "") + std::string(columns[i].name);
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    out += (i ? "," : "") + std::string(columns[i].name);
   out += "\n";
   for (const ResultRow& row : rows) {
     for (std::size_t i = 0; i < row.size(); ++i) {

@@ -218,7 +218,8 @@ void check_parts(const std::vector<Part>& parts) {
     if (c.shard.count != first.shard.count) {
       throw_usage_error(name + " is shard " + journal::shard_text(c.shard) + ", but '" +
                         escape_control_characters(parts.front().dir) + "' is shard " +
-                        journal::shard_text(first.shard) + ": the parts split the work differently");
+                        journal::shard_text(first.shard) +
+                        ": the parts split the work differently");
     }
     if (!seen.insert(c.shard.index).second) {
       throw_usage_error(name + " is shard " + journal::shard_text(c.shard) +
@@ -254,7 +255,8 @@ std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& part_d
     parts.push_back(read_part(part));
   }
   check_parts(parts);
-  const ResolvedCampaign campaign = campaign_from_canonical_json(parts.front().contents.campaign_json);
+  const ResolvedCampaign campaign =
+      campaign_from_canonical_json(parts.front().contents.campaign_json);
   if (campaign.sha256 != parts.front().contents.campaign_sha256) {
     throw_runtime_error("part '" + escape_control_characters(parts.front().dir) +
                         "': its journal's specification does not match its hash");

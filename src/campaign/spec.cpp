@@ -189,8 +189,10 @@ ValueList values_from_json(const Json& j) {
 }
 
 void seal(ResolvedCampaign& c) {
-  Json images = Json::array(), codes = Json::array(), modes = Json::array(), restore = Json::array();
-  for (const CampaignImage& i : c.images) images.push_back({{"name", i.name}, {"sha256", i.sha256}});
+  Json images = Json::array(), codes = Json::array(), modes = Json::array(),
+       restore = Json::array();
+  for (const CampaignImage& i : c.images)
+    images.push_back({{"name", i.name}, {"sha256", i.sha256}});
   for (const CampaignCode& k : c.codes) {
     codes.push_back({{"name", k.name}, {"sha256", k.sha256}, {"gains", k.code.gains}});
   }
@@ -273,10 +275,12 @@ ResolvedCampaign campaign_from_canonical_json(const std::string& json) {
       c.codes.push_back(
           {name, ShutterCode{name, k.at("gains").get<std::vector<double>>()}, k.at("sha256")});
     }
-    for (const Json& m : j.at("modes")) c.modes.push_back(*shutter_mode_from_string(m.get<std::string>()));
+    for (const Json& m : j.at("modes"))
+      c.modes.push_back(*shutter_mode_from_string(m.get<std::string>()));
     c.velocities = values_from_json(j.at("velocity"));
     for (const Json& r : j.at("restore_velocity").at("values")) {
-      c.restore_velocities.push_back(r.is_null() ? std::nullopt : std::optional<double>(r.get<double>()));
+      c.restore_velocities.push_back(r.is_null() ? std::nullopt
+                                                 : std::optional<double>(r.get<double>()));
     }
     c.restore_geometric = j.at("restore_velocity").at("geometric").get<bool>();
     c.snrs = values_from_json(j.at("snr"));

@@ -90,10 +90,12 @@ void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
     } else if (key == "dt") {
       spec.dt = value_list(value, key);
     } else if (key == "trials" || key == "rmse_margin") {
-      if (!value.is_number_integer()) fss::throw_usage_error("campaign file: '" + key + "' takes an integer");
+      if (!value.is_number_integer())
+        fss::throw_usage_error("campaign file: '" + key + "' takes an integer");
       (key == "trials" ? spec.trials : spec.rmse_margin_columns) = value.get<int>();
     } else if (key == "seed") {
-      if (!value.is_number_unsigned()) fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
+      if (!value.is_number_unsigned())
+        fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
       spec.seed = value.get<std::uint64_t>();
     } else if (key == "noise") {
       noise = value.get<std::string>();
@@ -138,10 +140,12 @@ CampaignCommand::CampaignCommand(CLI::App& app) {
   check_->add_option("results", results_, "results.csv of a campaign")->required();
   check_->add_option("expected", expected_, "expected values, columns named as results.csv's")
       ->required();
-  check_->add_option("--columns", check_columns_, "quantities to compare (default: all EXPECTED has)")
+  check_
+      ->add_option("--columns", check_columns_, "quantities to compare (default: all EXPECTED has)")
       ->delimiter(',');
   check_->add_option("--abs", abs_tolerance_, "absolute tolerance")->check(CLI::NonNegativeNumber);
-  check_->add_option("--rel", rel_tolerance_, "relative tolerance")->check(CLI::NonNegativeNumber)
+  check_->add_option("--rel", rel_tolerance_, "relative tolerance")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   check_->add_option("--k-se", k_se_, "tolerance in standard errors of the means")
       ->check(CLI::NonNegativeNumber);
@@ -161,13 +165,15 @@ void CampaignCommand::AddSpecOptions() {
                "velocities assumed by the restoration (default: the true one), as --velocity");
   c.add_option("--snr", snr_, "snr values, as --velocity")->capture_default_str();
   c.add_option("--dt", dt_, "time slot lengths, as --velocity")->capture_default_str();
-  c.add_option("--trials", trials_, "noise realizations per setting")->check(at_least(1))
+  c.add_option("--trials", trials_, "noise realizations per setting")
+      ->check(at_least(1))
       ->capture_default_str();
   c.add_option("--seed", seed_, "campaign seed; each setting's seed derives from it")
       ->check(seed_value())
       ->capture_default_str();
-  c.add_option("--noise", noise_, "noise model: " + fss::to_string(fss::NoiseModel::kPoisson) +
-                                      ", " + fss::to_string(fss::NoiseModel::kNone))
+  c.add_option("--noise", noise_,
+               "noise model: " + fss::to_string(fss::NoiseModel::kPoisson) + ", " +
+                   fss::to_string(fss::NoiseModel::kNone))
       ->capture_default_str();
   c.add_option("--rmse-margin", rmse_margin_, "RMSE margin in columns (-1: 3B)")
       ->capture_default_str();
@@ -272,9 +278,9 @@ int CampaignCommand::Check() const {
   options.abs_tolerance = abs_tolerance_;
   options.rel_tolerance = rel_tolerance_;
   options.k_standard_errors = k_se_;
-  const fss::CheckReport report = fss::CheckCampaignResults(
-      read_text(results_, "results"), results_, read_text(expected_, "expectations"), expected_,
-      options);
+  const fss::CheckReport report =
+      fss::CheckCampaignResults(read_text(results_, "results"), results_,
+                                read_text(expected_, "expectations"), expected_, options);
   for (const fss::CheckCase& c : report.cases) {
     if (!c.passed) std::printf("%s\n", c.message.c_str());
   }

@@ -24,8 +24,7 @@ class CampaignCommand {
   int Merge() const;
   int Check() const;
   void DrawFigures(const fss::ResolvedCampaign& campaign,
-                   const std::vector<std::vector<std::string>>& rows,
-                   const std::string& dir) const;
+                   const std::vector<std::vector<std::string>>& rows, const std::string& dir) const;
 
   CLI::App* campaign_ = nullptr;
   CLI::App* merge_ = nullptr;

@@ -76,8 +76,8 @@ TEST(ValueList, ListsAndRanges) {
 TEST(ValueList, RefusesMalformedItems) {
   for (const char* bad : {"", "a", "1,,2", "1:2", "2:1:1", "1:2:0", "0:8:x2", "1:8:x1", "1:8:xq",
                           "1:2:3:4", "nan", "1:1e9:1"}) {
-    EXPECT_TRUE(test::throws_error([&] { parse_value_list(bad, "--snr"); }, ErrorKind::kUsage,
-                                   {"--snr"}))
+    EXPECT_TRUE(
+        test::throws_error([&] { parse_value_list(bad, "--snr"); }, ErrorKind::kUsage, {"--snr"}))
         << bad;
   }
 }
@@ -184,7 +184,8 @@ TEST(Campaign, ResumeRunsOnlyWhatIsMissingAndGivesTheSameBytes) {
   EXPECT_EQ(full.ran, c.setting_count());
   // A journal cut after three settings and in the middle of the fourth line,
   // as a kill -9 leaves it.
-  const std::vector<std::string> lines = test::lines_of(test::read_file(tmp / "full" / kCampaignJournal));
+  const std::vector<std::string> lines =
+      test::lines_of(test::read_file(tmp / "full" / kCampaignJournal));
   fs::create_directories(tmp / "cut");
   std::string cut = lines[0] + "\n" + lines[1] + "\n" + lines[2] + "\n" + lines[3] + "\n";
   cut += lines[4].substr(0, lines[4].size() / 2);
@@ -204,9 +205,9 @@ TEST(Campaign, AChangedSpecificationIsRefused) {
   CampaignSpec spec = small_spec(tmp);
   RunCampaign(resolve_campaign(spec), (tmp / "out").string(), {});
   spec.trials = 3;
-  EXPECT_TRUE(test::throws_error(
-      [&] { RunCampaign(resolve_campaign(spec), (tmp / "out").string(), {}); }, ErrorKind::kUsage,
-      {"another campaign", "use a new output directory"}));
+  EXPECT_TRUE(
+      test::throws_error([&] { RunCampaign(resolve_campaign(spec), (tmp / "out").string(), {}); },
+                         ErrorKind::kUsage, {"another campaign", "use a new output directory"}));
   CampaignRunOptions shard;
   shard.shard = {1, 2};
   spec.trials = 2;
@@ -250,14 +251,23 @@ TEST(Campaign, MergeRefusesForeignMissingDuplicateAndIncompleteParts) {
   spec.seed = 99;
   const std::string foreign = part(resolve_campaign(spec), 2, 2, "foreign");
   const std::string out = (tmp / "merged").string();
-  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts({p1, foreign}, out); },
-                                 ErrorKind::kUsage, {"belongs to campaign", "cannot be merged"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, foreign}, out);
+      },
+      ErrorKind::kUsage, {"belongs to campaign", "cannot be merged"}));
   EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts({p1}, out); }, ErrorKind::kUsage,
                                  {"shard 2/2 is missing"}));
-  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts({p1, p1, p2}, out); },
-                                 ErrorKind::kUsage, {"given more than once"}));
-  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts({p1, (tmp / "nothing").string()}, out); },
-                                 ErrorKind::kUsage, {"not a campaign directory"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, p1, p2}, out);
+      },
+      ErrorKind::kUsage, {"given more than once"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, (tmp / "nothing").string()}, out);
+      },
+      ErrorKind::kUsage, {"not a campaign directory"}));
   // Part 2 with its last setting cut from the journal.
   const std::string journal = test::read_file(fs::path(p2) / kCampaignJournal);
   std::vector<std::string> lines = test::lines_of(journal);
@@ -265,8 +275,11 @@ TEST(Campaign, MergeRefusesForeignMissingDuplicateAndIncompleteParts) {
   std::string shorter;
   for (const std::string& line : lines) shorter += line + "\n";
   test::write_file(fs::path(p2) / kCampaignJournal, shorter);
-  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts({p1, p2}, out); }, ErrorKind::kUsage,
-                                 {"is incomplete", "5 of 6"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, p2}, out);
+      },
+      ErrorKind::kUsage, {"is incomplete", "5 of 6"}));
   EXPECT_FALSE(fs::exists(fs::path(out) / kCampaignResultsCsv));
 }
 

@@ -68,7 +68,8 @@ class CampaignCli : public ::testing::Test {
 bool kill_after(const std::string& args, const fs::path& dir, std::size_t lines) {
   const pid_t pid = fork();
   if (pid == 0) {
-    const std::string command = "exec " + quote(FSSIM_BINARY_PATH) + " " + args + " >/dev/null 2>&1";
+    const std::string command =
+        "exec " + quote(FSSIM_BINARY_PATH) + " " + args + " >/dev/null 2>&1";
     execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -92,7 +93,8 @@ TEST_F(CampaignCli, KillNineAndResumeGivesTheBytesOfAnUninterruptedRun) {
   ASSERT_EQ(total, 2u * 10u * 6u);
   // Killed twice, at different points; each rerun resumes.
   for (const std::size_t at : {5u, 40u}) {
-    ASSERT_TRUE(kill_after(args_ + " -o " + quote(killed), killed, at)) << "finished before the kill";
+    ASSERT_TRUE(kill_after(args_ + " -o " + quote(killed), killed, at))
+        << "finished before the kill";
     EXPECT_LT(journal_lines(killed), total + 1);
     EXPECT_FALSE(fs::exists(killed / "results.csv"));
   }
@@ -128,9 +130,9 @@ TEST_F(CampaignCli, ShardsMergeToTheBytesOfOneRun) {
   ASSERT_EQ(merged.exit_code, 0) << merged.err;
   EXPECT_EQ(outputs(tmp_ / "merged"), outputs(tmp_ / "single"));
   // Three parts of four: refused, nothing written.
-  const auto missing = run_fssim("campaign merge -o " + quote(tmp_ / "m2") + " " +
-                                 quote(tmp_ / "part1") + " " + quote(tmp_ / "part2") + " " +
-                                 quote(tmp_ / "part4"));
+  const auto missing =
+      run_fssim("campaign merge -o " + quote(tmp_ / "m2") + " " + quote(tmp_ / "part1") + " " +
+                quote(tmp_ / "part2") + " " + quote(tmp_ / "part4"));
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("shard 3/4 is missing"), std::string::npos) << missing.err;
   EXPECT_FALSE(fs::exists(tmp_ / "m2" / "results.csv"));
@@ -178,9 +180,9 @@ TEST_F(CampaignCli, FiguresArePngAndSvg) {
 TEST(CampaignCheck, AgreesWithTheReferenceProgram) {
   test::TempDir tmp;
   const std::string camera = quote(test::source_path("data/camera.png"));
-  const auto run = run_fssim("campaign --no-progress -i " + camera +
-                             " -c snapshot raskar random sinc mip --trials 6 -o " +
-                             quote(tmp / "table1"));
+  const auto run =
+      run_fssim("campaign --no-progress -i " + camera +
+                " -c snapshot raskar random sinc mip --trials 6 -o " + quote(tmp / "table1"));
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string results = quote(tmp / "table1" / "results.csv");
   const auto check = run_fssim("campaign check " + results + " " +
@@ -192,9 +194,9 @@ TEST(CampaignCheck, AgreesWithTheReferenceProgram) {
   const auto noise_free = run_fssim("campaign --no-progress -i " + camera +
                                     " -c raskar --snr 1e6 -o " + quote(tmp / "nf"));
   ASSERT_EQ(noise_free.exit_code, 0) << noise_free.err;
-  const auto check_nf = run_fssim("campaign check " + quote(tmp / "nf" / "results.csv") + " " +
-                                  quote(test::fixture_path("reference_noisefree.csv")) +
-                                  " --abs 1e-3");
+  const auto check_nf =
+      run_fssim("campaign check " + quote(tmp / "nf" / "results.csv") + " " +
+                quote(test::fixture_path("reference_noisefree.csv")) + " --abs 1e-3");
   EXPECT_EQ(check_nf.exit_code, 0) << check_nf.out;
   // A regression: a tolerance far below the noise fails, one line per deviation.
   const auto strict = run_fssim("campaign check " + results + " " +

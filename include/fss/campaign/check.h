@@ -45,8 +45,8 @@ struct CheckReport {
 // files in messages. Throws a usage fss::Error for malformed CSV or a
 // column RESULTS lacks.
 CheckReport CheckCampaignResults(const std::string& results_csv, const std::string& results_name,
-                                 const std::string& expected_csv,
-                                 const std::string& expected_name, const CheckOptions& options);
+                                 const std::string& expected_csv, const std::string& expected_name,
+                                 const CheckOptions& options);
 
 // The report as JUnit XML: one test case per comparison.
 std::string check_junit_xml(const CheckReport& report, const std::string& suite_name);

@@ -35,10 +35,10 @@ using ResultRow = std::vector<std::string>;
 // Row status values.
 inline constexpr const char* kStatusOk = "ok";
 inline constexpr const char* kStatusNotInvertible = "not-invertible";
-inline constexpr const char* kStatusInvalid = "invalid";            // an option out of range
-inline constexpr const char* kStatusCodeRefused = "code-refused";   // the mode cannot use the code
-inline constexpr const char* kStatusTooNarrow = "too-narrow";       // image too narrow for the blur
-inline constexpr const char* kStatusFailed = "failed";              // Simulate refused it otherwise
+inline constexpr const char* kStatusInvalid = "invalid";           // an option out of range
+inline constexpr const char* kStatusCodeRefused = "code-refused";  // the mode cannot use the code
+inline constexpr const char* kStatusTooNarrow = "too-narrow";      // image too narrow for the blur
+inline constexpr const char* kStatusFailed = "failed";             // Simulate refused it otherwise
 
 // What run_setting needs besides the setting.
 struct SettingRunOptions {

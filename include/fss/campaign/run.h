@@ -32,10 +32,10 @@ struct CampaignShard {
 CampaignShard parse_shard(const std::string& text);
 
 struct CampaignProgress {
-  long long done = 0;     // settings of the shard in the journal
-  long long total = 0;    // settings of the shard
-  long long resumed = 0;  // of `done`, those found in the journal at the start
-  double elapsed_s = 0.0; // since this run started
+  long long done = 0;      // settings of the shard in the journal
+  long long total = 0;     // settings of the shard
+  long long resumed = 0;   // of `done`, those found in the journal at the start
+  double elapsed_s = 0.0;  // since this run started
 };
 
 struct CampaignRunOptions {
@@ -50,9 +50,9 @@ struct CampaignRunOptions {
 };
 
 struct CampaignRunSummary {
-  long long total = 0;    // settings of the shard
-  long long ran = 0;      // run by this call
-  long long resumed = 0;  // found in the journal
+  long long total = 0;          // settings of the shard
+  long long ran = 0;            // run by this call
+  long long resumed = 0;        // found in the journal
   std::vector<ResultRow> rows;  // the shard's rows in product order
 };
 

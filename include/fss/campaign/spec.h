@@ -40,8 +40,8 @@ struct CampaignSpec {
   std::vector<std::string> inputs;  // PNG files, directories (their *.png) or globs
   std::vector<std::string> codes;   // built-in names or code files
   std::vector<ShutterMode> modes = {ShutterMode::kNumerical};
-  std::string velocity = "1";      // value lists (parse_value_list)
-  std::string restore_velocity;    // empty: the true velocity
+  std::string velocity = "1";    // value lists (parse_value_list)
+  std::string restore_velocity;  // empty: the true velocity
   std::string snr = "100";
   std::string dt = "1";
   int trials = 1;

@@ -1,5 +1,6 @@
 #include "fss/campaign/check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -189,45 +190,76 @@ CheckCase Comparison::compare(std::size_t r, std::size_t e, const std::string& c
 
 }  // namespace
 
-CheckReport CheckCampaignResults(const std::string& results_csv, const std::string& results_name,
-                                 const std::string& expected_csv, const std::string& expected_name,
-                                 const CheckOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw_usage_error(error);
-  const Table results(results_csv, results_name), expected(expected_csv, expected_name);
-  std::vector<std::string> keys, quantities = options.columns;
+namespace {
+
+// The setting columns EXPECTED has and the quantities to compare, each
+// checked to be in both files.
+void choose_columns(const Table& results, const std::string& results_name, const Table& expected,
+                    const std::string& expected_name, const CheckOptions& options,
+                    std::vector<std::string>& keys, std::vector<std::string>& quantities) {
+  quantities = options.columns;
   for (const std::string& c : expected.rows[0]) {
     if (is_setting(c)) keys.push_back(c);
     if (options.columns.empty() && compared_by_default(c)) quantities.push_back(c);
   }
   for (const auto* list : {&keys, &quantities}) {
     for (const std::string& c : *list) {
-      if (!results.column.count(c) || !expected.column.count(c)) {
+      if (results.column.count(c) == 0 || expected.column.count(c) == 0) {
         throw_usage_error("column '" + c + "' is missing from '" +
-                          (results.column.count(c) ? expected_name : results_name) + "'");
+                          (results.column.count(c) != 0 ? expected_name : results_name) + "'");
       }
     }
   }
+}
+
+// "image=camera.png code=raskar ..." of expected row e.
+std::string setting_label(const Table& expected, std::size_t e,
+                          const std::vector<std::string>& keys) {
+  std::string setting;
+  for (const std::string& k : keys) {
+    if (!setting.empty()) setting += ' ';
+    setting += k;
+    setting += '=';
+    setting += *expected.cell(e, k);
+  }
+  return setting;
+}
+
+// The first result row with expected row e's settings; 0 when none.
+std::size_t matching_row(const Table& results, const Table& expected, std::size_t e,
+                         const std::vector<std::string>& keys) {
+  for (std::size_t r = 1; r < results.rows.size(); ++r) {
+    const bool same = std::all_of(keys.begin(), keys.end(), [&](const std::string& k) {
+      return same_setting_value(k, *results.cell(r, k), *expected.cell(e, k));
+    });
+    if (same) return r;
+  }
+  return 0;
+}
+
+}  // namespace
+
+CheckReport CheckCampaignResults(const std::string& results_csv, const std::string& results_name,
+                                 const std::string& expected_csv, const std::string& expected_name,
+                                 const CheckOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  const Table results(results_csv, results_name), expected(expected_csv, expected_name);
+  std::vector<std::string> keys, quantities;
+  choose_columns(results, results_name, expected, expected_name, options, keys, quantities);
   const Comparison comparison{results, expected, options};
   CheckReport report;
   for (std::size_t e = 1; e < expected.rows.size(); ++e) {
-    std::string setting;
-    for (const std::string& k : keys)
-      setting += (setting.empty() ? "" : " ") + k + "=" + *expected.cell(e, k);
-    std::size_t match = 0;
-    for (std::size_t r = 1; r < results.rows.size() && match == 0; ++r) {
-      bool same = true;
-      for (const std::string& k : keys)
-        same = same && same_setting_value(k, *results.cell(r, k), *expected.cell(e, k));
-      if (same) match = r;
-    }
+    const std::string setting = setting_label(expected, e, keys);
+    const std::size_t match = matching_row(results, expected, e, keys);
     if (match == 0) {
       report.cases.push_back(
           {setting, "", false, setting + ": no such row in '" + results_name + "'"});
       continue;
     }
-    for (const std::string& q : quantities)
+    for (const std::string& q : quantities) {
       report.cases.push_back(comparison.compare(match, e, q, setting));
+    }
   }
   return report;
 }

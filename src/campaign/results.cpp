@@ -176,8 +176,10 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
 std::string results_csv(const std::vector<ResultRow>& rows) {
   std::string out;
   const auto& columns = campaign_columns();
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    out += (i ? "," : "") + std::string(columns[i].name);
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) out += ',';
+    out += columns[i].name;
+  }
   out += "\n";
   for (const ResultRow& row : rows) {
     for (std::size_t i = 0; i < row.size(); ++i) {

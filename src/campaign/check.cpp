@@ -253,8 +253,11 @@ CheckReport CheckCampaignResults(const std::string& results_csv, const std::stri
     const std::string setting = setting_label(expected, e, keys);
     const std::size_t match = matching_row(results, expected, e, keys);
     if (match == 0) {
-      report.cases.push_back(
-          {setting, "", false, setting + ": no such row in '" + results_name + "'"});
+      std::string message = setting;
+      message += ": no such row in '";
+      message += results_name;
+      message += "'";
+      report.cases.push_back({setting, "", false, message});
       continue;
     }
     for (const std::string& q : quantities) {

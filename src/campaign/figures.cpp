@@ -251,10 +251,11 @@ void svg_axes(std::string& svg, const FigureData& f, const SvgFrame& frame) {
                  "<text y=\"458\" x=\"", x, "\" text-anchor=\"middle\">",
                  campaign_text::shortest(value), "</text>\n"});
   }
+  constexpr std::string_view kYLabel =
+      "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">"
+      "RMSE (gray levels), mean ± sd</text>\n";
   append(svg, {"<text x=\"430\" y=\"485\" text-anchor=\"middle\">", svg_escape(f.x_label),
-               f.log_x ? " (log scale)" : "", "</text>\n",
-               "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">"
-               "RMSE (gray levels), mean ± sd</text>\n"});
+               f.log_x ? " (log scale)" : "", "</text>\n", kYLabel});
 }
 
 // One code: error bars and markers, the polyline through its runs of

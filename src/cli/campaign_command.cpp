@@ -171,9 +171,7 @@ void CampaignCommand::AddSpecOptions() {
   c.add_option("--seed", seed_, "campaign seed; each setting's seed derives from it")
       ->check(seed_value())
       ->capture_default_str();
-  c.add_option("--noise", noise_,
-               "noise model: " + fss::to_string(fss::NoiseModel::kPoisson) + ", " +
-                   fss::to_string(fss::NoiseModel::kNone))
+  c.add_option("--noise", noise_, "noise model, any value of the simulation's --noise")
       ->capture_default_str();
   c.add_option("--rmse-margin", rmse_margin_, "RMSE margin in columns (-1: 3B)")
       ->capture_default_str();

@@ -7,8 +7,8 @@
 # slurm-client munge) with a configuration under a temporary directory,
 # submits scripts/slurm/submit.sh --wait 4 ... (a 4-task array job, then the
 # merge job), compares, and stops the daemons by their pid files on any
-# exit. Needs root; without root or the packages it skips (exit 77), unless
-# CI is set, where it fails.
+# exit. Needs root (or passwordless sudo); without root or the packages it
+# skips (exit 77), unless CI is set, where it fails.
 set -euo pipefail
 fssim=$(realpath "${1:?usage: slurm_cluster_test.sh FSSIM SOURCE_DIR}")
 source_dir=$(realpath "${2:?usage: slurm_cluster_test.sh FSSIM SOURCE_DIR}")
@@ -22,6 +22,9 @@ skip() {
   echo "slurm_cluster_test: SKIP: $1" >&2
   exit 77
 }
+if [ "$(id -u)" -ne 0 ] && command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+  exec sudo -n --preserve-env=CI "$0" "$fssim" "$source_dir"  # passwordless sudo, as on CI
+fi
 [ "$(id -u)" -eq 0 ] || skip "needs root (the test cluster runs its daemons as SlurmUser=root)"
 for tool in munged mungekey slurmctld slurmd sbatch scontrol sinfo; do
   command -v "$tool" >/dev/null || skip "$tool is missing (apt-get install slurmctld slurmd slurm-client munge)"

@@ -175,6 +175,22 @@ TEST_F(CampaignCli, FiguresArePngAndSvg) {
   EXPECT_NE(std::find(files.begin(), files.end(), "rmse_vs_velocity_1.svg"), files.end());
 }
 
+TEST_F(CampaignCli, ProgressOnATerminalOnly) {
+  std::string args = args_;
+  args.erase(args.find(" --no-progress"), 14);
+  const auto quiet = run_fssim(args + " -o " + quote(tmp_ / "quiet"));
+  ASSERT_EQ(quiet.exit_code, 0);
+  EXPECT_EQ(quiet.err, "");  // stderr is not a terminal here
+  // Under a pseudo-terminal (script(1)): settings done, rate and ETA.
+  const auto tty = test::run_command(
+      "script -qec " +
+      quote(std::string(FSSIM_BINARY_PATH) + " " + args + " -o " + (tmp_ / "tty").string()) +
+      " /dev/null");
+  ASSERT_EQ(tty.exit_code, 0) << tty.out << tty.err;
+  EXPECT_NE(tty.out.find("campaign: 120/120 settings"), std::string::npos) << tty.out;
+  EXPECT_NE(tty.out.find("ETA"), std::string::npos);
+}
+
 // The reference program's Table 1 figures on camera.png (mean of 12 runs)
 // and its noise-free Raskar run, checked as CI would.
 TEST(CampaignCheck, AgreesWithTheReferenceProgram) {

@@ -1,6 +1,7 @@
 #include "fss/campaign/run.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -144,6 +145,33 @@ Image load_image(const ResolvedCampaign& campaign, int i) {
   return decode_png(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), image.path);
 }
 
+// An exclusive lock on DIR/.campaign.lock for the life of the object: two
+// runs into one directory would both append to its journal. The kernel
+// releases it when the process dies, kill -9 included.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& dir) {
+    const std::string path = (fs::path(dir) / ".campaign.lock").string();
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) {
+      throw_runtime_error("cannot create '" + escape_control_characters(path) +
+                          "': " + std::strerror(errno));
+    }
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      throw_usage_error("'" + escape_control_characters(dir) +
+                        "' is in use by another fssim campaign run; wait for it or use another "
+                        "directory");
+    }
+  }
+  ~DirectoryLock() { ::close(fd_); }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace
 
 CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
@@ -156,6 +184,7 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
     throw_runtime_error("cannot create the campaign directory '" + escape_control_characters(dir) +
                         "'");
   }
+  const DirectoryLock lock(dir);
   journal::Contents contents = open_journal(campaign, dir, options.shard);
   const auto start = std::chrono::steady_clock::now();
   const long long settings = campaign.setting_count();

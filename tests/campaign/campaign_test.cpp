@@ -1,6 +1,9 @@
 // The campaign library: specification, hash, product order, seeds, rows,
 // journal and resume, shards and merge, regression checks, figures.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -214,6 +217,19 @@ TEST(Campaign, AChangedSpecificationIsRefused) {
   EXPECT_TRUE(test::throws_error(
       [&] { RunCampaign(resolve_campaign(spec), (tmp / "out").string(), shard); },
       ErrorKind::kUsage, {"shard 1/1", "not shard 1/2"}));
+}
+
+TEST(Campaign, TwoRunsIntoOneDirectoryAreRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  fs::create_directories(tmp / "out");
+  const int fd = ::open((tmp / "out" / ".campaign.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);  // as another process's run holds it
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, (tmp / "out").string(), {}); },
+                                 ErrorKind::kUsage, {"in use by another fssim campaign"}));
+  ::close(fd);
+  EXPECT_EQ(RunCampaign(c, (tmp / "out").string(), {}).ran, c.setting_count());
 }
 
 TEST(Campaign, ShardsMergeToTheBytesOfOneRun) {

@@ -90,14 +90,19 @@ void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
     } else if (key == "dt") {
       spec.dt = value_list(value, key);
     } else if (key == "trials" || key == "rmse_margin") {
-      if (!value.is_number_integer())
-        fss::throw_usage_error("campaign file: '" + key + "' takes an integer");
-      (key == "trials" ? spec.trials : spec.rmse_margin_columns) = value.get<int>();
+      // Out of int's range, a value breaks its rule anyway: -2, the rule's message.
+      const long long n = value.is_number_integer() ? value.get<long long>() : 0;
+      if (!value.is_number_integer() || n < -2 || n > (1LL << 30)) {
+        fss::throw_usage_error("campaign file: '" + key + "' takes an integer in range, got " +
+                               value.dump());
+      }
+      (key == "trials" ? spec.trials : spec.rmse_margin_columns) = static_cast<int>(n);
     } else if (key == "seed") {
       if (!value.is_number_unsigned())
         fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
       spec.seed = value.get<std::uint64_t>();
     } else if (key == "noise") {
+      if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
       noise = value.get<std::string>();
     } else {
       fss::throw_usage_error("campaign file: unknown key '" + key +

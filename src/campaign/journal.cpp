@@ -123,10 +123,19 @@ Appender::Appender(const std::string& path, std::size_t valid_bytes) : path_(pat
 }
 
 Appender::~Appender() {
+  if (sync_.valid()) sync_.wait();
   if (fd_ >= 0) ::close(fd_);
 }
 
+void Appender::finish() {
+  if (!sync_.valid()) return;
+  if (const int error = sync_.get(); error != 0) {
+    fail(path_, std::string("cannot be synced: ") + std::strerror(error));
+  }
+}
+
 void Appender::append(const std::string& line) {
+  finish();
   std::size_t written = 0;
   while (written < line.size()) {
     const ssize_t n = ::write(fd_, line.data() + written, line.size() - written);
@@ -134,7 +143,8 @@ void Appender::append(const std::string& line) {
     if (n <= 0) fail(path_, std::string("cannot be written: ") + std::strerror(errno));
     written += static_cast<std::size_t>(n);
   }
-  if (::fdatasync(fd_) != 0) fail(path_, std::string("cannot be synced: ") + std::strerror(errno));
+  const int fd = fd_;
+  sync_ = std::async(std::launch::async, [fd] { return ::fdatasync(fd) == 0 ? 0 : errno; });
 }
 
 }  // namespace fss::campaign_journal

@@ -2,6 +2,7 @@
 // starting it, appending a setting's row durably.
 #pragma once
 
+#include <future>
 #include <map>
 #include <optional>
 #include <string>
@@ -30,7 +31,11 @@ std::string header_line(const ResolvedCampaign& campaign, const CampaignShard& s
 // The line of one finished setting (newline included).
 std::string row_line(long long index, const ResultRow& row);
 
-// Appends lines to a journal, each fsynced before append() returns.
+// Appends lines to a journal. Each line is written at once (a killed
+// process loses none) and fsynced on a helper thread while the caller goes
+// on with the next setting; append() waits for the previous line's fsync
+// before writing, so every line is on disk before the next one is written,
+// and finish() waits for the last.
 class Appender {
  public:
   // Opens `path`, first cutting it to `valid_bytes` (a torn last line).
@@ -39,10 +44,13 @@ class Appender {
   Appender(const Appender&) = delete;
   Appender& operator=(const Appender&) = delete;
   void append(const std::string& line);
+  // Waits for the last fsync; throws a runtime fss::Error if one failed.
+  void finish();
 
  private:
   std::string path_;
   int fd_ = -1;
+  std::future<int> sync_;  // errno of the pending fdatasync, 0 on success
 };
 
 // "1/4".

@@ -214,6 +214,7 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.progress) options.progress(progress);
   }
+  appender.finish();
   for (auto& entry : contents.rows) summary.rows.push_back(entry.second);
   write_results(dir, campaign, options.shard, summary.rows);
   return summary;

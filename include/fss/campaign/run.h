@@ -3,8 +3,9 @@
 //
 // DIR/journal.jsonl is append-only: a header line naming the campaign (its
 // canonical specification and hash) and the shard, then one line per
-// finished setting, each written and fsynced before the next setting
-// starts. A rerun into the same DIR reads it and runs only the settings it
+// finished setting, written as soon as the setting ends (so a killed
+// process loses none) and fsynced, while the next setting runs, before the
+// next line is written. A rerun into the same DIR reads it and runs only the settings it
 // lacks (a torn last line, from a kill mid-write, is cut off); a different
 // campaign or shard is refused. Once every setting of the shard is in the
 // journal, results.csv, results.jsonl and campaign.json are written from it,

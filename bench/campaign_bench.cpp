@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -25,6 +26,13 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// CPU time of the whole process (all threads), in seconds.
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 double median(std::vector<double> v) {
@@ -62,16 +70,19 @@ int main(int argc, char** argv) {
   spec.trials = 2;
   const fss::ResolvedCampaign campaign = fss::resolve_campaign(spec);
   const auto dir = std::filesystem::temp_directory_path() / "fssim_campaign_bench";
-  std::vector<double> with_campaign, one_by_one;
+  std::vector<double> with_campaign, one_by_one, campaign_cpu, one_by_one_cpu;
   double checksum = 0.0;
   const auto run_campaign = [&] {
     std::filesystem::remove_all(dir);
     const auto start = std::chrono::steady_clock::now();
+    const double cpu = cpu_seconds();
     fss::RunCampaign(campaign, dir.string(), {});
+    campaign_cpu.push_back(cpu_seconds() - cpu);
     with_campaign.push_back(seconds_since(start));
   };
   const auto run_one_by_one = [&] {
     const auto start = std::chrono::steady_clock::now();
+    const double cpu = cpu_seconds();
     const fss::Image image = fss::read_png(image_path);
     for (long long i = 0; i < campaign.setting_count(); ++i) {
       const fss::Setting s = fss::setting_at(campaign, i);
@@ -79,6 +90,7 @@ int main(int argc, char** argv) {
           fss::Simulate(fss::setting_options(campaign, s), image, campaign.codes[s.code].code);
       checksum += report.trials.rmse_mean;
     }
+    one_by_one_cpu.push_back(cpu_seconds() - cpu);
     one_by_one.push_back(seconds_since(start));
   };
   for (int r = 0; r < reps; ++r) {
@@ -99,6 +111,9 @@ int main(int argc, char** argv) {
   std::printf("                        median     min\n");
   std::printf("  fss::RunCampaign      %.3f s   %.3f s\n", c, c_min);
   std::printf("  Simulate one by one   %.3f s   %.3f s\n", o, o_min);
+  const double cc = median(campaign_cpu), oc = median(one_by_one_cpu);
+  std::printf("  CPU time, median      %.3f s against %.3f s: %+.2f %%\n", cc, oc,
+              100.0 * (cc - oc) / oc);
   std::printf("  per setting           %+.2f ms  %+.2f ms\n",
               1e3 * (c - o) / static_cast<double>(campaign.setting_count()),
               1e3 * (c_min - o_min) / static_cast<double>(campaign.setting_count()));

@@ -72,39 +72,57 @@ fss::NoiseModel parse_noise(const std::string& name) {
   return *noise;
 }
 
+// A list field of a campaign file into `spec`; false if `key` is not one.
+bool apply_list(const std::string& key, const Json& value, fss::CampaignSpec& spec) {
+  if (key == "input") {
+    spec.inputs = string_list(value, key);
+  } else if (key == "code") {
+    spec.codes = string_list(value, key);
+  } else if (key == "mode") {
+    spec.modes = parse_modes(string_list(value, key));
+  } else if (key == "velocity") {
+    spec.velocity = value_list(value, key);
+  } else if (key == "restore_velocity") {
+    spec.restore_velocity = value_list(value, key);
+  } else if (key == "snr") {
+    spec.snr = value_list(value, key);
+  } else if (key == "dt") {
+    spec.dt = value_list(value, key);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// A scalar field of a campaign file; false if `key` is not one.
+bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& spec,
+                  std::string& noise) {
+  if (key == "trials" || key == "rmse_margin") {
+    // Out of int's range, a value breaks its rule anyway: -2, the rule's message.
+    const long long n = value.is_number_integer() ? value.get<long long>() : 0;
+    if (!value.is_number_integer() || n < -2 || n > (1LL << 30)) {
+      fss::throw_usage_error("campaign file: '" + key + "' takes an integer in range, got " +
+                             value.dump());
+    }
+    (key == "trials" ? spec.trials : spec.rmse_margin_columns) = static_cast<int>(n);
+  } else if (key == "seed") {
+    if (!value.is_number_unsigned()) {
+      fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
+    }
+    spec.seed = value.get<std::uint64_t>();
+  } else if (key == "noise") {
+    if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
+    noise = value.get<std::string>();
+  } else {
+    return false;
+  }
+  return true;
+}
+
 // The fields of a campaign file into `spec` (the command line overrides them).
 void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
   for (const auto& [key, value] : j.items()) {
-    if (key == "input") {
-      spec.inputs = string_list(value, key);
-    } else if (key == "code") {
-      spec.codes = string_list(value, key);
-    } else if (key == "mode") {
-      spec.modes = parse_modes(string_list(value, key));
-    } else if (key == "velocity") {
-      spec.velocity = value_list(value, key);
-    } else if (key == "restore_velocity") {
-      spec.restore_velocity = value_list(value, key);
-    } else if (key == "snr") {
-      spec.snr = value_list(value, key);
-    } else if (key == "dt") {
-      spec.dt = value_list(value, key);
-    } else if (key == "trials" || key == "rmse_margin") {
-      // Out of int's range, a value breaks its rule anyway: -2, the rule's message.
-      const long long n = value.is_number_integer() ? value.get<long long>() : 0;
-      if (!value.is_number_integer() || n < -2 || n > (1LL << 30)) {
-        fss::throw_usage_error("campaign file: '" + key + "' takes an integer in range, got " +
-                               value.dump());
-      }
-      (key == "trials" ? spec.trials : spec.rmse_margin_columns) = static_cast<int>(n);
-    } else if (key == "seed") {
-      if (!value.is_number_unsigned())
-        fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
-      spec.seed = value.get<std::uint64_t>();
-    } else if (key == "noise") {
-      if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
-      noise = value.get<std::string>();
-    } else {
+    if (!apply_list(key, value, spec) && !apply_scalar(key, value, spec, noise)) {
       fss::throw_usage_error("campaign file: unknown key '" + key +
                              "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, "
                              "seed, noise, rmse_margin)");

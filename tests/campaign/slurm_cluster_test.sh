@@ -34,14 +34,17 @@ work=$(mktemp -d /tmp/fssim-slurm.XXXXXX)
 chmod 755 "$work"
 stop_daemons() {
   local status=$?
+  # SIGTERM to all three at once, then up to 5 s each before SIGKILL.
+  local pids=()
   for name in slurmd slurmctld munged; do
     if [ -s "$work/$name.pid" ]; then
-      local pid
-      pid=$(cat "$work/$name.pid")
-      kill "$pid" 2>/dev/null || true
-      for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-      kill -9 "$pid" 2>/dev/null || true
+      pids+=("$(cat "$work/$name.pid")")
+      kill "${pids[-1]}" 2>/dev/null || true
     fi
+  done
+  for pid in "${pids[@]}"; do
+    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    kill -9 "$pid" 2>/dev/null || true
   done
   if [ "$status" -ne 0 ]; then
     for log in slurmctld.log slurmd.log munged.log; do
@@ -52,6 +55,7 @@ stop_daemons() {
     done
   fi
   rm -rf "$work"
+  awk -v t0="$start_time" -v t1="$(date +%s.%N)" 'BEGIN { printf "slurm_cluster_test: %.1f s in all\n", t1 - t0 }'
   exit "$status"
 }
 trap stop_daemons EXIT

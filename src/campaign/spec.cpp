@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "campaign/campaign_text.h"
@@ -231,12 +232,16 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   std::string error;
   if (!spec.IsValid(&error)) throw_usage_error(error);
   ResolvedCampaign c;
+  // An image or code named twice runs once, at its first place.
+  std::set<std::string> seen;
   for (const std::string& input : spec.inputs) {
     for (const std::string& path : expand_input(input)) {
-      c.images.push_back({path, path, sha256_hex(read_bytes(path))});
+      if (seen.insert(path).second) c.images.push_back({path, path, sha256_hex(read_bytes(path))});
     }
   }
+  seen.clear();
   for (const std::string& name : spec.codes) {
+    if (!seen.insert(name).second) continue;
     const ShutterCode code = load_code(name);
     c.codes.push_back({name, code, code_digest(code.gains)});
   }

@@ -100,6 +100,28 @@ TEST(Campaign, HashIsCanonical) {
   EXPECT_EQ(campaign_from_canonical_json(ra.canonical_json).sha256, ra.sha256);
 }
 
+TEST(Campaign, InputsAreFilesDirectoriesAndGlobs) {
+  test::TempDir tmp;
+  fs::create_directories(tmp / "images");
+  write_crop(tmp / "images", "b.png", 100);
+  write_crop(tmp / "images", "a.png", 150);
+  test::write_file(tmp / "images" / "notes.txt", "not an image");
+  CampaignSpec spec = small_spec(tmp);
+  spec.inputs = {(tmp / "images").string(), (tmp / "images" / "*.png").string(),
+                 (tmp / "images" / "a.png").string()};
+  const ResolvedCampaign c = resolve_campaign(spec);
+  std::vector<std::string> names;
+  for (const CampaignImage& image : c.images) names.push_back(fs::path(image.name).filename());
+  EXPECT_EQ(names, std::vector<std::string>({"a.png", "b.png"}));  // each once, sorted
+  EXPECT_NE(c.images[0].sha256, c.images[1].sha256);
+  spec.inputs = {(tmp / "images" / "*.jpg").string()};
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"matches no PNG file"}));
+  spec.inputs = {(tmp / "missing.png").string()};
+  EXPECT_TRUE(
+      test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage, {"does not exist"}));
+}
+
 TEST(Campaign, ProductOrderIsStable) {
   test::TempDir tmp;
   const ResolvedCampaign c = resolve_campaign(small_spec(tmp));

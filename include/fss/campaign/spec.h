@@ -96,7 +96,8 @@ struct ResolvedCampaign {
 };
 
 // Reads and expands `spec`: directories give their *.png files, globs their
-// matches, each sorted by name; codes are loaded (load_code). Throws a usage
+// matches, each sorted by name; codes are loaded (load_code). An image path
+// or code name given twice is kept once, at its first place. Throws a usage
 // fss::Error for an invalid spec or an input that matches nothing, a
 // runtime one for a file that cannot be read.
 ResolvedCampaign resolve_campaign(const CampaignSpec& spec);

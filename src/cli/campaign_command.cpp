@@ -211,6 +211,12 @@ bool CampaignCommand::parsed() const { return campaign_->parsed(); }
 
 int CampaignCommand::Run() const {
   return run_reporting_errors([this] {
+    if (merge_->parsed() || check_->parsed()) {
+      if (const std::string option = first_given_option(*campaign_); !option.empty()) {
+        fss::throw_usage_error(option + " is an option of 'campaign', not of 'campaign " +
+                               (merge_->parsed() ? "merge" : "check") + "'");
+      }
+    }
     if (merge_->parsed()) return Merge();
     if (check_->parsed()) return Check();
     return RunCampaign();

@@ -162,6 +162,11 @@ TEST_F(CampaignCli, UsageErrors) {
   const auto range = run_fssim(base_ + " --snr 1:10:x0.5 -o " + quote(tmp_ / "x"));
   EXPECT_EQ(range.exit_code, 2);
   EXPECT_NE(range.err.find("factor > 1"), std::string::npos) << range.err;
+  const auto misplaced =
+      run_fssim("campaign --trials 3 merge -o " + quote(tmp_ / "m") + " " + quote(tmp_ / "p"));
+  EXPECT_EQ(misplaced.exit_code, 2);
+  EXPECT_NE(misplaced.err.find("--trials is an option of 'campaign'"), std::string::npos)
+      << misplaced.err;
   const auto noise = run_fssim(args_ + " --noise loud -o " + quote(tmp_ / "x"));
   EXPECT_EQ(noise.exit_code, 2);
   EXPECT_NE(noise.err.find("--noise 'loud'"), std::string::npos) << noise.err;

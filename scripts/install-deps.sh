@@ -13,6 +13,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module fss (python/)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
+  slurmctld slurmd slurm-client munge  # the campaign's single-node Slurm cluster test (label slurm)
+  parallel  # the README's GNU parallel recipe for campaign shards
 )
 for argument in "$@"; do
   case "$argument" in

@@ -1,68 +1,79 @@
 #!/usr/bin/env bash
-# Reproduces the comparison of the paper's Table 1: numerical flutter shutter,
-# v = 1, snr = 100, the paper's codes, TRIALS noise realizations each.
+# Reproduces the comparison of the paper's Table 1 with one campaign:
+# numerical flutter shutter, v = 1, snr = 100, the paper's six codes, TRIALS
+# noise realizations each (each code's seeds derive from the campaign seed 0).
 # Usage: scripts/reproduce_table1.sh [IMAGE] [TRIALS]
 #   IMAGE   default data/camera.png        TRIALS  default 20
-# Writes results/table1.md and results/table1.csv (and each code's outputs of
-# the first trial, with its plots and report.html, under results/table1/<code>/),
-# the figure sheets results/sheet_<code>.png (observed | restored | residual of
-# the first trial, as the paper's Figures 9-14) and results/spectra_overlay.png
-# (|K| of the five invertible codes on one plot, as Figures 2-7). Needs a built
-# fssim (FSSIM=path to override, default build/fssim) and jq.
+# Writes results/table1.csv (the campaign's results.csv, docs/campaign.md),
+# results/table1.md (the table, with the paper's figures beside), the figure
+# sheets results/sheet_<code>.png (observed | restored | residual, as the
+# paper's Figures 9-14) and results/spectra_overlay.png (|K| of the five
+# invertible codes, as Figures 2-7). The campaign directory,
+# TABLE1_CAMPAIGN_DIR/<image>_<trials> (default build/table1_campaign), is
+# kept: a rerun resumes it.
+# On camera.png it checks the RMSE against the reference program's (fssim
+# campaign check, tests/fixtures/table1_reference.csv). Needs a built fssim
+# (FSSIM=path to override, default build/fssim).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 image=${1:-data/camera.png}
 trials=${2:-20}
 fssim=${FSSIM:-build/fssim}
 [ -x "$fssim" ] || { echo "reproduce_table1: $fssim not found; build first (cmake -S . -B build && cmake --build build)" >&2; exit 1; }
-command -v jq >/dev/null || { echo "reproduce_table1: jq is needed (apt-get install jq)" >&2; exit 1; }
 [ -f "$image" ] || { echo "reproduce_table1: image '$image' not found" >&2; exit 1; }
 case "$trials" in ''|*[!0-9]*|0) echo "reproduce_table1: TRIALS must be a positive integer, got '$trials'" >&2; exit 2;; esac
-
-mkdir -p results/table1
+case "$image" in *,*|*\"*) echo "reproduce_table1: the image path must not hold a comma or a quote" >&2; exit 2;; esac
 codes=(snapshot raskar random mip sinc accumulation)
-# The paper's Table 1 (House image, numerical, v = 1, snr = 100): RMSE / RMSE_CI.
-declare -A paper=([snapshot]="1.34 / 1.33" [raskar]="2.34 / 3.14" [random]="2.01 / 2.48"
-                  [mip]="2.11 / 2.10" [sinc]="1.33 / 1.33" [accumulation]="not invertible")
+out=${TABLE1_CAMPAIGN_DIR:-build/table1_campaign}/$(basename "$image" .png)_$trials
 
-csv=results/table1.csv.tmp
-md=results/table1.md.tmp
-echo "code,normalized_l1,rmse_mean,rmse_sd,rmse_ci_mean,rmse_ci_sd,rmse_predicted,rmse_noise_free,sigma,snr_level100,invertible,paper_rmse,paper_rmse_ci" > "$csv"
-{
-  echo "# Table 1 reproduced: $(basename "$image"), numerical flutter shutter, v = 1, snr = 100, $trials trials per code"
-  echo
-  echo "| code | ‖α‖₁/sup\|α\| | RMSE (mean ± sd) | RMSE_CI (mean ± sd) | predicted RMSE | noise-free RMSE | SNR at level 100 | paper (House) RMSE / RMSE_CI |"
-  echo "|---|---:|---:|---:|---:|---:|---:|---:|"
-} > "$md"
+# The table: one campaign.
+"$fssim" campaign -i "$image" -c "${codes[@]}" --mode numerical --velocity 1 --snr 100 --dt 1 \
+  --trials "$trials" --seed 0 -o "$out"
 
+# results/table1.md from its results.csv. The paper's Table 1 (House image,
+# numerical, v = 1, snr = 100): RMSE / RMSE_CI.
+awk -F, -v image="$(basename "$image")" -v trials="$trials" '
+  function f(x) { return x == "inf" || x == "" ? "∞" : sprintf("%.3f", x) }
+  function big(x) { return x + 0 > 1e6 ? sprintf("~1e%d", int(log(x) / log(10))) : f(x) }
+  BEGIN {
+    paper["snapshot"] = "1.34 / 1.33"; paper["raskar"] = "2.34 / 3.14"; paper["random"] = "2.01 / 2.48"
+    paper["mip"] = "2.11 / 2.10"; paper["sinc"] = "1.33 / 1.33"; paper["accumulation"] = "not invertible"
+    printf "# Table 1 reproduced: %s, numerical flutter shutter, v = 1, snr = 100, %d trials per code\n\n", image, trials
+    print "| code | ‖α‖₁/sup\\|α\\| | RMSE (mean ± sd) | RMSE_CI (mean ± sd) | predicted RMSE | noise-free RMSE | SNR at level 100 | paper (House) RMSE / RMSE_CI |"
+    print "|---|---:|---:|---:|---:|---:|---:|---:|"
+  }
+  NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; next }
+  {
+    code = $col["code"]
+    predicted = $col["status"] == "ok" ? f($col["predicted_rmse"]) : "∞ (not invertible)"
+    printf "| %s | %s | %s ± %s | %s ± %s | %s | %s | %s | %s |\n", code, f($col["code_normalized_l1"]),
+      big($col["rmse_mean"]), big($col["rmse_sd"]), big($col["rmse_ci_mean"]), big($col["rmse_ci_sd"]),
+      predicted, big($col["predicted_rmse_noise_free"]), f($col["snr_level100"]), paper[code]
+  }
+  END {
+    print ""
+    print "Measured: mean ± sample sd over the trials of each setting (seeds from the campaign seed 0, docs/campaign.md). Predicted: the exact expectation sqrt(E[MSE]) = sqrt(RMSE_0² + noise part), docs/method.md §6b; SNR at level 100: the stationary, image-independent figure of merit, §6."
+    print "The paper'"'"'s column is for the House image, which is not bundled; on camera.png the reference program gives"
+    print "snapshot 1.355, raskar 2.352, random 1.993, sinc 1.354, mip 2.116 (mean of 12 runs)."
+  }' "$out/results.csv" > results/table1.md.tmp
+cp "$out/results.csv" results/table1.csv.tmp
+mv results/table1.csv.tmp results/table1.csv
+mv results/table1.md.tmp results/table1.md
+
+# On camera.png, the reference program's figures (mean of 12 runs) as a check.
+if [ "$(basename "$image")" = camera.png ]; then
+  "$fssim" campaign check "$out/results.csv" tests/fixtures/table1_reference.csv --k-se 4 >&2 ||
+    echo "reproduce_table1: warning: the RMSE departs from the reference program's (above)" >&2
+fi
+
+# The figures: each code's sheet (first trial of a run with seed 0) and the spectra.
+sheets=$(mktemp -d)
+trap 'rm -rf "$sheets"' EXIT
 for code in "${codes[@]}"; do
-  out=results/table1/$code
-  echo "reproduce_table1: $code ($trials trials)" >&2
-  "$fssim" --input "$image" --code "$code" --mode numerical --velocity 1 --snr 100 \
-    --trials "$trials" --seed 0 --sheet --report --outdir "$out" >/dev/null 2>"$out.stderr" || { cat "$out.stderr" >&2; exit 1; }
-  rm -f "$out.stderr"
-  cp "$out/sheet.png" "results/sheet_$code.png.tmp" && mv "results/sheet_$code.png.tmp" "results/sheet_$code.png"
-  r=$out/report.json
-  jq -r --arg code "$code" --arg paper "${paper[$code]}" '
-    [$code, .code.normalized_l1, .trials.rmse_mean, .trials.rmse_sd, .trials.rmse_ci_mean, .trials.rmse_ci_sd,
-     (.prediction.rmse // "inf"), .prediction.rmse_noise_free, (.prediction.sigma // "inf"),
-     .prediction.snr_level100, .kernel.invertible,
-     ($paper | split(" / ")[0]), ($paper | split(" / ")[1] // "")] | @csv' "$r" >> "$csv"
-  jq -r --arg code "$code" --arg paper "${paper[$code]}" '
-    def f(x): if x == null then "∞"
-              else (x * 1000 | round) as $n
-                   | "\($n / 1000 | floor).\("00\($n % 1000)" | .[-3:])" end;
-    def big(x): if x != null and x > 1e6 then "~1e\(x | log10 | floor)" else f(x) end;
-    "| \($code) | \(f(.code.normalized_l1)) | \(big(.trials.rmse_mean)) ± \(big(.trials.rmse_sd)) | \(big(.trials.rmse_ci_mean)) ± \(big(.trials.rmse_ci_sd)) | \(if .prediction.finite then f(.prediction.rmse) else "∞ (not invertible)" end) | \(big(.prediction.rmse_noise_free)) | \(f(.prediction.snr_level100)) | \($paper) |"' "$r" >> "$md"
+  "$fssim" --input "$image" --code "$code" --mode numerical --velocity 1 --snr 100 --seed 0 \
+    --sheet --no-plots --outdir "$sheets/$code" >/dev/null 2>&1
+  cp "$sheets/$code/sheet.png" "results/sheet_$code.png.tmp" && mv "results/sheet_$code.png.tmp" "results/sheet_$code.png"
 done
-{
-  echo
-  echo "Measured: mean ± sample sd over $trials noise realizations (seeds 0..$((trials - 1))). Predicted: the exact expectation sqrt(E[MSE]) = sqrt(RMSE_0² + noise part), docs/method.md §6b; SNR at level 100: the stationary, image-independent figure of merit, §6."
-  echo "The paper's column is for the House image, which is not bundled; on camera.png the reference program gives"
-  echo "snapshot 1.355, raskar 2.352, random 1.993, sinc 1.354, mip 2.116 (mean of 12 runs)."
-} >> "$md"
-mv "$csv" results/table1.csv
-mv "$md" results/table1.md
 "$fssim" spectra --velocity 1 --dt 1 --output results/spectra_overlay.png \
   snapshot raskar random mip sinc >/dev/null
 echo "reproduce_table1: wrote results/table1.md, results/table1.csv, results/sheet_<code>.png and results/spectra_overlay.png" >&2

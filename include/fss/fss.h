@@ -25,9 +25,16 @@
 // Domains: core/ (image, errors, FFT, threads), model/ (codes, transfer
 // function, kernel analysis, photon noise), pipeline/ (geometry, observation,
 // restoration, metrics, prediction, Simulate), design/ (generating,
-// analysing and optimizing codes), io/ (PNG, plots, a run's output files).
+// analysing and optimizing codes), io/ (PNG, plots, a run's output files),
+// campaign/ (images x codes x settings: resumable runs, shards, checks).
 #pragma once
 
+#include "fss/campaign/check.h"
+#include "fss/campaign/figures.h"
+#include "fss/campaign/results.h"
+#include "fss/campaign/run.h"
+#include "fss/campaign/sha256.h"
+#include "fss/campaign/spec.h"
 #include "fss/core/error.h"
 #include "fss/core/fft.h"
 #include "fss/core/image.h"

@@ -22,6 +22,12 @@ _fssim_options() {
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
             --rmse-margin --threads -o --output --plot" ;;
+    campaign)
+      echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
+            --snr --dt --trials --seed --noise --rmse-margin --threads -o --output --shard
+            --figures --no-progress" ;;
+    merge) echo "-h --help -o --output --figures" ;;
+    check) echo "-h --help --columns --abs --rel --k-se --junit" ;;
   esac
 }
 
@@ -30,6 +36,7 @@ _fssim_options() {
 _fssim_takes_value() {
   case $1 in
     -h | --help | --version | --no-plots | --sheet | --report | --save-float | --linear | --analog | --binary) return 1 ;;
+    --figures | --no-progress) return 1 ;;
     -*=*) return 1 ;;
     -*) return 0 ;;
   esac
@@ -63,7 +70,8 @@ _fssim() {
       continue
     fi
     case $context:$word in
-      main:spectra | main:code | main:sweep) context=$word ;;
+      main:spectra | main:code | main:sweep | main:campaign) context=$word ;;
+      campaign:merge | campaign:check) context=$word ;;
       code:generate | code:analyze | code:optimize) context=$word ;;
     esac
   done
@@ -83,11 +91,11 @@ _fssim() {
     --png-depth)
       _fssim_add "8 16 auto" "$cur"
       return ;;
-    -i | --input | --json | --plot)
+    -i | --input | --json | --plot | -f | --file | --junit)
       _fssim_paths -f "$cur"
       return ;;
     -o | --outdir | --output)
-      if [[ $context == main ]]; then
+      if [[ $context == main || $context == campaign || $context == merge ]]; then
         _fssim_paths -d "$cur"  # --outdir
       else
         _fssim_paths -f "$cur"
@@ -103,7 +111,10 @@ _fssim() {
     return
   fi
   case $context in
-    main) _fssim_add "spectra code sweep" "$cur" ;;
+    main) _fssim_add "spectra code sweep campaign" "$cur" ;;
+    campaign) _fssim_add "merge check" "$cur" ;;
+    merge) _fssim_paths -d "$cur" ;;
+    check) _fssim_paths -f "$cur" ;;
     code) _fssim_add "generate analyze optimize" "$cur" ;;
     generate) _fssim_add "sinc mip random snapshot accumulation" "$cur" ;;
     analyze | spectra)

@@ -1,12 +1,13 @@
 // fssim: the command line over the fss library. main() parses the command
 // line and hands it to the command it selects: the simulation itself
-// (simulate_command.cpp), spectra, code generate / analyze / optimize, sweep.
+// (simulate_command.cpp), spectra, code generate / analyze / optimize, sweep, campaign.
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <exception>
 #include <new>
 #include <string>
 
+#include "campaign_command.h"
 #include "cli_common.h"
 #include "code_commands.h"
 #include "simulate_command.h"
@@ -43,6 +44,7 @@ int run(int argc, char** argv) {
   const fssim::SpectraCommand spectra(app);
   const fssim::CodeCommands code(app);
   const fssim::SweepCommand sweep(app);
+  const fssim::CampaignCommand campaign(app);
 
   if (const int status = parse(app, argc, argv); status >= 0) return status;
   if (app.get_subcommands().empty()) return simulate.Run();
@@ -55,6 +57,7 @@ int run(int argc, char** argv) {
   }
   if (spectra.parsed()) return spectra.Run();
   if (code.parsed()) return code.Run();
+  if (campaign.parsed()) return campaign.Run();
   return sweep.Run();
 }
 

@@ -744,4 +744,81 @@ std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels
   return encode_png8_samples(width, sheet_height, channels, to_samples(rgba, channels));
 }
 
+namespace {
+
+// The series as plain curves (for the checks and the y range), with the
+// error bars' ends as two more value lists each.
+std::vector<CurveSeries> error_bar_extent(const std::vector<ErrorBarSeries>& series) {
+  std::vector<CurveSeries> extent;
+  for (const ErrorBarSeries& s : series) {
+    CurveSeries low{s.name, s.y}, high{s.name, s.y};
+    for (std::size_t j = 0; j < s.y.size() && j < s.error.size(); ++j) {
+      if (std::isfinite(s.error[j])) {
+        low.y[j] -= s.error[j];
+        high.y[j] += s.error[j];
+      }
+    }
+    extent.push_back(low);
+    extent.push_back(high);
+  }
+  return extent;
+}
+
+void draw_error_bars(const std::vector<double>& x, const ErrorBarSeries& s, PLINT colour) {
+  plcol0(colour);
+  pllsty(1);
+  plwidth(1.2);
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    if (!std::isfinite(s.y[j]) || !std::isfinite(s.error[j]) || !(s.error[j] > 0.0)) continue;
+    PLFLT px = x[j], low = s.y[j] - s.error[j], high = s.y[j] + s.error[j];
+    plerry(1, &px, &low, &high);
+  }
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> plot_error_bar_curves_png(const std::vector<double>& x,
+                                                    const std::vector<ErrorBarSeries>& series,
+                                                    const std::string& x_label,
+                                                    const std::string& y_label, bool log_x,
+                                                    const PlotOptions& options) {
+  std::vector<CurveSeries> curves;
+  for (const ErrorBarSeries& s : series) {
+    if (s.error.size() != s.y.size()) {
+      throw_usage_error("curve '" + s.name + "' has " + std::to_string(s.error.size()) +
+                        " errors for " + std::to_string(s.y.size()) + " values");
+    }
+    curves.push_back({s.name, s.y, false, true});
+  }
+  check_curves(x, curves);
+  if (log_x && !(x.front() > 0.0)) throw_usage_error("a logarithmic x axis needs x values > 0");
+  // PLplot's logarithmic axes take log10 of the coordinates.
+  std::vector<double> px = x;
+  if (log_x) {
+    for (double& v : px) v = std::log10(v);
+  }
+  const std::pair<double, double> y_range = curves_y_range(error_bar_extent(series));
+  const double x_pad = px.size() > 1 ? 0.04 * (px.back() - px.front()) : 0.5;
+  std::vector<LegendEntry> legend;
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    legend.push_back({ellipsize(series[i].name, 40), static_cast<PLINT>(kSeries + i), 1, 1.8});
+  }
+  const std::string title = options.title.empty()
+                                ? literal(y_label) + " against " + literal(x_label)
+                                : literal(options.title);
+  return render_plot(options, [&](const Canvas& canvas) {
+    draw_title(canvas, title);
+    canvas.viewport(kLeft, kRight, 40.0, kBottom);
+    plwind(px.front() - x_pad, px.back() + x_pad, y_range.first, y_range.second);
+    for (std::size_t i = 0; i < series.size(); ++i) {
+      draw_curve(px, curves[i], legend[i]);
+      draw_error_bars(px, series[i], legend[i].colour);
+    }
+    pllsty(1);
+    draw_axes(canvas, log_x ? "bcnstl" : "bcnst", 0.0, "bcnstv", literal(x_label),
+              literal(y_label));
+    draw_legend(canvas, legend, kLeft + 12.0, 52.0, false);
+  });
+}
+
 }  // namespace fss

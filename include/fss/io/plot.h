@@ -68,6 +68,22 @@ std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
                                           const std::string& x_label, const std::string& y_label,
                                           const PlotOptions& options = {});
 
+// One curve of plot_error_bar_curves_png: values with a symmetric error.
+struct ErrorBarSeries {
+  std::string name;           // in the legend
+  std::vector<double> y;      // one value per x; NaN or infinite values leave a gap
+  std::vector<double> error;  // half-height of each bar (0 or NaN: no bar)
+};
+
+// Curves over shared x values (increasing; > 0 when `log_x`), each with a
+// marker and an error bar y +/- error at every point, a logarithmic x axis
+// when `log_x`, and a legend (at most 8 curves).
+std::vector<std::uint8_t> plot_error_bar_curves_png(const std::vector<double>& x,
+                                                    const std::vector<ErrorBarSeries>& series,
+                                                    const std::string& x_label,
+                                                    const std::string& y_label, bool log_x,
+                                                    const PlotOptions& options = {});
+
 struct SheetPanel {
   const Image* image = nullptr;  // 1 or 3 channels, 0..255 scale
   std::string caption;

@@ -1,0 +1,58 @@
+// Regression checks of campaign results against expectations (the
+// reference program's figures, or an earlier campaign): rows are matched by
+// their settings, each quantity compared with its tolerance.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fss {
+
+struct CheckOptions {
+  // Quantities to compare; empty: every result quantity EXPECTED has
+  // (rmse_mean, rmse_ci_mean, psnr_mean, predicted_*, snr_level100, status,
+  // invertible; the *_sd, seed and trials columns serve the k-SE rule only).
+  std::vector<std::string> columns;
+  // A value passes when |result - expected| is within ANY of these; each
+  // 0 disables its rule (all three 0: exact equality).
+  double abs_tolerance = 0.0;
+  double rel_tolerance = 0.0;  // times |expected|
+  // k standard errors, for a *_mean column when both sides carry its _sd and
+  // trials: k sqrt(sd_r^2 / n_r + sd_e^2 / n_e).
+  double k_standard_errors = 0.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+// One comparison: a (setting, quantity), or a missing row (empty column).
+struct CheckCase {
+  std::string setting;  // "image=camera.png code=raskar snr=100 ..."
+  std::string column;
+  bool passed = false;
+  std::string message;  // for a failure: the values, the difference, the tolerance
+};
+
+struct CheckReport {
+  std::vector<CheckCase> cases;
+  int failures() const;
+};
+
+// Compares the rows of EXPECTED (CSV text; columns named as results.csv's,
+// any subset) with RESULTS. Setting columns present in EXPECTED (image, code,
+// mode, velocity, restore_velocity, snr, dt, noise, rmse_margin) select the
+// result row: numbers compare as numbers, and an image given as a bare file
+// name matches a result image of that file name. `*_name` arguments name the
+// files in messages. Throws a usage fss::Error for malformed CSV or a
+// column RESULTS lacks.
+CheckReport CheckCampaignResults(const std::string& results_csv, const std::string& results_name,
+                                 const std::string& expected_csv, const std::string& expected_name,
+                                 const CheckOptions& options);
+
+// The report as JUnit XML: one test case per comparison.
+std::string check_junit_xml(const CheckReport& report, const std::string& suite_name);
+
+// Parses CSV text (RFC 4180) into rows of fields; throws a usage fss::Error
+// naming `name` for an unterminated quote or a row of the wrong width.
+std::vector<std::vector<std::string>> parse_csv(const std::string& text, const std::string& name);
+
+}  // namespace fss

@@ -1,0 +1,89 @@
+// Running a campaign into a directory, resumably, in shards, and merging
+// the shards (docs/campaign.md).
+//
+// DIR/journal.jsonl is append-only: a header line naming the campaign (its
+// canonical specification and hash) and the shard, then one line per
+// finished setting, written as soon as the setting ends (so a killed
+// process loses none) and fsynced, while the next setting runs, before the
+// next line is written. A rerun into the same DIR reads it and runs only the settings it
+// lacks (a torn last line, from a kill mid-write, is cut off); a different
+// campaign or shard is refused. Once every setting of the shard is in the
+// journal, results.csv, results.jsonl and campaign.json are written from it,
+// each to a temporary file renamed into place: their bytes depend on the
+// specification and the fssim version only.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fss/campaign/results.h"
+#include "fss/campaign/spec.h"
+
+namespace fss {
+
+// Part `index` of `count` (1-based): the settings whose product index i has
+// i % count == index - 1.
+struct CampaignShard {
+  int index = 1;
+  int count = 1;
+};
+
+// Parses "I/N" (1 <= I <= N); throws a usage fss::Error naming `text`.
+CampaignShard parse_shard(const std::string& text);
+
+struct CampaignProgress {
+  long long done = 0;      // settings of the shard in the journal
+  long long total = 0;     // settings of the shard
+  long long resumed = 0;   // of `done`, those found in the journal at the start
+  double elapsed_s = 0.0;  // since this run started
+};
+
+struct CampaignRunOptions {
+  CampaignShard shard;
+  int threads = 0;
+  std::size_t max_memory_bytes = 0;
+  std::string fssim_version;
+  // Called after each setting (and once at the start); may be empty.
+  std::function<void(const CampaignProgress&)> progress;
+
+  bool IsValid(std::string* error) const;
+};
+
+struct CampaignRunSummary {
+  long long total = 0;          // settings of the shard
+  long long ran = 0;            // run by this call
+  long long resumed = 0;        // found in the journal
+  std::vector<ResultRow> rows;  // the shard's rows in product order
+};
+
+// Names of the files of a campaign directory.
+inline constexpr const char* kCampaignJournal = "journal.jsonl";
+inline constexpr const char* kCampaignResultsCsv = "results.csv";
+inline constexpr const char* kCampaignResultsJsonl = "results.jsonl";
+inline constexpr const char* kCampaignManifest = "campaign.json";
+
+// Runs the settings of `options.shard` missing from dir's journal (dir is
+// created if needed) and writes the result files. Throws a usage fss::Error
+// when dir holds another campaign or shard, a runtime one when a file cannot
+// be read or written or a setting fails at run time (the journal keeps what
+// finished).
+CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
+                               const CampaignRunOptions& options);
+
+// Merges the directories of the shards 1/N .. N/N of one campaign into dir:
+// refuses (usage fss::Error) parts of different campaigns (hash), different
+// N, a shard given twice or missing, and a part whose journal lacks some of
+// its settings. Writes the files a single-machine run writes, byte for byte.
+// Also writes dir's journal, as a finished single-machine run leaves it.
+// Returns the rows in product order; *campaign (when not null) receives the
+// campaign.
+std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& parts,
+                                          const std::string& dir,
+                                          ResolvedCampaign* campaign = nullptr);
+
+// Writes `bytes` to path through a temporary file in the same directory,
+// fsynced and renamed into place.
+void write_file_durably(const std::string& path, const std::string& bytes);
+
+}  // namespace fss

@@ -1,0 +1,135 @@
+// A campaign's specification (docs/campaign.md): images x codes x modes x
+// velocities x restore velocities x snrs x dts, its canonical form and hash,
+// and the settings of the cartesian product in a stable order, each with
+// its own seed. Conventions: fss/fss.h.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fss/core/image.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/simulate.h"
+
+namespace fss {
+
+// Most values one value list may hold, and most settings of a campaign.
+inline constexpr int kMaxCampaignValues = 10000;
+inline constexpr long long kMaxCampaignSettings = 10'000'000;
+
+// Values of one swept quantity and how they were written.
+struct ValueList {
+  std::vector<double> values;
+  bool geometric = false;  // some item was a geometric range (a log axis suits it)
+};
+
+// Parses `text` for field `field` (named in errors): comma-separated items,
+// each a finite number V, an arithmetic range start:stop:step (start,
+// start + step, ..., the last value not beyond stop + step / 2) or a
+// geometric one start:stop:xF (start, start F, start F^2, ..., the last not
+// beyond stop sqrt(F); start and stop > 0, F > 1). Range values are
+// start + i step and start F^i, rounded to 12 significant digits so that
+// 0.1 steps read 0.3. Throws a usage fss::Error naming the field and the item.
+ValueList parse_value_list(std::string_view text, const std::string& field);
+
+// What the user asked for: the campaign specification before files are read.
+struct CampaignSpec {
+  std::vector<std::string> inputs;  // PNG files, directories (their *.png) or globs
+  std::vector<std::string> codes;   // built-in names or code files
+  std::vector<ShutterMode> modes = {ShutterMode::kNumerical};
+  std::string velocity = "1";    // value lists (parse_value_list)
+  std::string restore_velocity;  // empty: the true velocity
+  std::string snr = "100";
+  std::string dt = "1";
+  int trials = 1;
+  std::uint64_t seed = 0;
+  NoiseModel noise = NoiseModel::kPoisson;
+  int rmse_margin_columns = -1;  // -1: 3 B
+
+  // False, with a message naming the field, its value and the rule, when a
+  // field is malformed on its own (values a setting cannot run with, such as
+  // snr = 0, are rows with a status instead).
+  bool IsValid(std::string* error) const;
+};
+
+// One image of a campaign: its name (the path as expanded), path and digest.
+struct CampaignImage {
+  std::string name;
+  std::string path;
+  std::string sha256;  // of the file's bytes
+};
+
+// One code: its name as given, its gains and the digest of their canonical
+// text (one gain a line, shortest round-trip decimal).
+struct CampaignCode {
+  std::string name;
+  ShutterCode code;
+  std::string sha256;
+};
+
+// The specification with its files read and its lists expanded: what the
+// campaign hash covers.
+struct ResolvedCampaign {
+  std::vector<CampaignImage> images;
+  std::vector<CampaignCode> codes;
+  std::vector<ShutterMode> modes;
+  ValueList velocities;
+  std::vector<std::optional<double>> restore_velocities;  // {nullopt}: the true velocity
+  bool restore_geometric = false;
+  ValueList snrs;
+  ValueList dts;
+  int trials = 1;
+  std::uint64_t seed = 0;
+  NoiseModel noise = NoiseModel::kPoisson;
+  int rmse_margin_columns = -1;
+
+  // Canonical JSON of everything above (one line, keys sorted, numbers in
+  // shortest round-trip form) and its SHA-256: two specifications that run
+  // the same settings have the same hash, whatever their spelling.
+  std::string canonical_json;
+  std::string sha256;
+
+  long long setting_count() const;
+};
+
+// Reads and expands `spec`: directories give their *.png files, globs their
+// matches, each sorted by name; codes are loaded (load_code). An image path
+// or code name given twice is kept once, at its first place. Throws a usage
+// fss::Error for an invalid spec or an input that matches nothing, a
+// runtime one for a file that cannot be read.
+ResolvedCampaign resolve_campaign(const CampaignSpec& spec);
+
+// Rebuilds a resolved campaign from its canonical JSON (as a journal keeps
+// it), without reading any file. Throws a runtime fss::Error if malformed.
+ResolvedCampaign campaign_from_canonical_json(const std::string& json);
+
+// One setting of the product, by the index of each of its values.
+struct Setting {
+  long long index = 0;  // position in the product's order
+  int image = 0, code = 0, mode = 0, velocity = 0, restore_velocity = 0, snr = 0, dt = 0;
+};
+
+// The setting at position `index` of the product, in the order images,
+// codes, modes, velocities, restore velocities, snrs, dts (the last varies
+// fastest).
+Setting setting_at(const ResolvedCampaign& campaign, long long index);
+
+// The setting's canonical description: the digests of its image and code
+// and its values, as one line of JSON; trials, noise and margin are the
+// campaign's and are left out, so that more trials extend a setting's seeds.
+std::string setting_description(const ResolvedCampaign& campaign, const Setting& setting);
+
+// The setting's seed: splitmix64 of the campaign seed plus the first 64
+// bits of SHA-256(description). It depends on the setting's values only,
+// never on its index, its shard or the order of the run; its trials use
+// seed, seed + 1, ... (SimulationOptions::trials).
+std::uint64_t setting_seed(const ResolvedCampaign& campaign, const Setting& setting);
+
+// The SimulationOptions of a setting (threads and memory limit left at
+// their defaults for the caller).
+SimulationOptions setting_options(const ResolvedCampaign& campaign, const Setting& setting);
+
+}  // namespace fss

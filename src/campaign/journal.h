@@ -1,0 +1,62 @@
+// The journal of a campaign directory (fss/campaign/run.h): reading it,
+// starting it, appending a setting's row durably.
+#pragma once
+
+#include <future>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "fss/campaign/results.h"
+#include "fss/campaign/run.h"
+
+namespace fss::campaign_journal {
+
+struct Contents {
+  std::string campaign_json;  // canonical specification
+  std::string campaign_sha256;
+  CampaignShard shard;
+  long long settings = 0;  // of the whole campaign
+  std::map<long long, ResultRow> rows;
+  std::size_t valid_bytes = 0;  // up to the last complete line
+  std::size_t file_bytes = 0;
+};
+
+// The journal at `path`, or nullopt when there is none (or only a torn
+// header, which is removed). Throws a runtime fss::Error for a corrupt line.
+std::optional<Contents> read(const std::string& path);
+
+// The header line of a journal (newline included).
+std::string header_line(const ResolvedCampaign& campaign, const CampaignShard& shard);
+// The line of one finished setting (newline included).
+std::string row_line(long long index, const ResultRow& row);
+
+// Appends lines to a journal. Each line is written at once (a killed
+// process loses none) and fsynced on a helper thread while the caller goes
+// on with the next setting; append() waits for the previous line's fsync
+// before writing, so every line is on disk before the next one is written,
+// and finish() waits for the last.
+class Appender {
+ public:
+  // Opens `path`, first cutting it to `valid_bytes` (a torn last line).
+  Appender(const std::string& path, std::size_t valid_bytes);
+  ~Appender();
+  Appender(const Appender&) = delete;
+  Appender& operator=(const Appender&) = delete;
+  void append(const std::string& line);
+  // Waits for the last fsync; throws a runtime fss::Error if one failed.
+  void finish();
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  std::future<int> sync_;  // errno of the pending fdatasync, 0 on success
+};
+
+// "1/4".
+std::string shard_text(const CampaignShard& shard);
+
+// Number of settings of `shard` in a campaign of `settings` settings.
+long long shard_size(long long settings, const CampaignShard& shard);
+
+}  // namespace fss::campaign_journal

@@ -1,0 +1,218 @@
+#include "fss/campaign/results.h"
+
+#include <cmath>
+
+#include "campaign/campaign_text.h"
+#include "fss/core/error.h"
+#include "fss/pipeline/geometry.h"
+#include "fss/pipeline/metrics.h"
+
+namespace fss {
+
+namespace {
+
+using campaign_text::shortest;
+
+constexpr ColumnKind kText = ColumnKind::kText;
+constexpr ColumnKind kNumber = ColumnKind::kNumber;
+constexpr ColumnKind kBoolean = ColumnKind::kBoolean;
+
+enum Column {
+  kImage,
+  kImageSha256,
+  kCode,
+  kCodeSha256,
+  kCodeNormalizedL1,
+  kMode,
+  kVelocity,
+  kRestoreVelocity,
+  kSnr,
+  kDt,
+  kNoise,
+  kRmseMargin,
+  kSeed,
+  kTrials,
+  kBlurLength,
+  kRmseMean,
+  kRmseSd,
+  kRmseCiMean,
+  kRmseCiSd,
+  kPsnrMean,
+  kPredictedRmse,
+  kPredictedNoiseFree,
+  kPredictedSigma,
+  kSnrLevel100,
+  kInvertible,
+  kStatus,
+  kMessage,
+  kFssimVersion,
+  kColumnCount
+};
+
+}  // namespace
+
+const std::vector<ResultColumn>& campaign_columns() {
+  static const std::vector<ResultColumn> columns = {{"image", kText},
+                                                    {"image_sha256", kText},
+                                                    {"code", kText},
+                                                    {"code_sha256", kText},
+                                                    {"code_normalized_l1", kNumber},
+                                                    {"mode", kText},
+                                                    {"velocity", kNumber},
+                                                    {"restore_velocity", kNumber},
+                                                    {"snr", kNumber},
+                                                    {"dt", kNumber},
+                                                    {"noise", kText},
+                                                    {"rmse_margin", kNumber},
+                                                    {"seed", kText},
+                                                    {"trials", kNumber},
+                                                    {"blur_length", kNumber},
+                                                    {"rmse_mean", kNumber},
+                                                    {"rmse_sd", kNumber},
+                                                    {"rmse_ci_mean", kNumber},
+                                                    {"rmse_ci_sd", kNumber},
+                                                    {"psnr_mean", kNumber},
+                                                    {"predicted_rmse", kNumber},
+                                                    {"predicted_rmse_noise_free", kNumber},
+                                                    {"predicted_sigma", kNumber},
+                                                    {"snr_level100", kNumber},
+                                                    {"invertible", kBoolean},
+                                                    {"status", kText},
+                                                    {"message", kText},
+                                                    {"fssim_version", kText}};
+  return columns;
+}
+
+int campaign_column_index(std::string_view name) {
+  const auto& columns = campaign_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (name == columns[i].name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+namespace {
+
+// The cells every row has: the setting and its provenance.
+ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const SimulationOptions& o,
+                        const SettingRunOptions& options) {
+  ResultRow row(kColumnCount);
+  row[kImage] = c.images[s.image].name;
+  row[kImageSha256] = c.images[s.image].sha256;
+  row[kCode] = c.codes[s.code].name;
+  row[kCodeSha256] = c.codes[s.code].sha256;
+  row[kCodeNormalizedL1] = shortest(normalized_l1(c.codes[s.code].code.gains));
+  row[kMode] = to_string(o.mode);
+  row[kVelocity] = shortest(o.velocity_px_per_slot);
+  row[kRestoreVelocity] = shortest(o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot));
+  row[kSnr] = shortest(o.snr);
+  row[kDt] = shortest(o.dt);
+  row[kNoise] = to_string(o.noise);
+  row[kRmseMargin] = std::to_string(o.rmse_margin_columns);
+  row[kSeed] = std::to_string(o.seed);
+  row[kTrials] = std::to_string(o.trials);
+  row[kFssimVersion] = options.fssim_version;
+  return row;
+}
+
+// The status and message of a setting that cannot run, "" when it can;
+// *blur_length gets B when known.
+std::pair<std::string, std::string> refusal(const ResolvedCampaign& c, const Setting& s,
+                                            const SimulationOptions& o, const Image& image,
+                                            int* blur_length) {
+  std::string message;
+  if (!o.IsValid(&message)) return {kStatusInvalid, message};
+  try {
+    check_code_for_mode(c.codes[s.code].code, o.mode);
+  } catch (const Error& e) {
+    return {kStatusCodeRefused, e.what()};
+  }
+  const double v = std::max(std::abs(o.velocity_px_per_slot),
+                            std::abs(o.restore_velocity_px_per_slot.value_or(0.0)));
+  message = too_narrow_reason(image.width, c.codes[s.code].code.length(), v, o.dt,
+                              o.rmse_margin_columns, blur_length);
+  if (!message.empty()) return {kStatusTooNarrow, message};
+  return {};
+}
+
+}  // namespace
+
+ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& image,
+                      const SettingRunOptions& options) {
+  SimulationOptions o = setting_options(c, s);
+  o.threads = options.threads;
+  o.max_memory_bytes = options.max_memory_bytes;
+  ResultRow row = setting_cells(c, s, o, options);
+  int blur_length = -1;
+  auto [status, message] = refusal(c, s, o, image, &blur_length);
+  if (blur_length > 0) row[kBlurLength] = std::to_string(blur_length);
+  if (status.empty()) {
+    try {
+      const SimulationReport r = Simulate(o, image, c.codes[s.code].code);
+      const Prediction& p = r.prediction;
+      row[kBlurLength] = std::to_string(r.geometry.blur_length);
+      row[kRmseMean] = shortest(r.trials.rmse_mean);
+      row[kRmseSd] = shortest(r.trials.rmse_sd);
+      row[kRmseCiMean] = shortest(r.trials.rmse_ci_mean);
+      row[kRmseCiSd] = shortest(r.trials.rmse_ci_sd);
+      row[kPsnrMean] = shortest(psnr(r.trials.rmse_mean));  // PSNR of the mean RMSE
+      row[kPredictedRmse] = shortest(p.rmse);
+      row[kPredictedNoiseFree] = shortest(p.rmse_noise_free);
+      row[kPredictedSigma] = shortest(p.sigma);
+      row[kSnrLevel100] = shortest(p.snr_level100);
+      row[kInvertible] = r.kernel.invertible ? "true" : "false";
+      status = r.kernel.invertible ? kStatusOk : kStatusNotInvertible;
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::kUsage) throw;
+      status = kStatusFailed;
+      message = e.what();
+    }
+  }
+  row[kStatus] = status;
+  row[kMessage] = escape_control_characters(message);
+  return row;
+}
+
+std::string results_csv(const std::vector<ResultRow>& rows) {
+  std::string out;
+  const auto& columns = campaign_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) out += ',';
+    out += columns[i].name;
+  }
+  out += "\n";
+  for (const ResultRow& row : rows) {
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      if (i) out += ",";
+      out += campaign_text::csv_field(row[i]);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+namespace {
+
+std::string json_cell(const std::string& cell, ColumnKind kind) {
+  if (kind == ColumnKind::kText) return campaign_text::json_quote(cell);
+  if (cell.empty() || cell == "inf" || cell == "-inf" || cell == "nan") return "null";
+  return cell;  // a number in shortest form, or true / false
+}
+
+}  // namespace
+
+std::string results_jsonl(const std::vector<ResultRow>& rows) {
+  std::string out;
+  const auto& columns = campaign_columns();
+  for (const ResultRow& row : rows) {
+    out += "{";
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      if (i) out += ",";
+      out += campaign_text::json_quote(columns[i].name) + ":" + json_cell(row[i], columns[i].kind);
+    }
+    out += "}\n";
+  }
+  return out;
+}
+
+}  // namespace fss

@@ -1,0 +1,361 @@
+#include "fss/campaign/spec.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "campaign/campaign_text.h"
+#include "fss/campaign/sha256.h"
+#include "fss/core/error.h"
+#include "fss/model/noise.h"
+#include "fss/pipeline/option_rules.h"
+
+namespace fss {
+
+namespace {
+
+using Json = nlohmann::json;
+
+// A finite number filling all of `text`, or NaN.
+double parse_number(std::string_view text) {
+  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
+      !std::isfinite(value)) {
+    return std::nan("");
+  }
+  return value;
+}
+
+// 12 significant digits: start + i step without its rounding noise.
+double tidy(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.12g", value);
+  return std::strtod(buffer, nullptr);
+}
+
+[[noreturn]] void refuse_item(const std::string& field, std::string_view item,
+                              const std::string& why) {
+  throw_usage_error(field + " item '" + escape_control_characters(item) + "': " + why);
+}
+
+// Appends the values of one range item "start:stop:step" or "start:stop:xF".
+void append_range(std::string_view item, const std::string& field, ValueList& list) {
+  const auto first = item.find(':');
+  const auto second = item.find(':', first + 1);
+  if (second == std::string_view::npos || item.find(':', second + 1) != std::string_view::npos) {
+    refuse_item(field, item, "a range has three parts, start:stop:step or start:stop:xFACTOR");
+  }
+  const double start = parse_number(item.substr(0, first));
+  const double stop = parse_number(item.substr(first + 1, second - first - 1));
+  std::string_view step_text = item.substr(second + 1);
+  const bool geometric = !step_text.empty() && (step_text[0] == 'x' || step_text[0] == 'X');
+  if (geometric) step_text.remove_prefix(1);
+  const double step = parse_number(step_text);
+  if (std::isnan(start) || std::isnan(stop) || std::isnan(step)) {
+    refuse_item(field, item, "start, stop and step must be finite numbers");
+  }
+  if (stop < start) refuse_item(field, item, "stop must not be below start");
+  double count = 0.0;
+  if (geometric) {
+    if (!(start > 0.0) || !(step > 1.0)) {
+      refuse_item(field, item, "a geometric range needs start > 0 and a factor > 1");
+    }
+    count = std::floor(std::log(stop / start) / std::log(step) + 0.5) + 1.0;
+  } else {
+    if (!(step > 0.0)) refuse_item(field, item, "step must be > 0");
+    count = std::floor((stop - start) / step + 0.5) + 1.0;
+  }
+  if (!(count + static_cast<double>(list.values.size()) <= kMaxCampaignValues)) {
+    refuse_item(field, item, "more than " + std::to_string(kMaxCampaignValues) + " values");
+  }
+  list.geometric = list.geometric || geometric;
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    list.values.push_back(tidy(geometric ? start * std::pow(step, i) : start + i * step));
+  }
+}
+
+}  // namespace
+
+ValueList parse_value_list(std::string_view text, const std::string& field) {
+  ValueList list;
+  if (text.empty()) throw_usage_error(field + ": empty value list");
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    const std::string_view item = text.substr(begin, end - begin);
+    if (item.find(':') != std::string_view::npos) {
+      append_range(item, field, list);
+    } else {
+      const double value = parse_number(item);
+      if (std::isnan(value)) {
+        refuse_item(field, item, "expected a finite number, start:stop:step or start:stop:xF");
+      }
+      if (list.values.size() >= static_cast<std::size_t>(kMaxCampaignValues)) {
+        refuse_item(field, item, "more than " + std::to_string(kMaxCampaignValues) + " values");
+      }
+      list.values.push_back(value);
+    }
+    begin = end + 1;
+  }
+  return list;
+}
+
+bool CampaignSpec::IsValid(std::string* error) const {
+  const auto fail = [&](const std::string& message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (inputs.empty()) return fail("inputs: the campaign needs at least one image");
+  if (codes.empty()) return fail("codes: the campaign needs at least one code");
+  if (modes.empty()) return fail("modes: the campaign needs at least one mode");
+  try {
+    parse_value_list(velocity, "velocity");
+    if (!restore_velocity.empty()) parse_value_list(restore_velocity, "restore_velocity");
+    parse_value_list(snr, "snr");
+    parse_value_list(dt, "dt");
+  } catch (const Error& e) {
+    return fail(e.what());
+  }
+  if (const std::string rule = trials_rule(trials); !rule.empty()) {
+    return fail("trials = " + std::to_string(trials) + ": " + rule);
+  }
+  if (const std::string rule = margin_rule(rmse_margin_columns); !rule.empty()) {
+    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) + ": " + rule);
+  }
+  return true;
+}
+
+namespace {
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (!in) throw_runtime_error("cannot read image '" + escape_control_characters(path) + "'");
+  return bytes.str();
+}
+
+// The PNG files one input stands for: itself, a directory's *.png, or a
+// glob's matches, sorted by name.
+std::vector<std::string> expand_input(const std::string& input) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> paths;
+  std::error_code ec;
+  if (fs::is_directory(input, ec)) {
+    for (const auto& entry : fs::directory_iterator(input, ec)) {
+      if (entry.is_regular_file() && entry.path().extension() == ".png") {
+        paths.push_back(entry.path().string());
+      }
+    }
+  } else if (input.find_first_of("*?[") != std::string::npos) {
+    glob_t matches{};
+    if (glob(input.c_str(), 0, nullptr, &matches) == 0) {
+      for (std::size_t i = 0; i < matches.gl_pathc; ++i) paths.emplace_back(matches.gl_pathv[i]);
+    }
+    globfree(&matches);
+  } else if (fs::exists(input, ec)) {
+    paths.push_back(input);
+  } else {
+    throw_usage_error("input '" + escape_control_characters(input) + "' does not exist");
+  }
+  if (paths.empty()) {
+    throw_usage_error("input '" + escape_control_characters(input) + "' matches no PNG file");
+  }
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+std::string code_digest(const std::vector<double>& gains) {
+  std::string text;
+  for (const double g : gains) text += campaign_text::shortest(g) + "\n";
+  return sha256_hex(text);
+}
+
+Json values_json(const ValueList& list) {
+  return Json{{"values", list.values}, {"geometric", list.geometric}};
+}
+
+ValueList values_from_json(const Json& j) {
+  return {j.at("values").get<std::vector<double>>(), j.at("geometric").get<bool>()};
+}
+
+void seal(ResolvedCampaign& c) {
+  Json images = Json::array(), codes = Json::array(), modes = Json::array(),
+       restore = Json::array();
+  for (const CampaignImage& i : c.images)
+    images.push_back({{"name", i.name}, {"sha256", i.sha256}});
+  for (const CampaignCode& k : c.codes) {
+    codes.push_back({{"name", k.name}, {"sha256", k.sha256}, {"gains", k.code.gains}});
+  }
+  for (const ShutterMode m : c.modes) modes.push_back(to_string(m));
+  for (const auto& r : c.restore_velocities) restore.push_back(r ? Json(*r) : Json(nullptr));
+  const Json j = {{"campaign_schema", 1},
+                  {"images", images},
+                  {"codes", codes},
+                  {"modes", modes},
+                  {"velocity", values_json(c.velocities)},
+                  {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
+                  {"snr", values_json(c.snrs)},
+                  {"dt", values_json(c.dts)},
+                  {"trials", c.trials},
+                  {"seed", c.seed},
+                  {"noise", to_string(c.noise)},
+                  {"rmse_margin", c.rmse_margin_columns}};
+  c.canonical_json = j.dump();
+  c.sha256 = sha256_hex(c.canonical_json);
+}
+
+}  // namespace
+
+long long ResolvedCampaign::setting_count() const {
+  long long n = 1;
+  for (const std::size_t size :
+       {images.size(), codes.size(), modes.size(), velocities.values.size(),
+        restore_velocities.size(), snrs.values.size(), dts.values.size()}) {
+    n *= static_cast<long long>(size);
+    if (n > kMaxCampaignSettings) return kMaxCampaignSettings + 1;
+  }
+  return n;
+}
+
+ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
+  std::string error;
+  if (!spec.IsValid(&error)) throw_usage_error(error);
+  ResolvedCampaign c;
+  // An image or code named twice runs once, at its first place.
+  std::set<std::string> seen;
+  for (const std::string& input : spec.inputs) {
+    for (const std::string& path : expand_input(input)) {
+      if (seen.insert(path).second) c.images.push_back({path, path, sha256_hex(read_bytes(path))});
+    }
+  }
+  seen.clear();
+  for (const std::string& name : spec.codes) {
+    if (!seen.insert(name).second) continue;
+    const ShutterCode code = load_code(name);
+    c.codes.push_back({name, code, code_digest(code.gains)});
+  }
+  c.modes = spec.modes;
+  c.velocities = parse_value_list(spec.velocity, "velocity");
+  c.restore_velocities = {std::nullopt};
+  if (!spec.restore_velocity.empty()) {
+    const ValueList r = parse_value_list(spec.restore_velocity, "restore_velocity");
+    c.restore_velocities.assign(r.values.begin(), r.values.end());
+    c.restore_geometric = r.geometric;
+  }
+  c.snrs = parse_value_list(spec.snr, "snr");
+  c.dts = parse_value_list(spec.dt, "dt");
+  c.trials = spec.trials;
+  c.seed = spec.seed;
+  c.noise = spec.noise;
+  c.rmse_margin_columns = spec.rmse_margin_columns;
+  if (c.setting_count() > kMaxCampaignSettings) {
+    throw_usage_error("the campaign has more than " + std::to_string(kMaxCampaignSettings) +
+                      " settings");
+  }
+  seal(c);
+  return c;
+}
+
+ResolvedCampaign campaign_from_canonical_json(const std::string& json) {
+  try {
+    const Json j = Json::parse(json);
+    ResolvedCampaign c;
+    for (const Json& i : j.at("images")) {
+      const std::string name = i.at("name").get<std::string>();
+      c.images.push_back({name, name, i.at("sha256").get<std::string>()});
+    }
+    for (const Json& k : j.at("codes")) {
+      const std::string name = k.at("name").get<std::string>();
+      c.codes.push_back(
+          {name, ShutterCode{name, k.at("gains").get<std::vector<double>>()}, k.at("sha256")});
+    }
+    for (const Json& m : j.at("modes"))
+      c.modes.push_back(*shutter_mode_from_string(m.get<std::string>()));
+    c.velocities = values_from_json(j.at("velocity"));
+    for (const Json& r : j.at("restore_velocity").at("values")) {
+      c.restore_velocities.push_back(r.is_null() ? std::nullopt
+                                                 : std::optional<double>(r.get<double>()));
+    }
+    c.restore_geometric = j.at("restore_velocity").at("geometric").get<bool>();
+    c.snrs = values_from_json(j.at("snr"));
+    c.dts = values_from_json(j.at("dt"));
+    c.trials = j.at("trials").get<int>();
+    c.seed = j.at("seed").get<std::uint64_t>();
+    c.noise = *noise_model_from_string(j.at("noise").get<std::string>());
+    c.rmse_margin_columns = j.at("rmse_margin").get<int>();
+    seal(c);
+    return c;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw_runtime_error(std::string("malformed campaign specification: ") + e.what());
+  }
+}
+
+Setting setting_at(const ResolvedCampaign& c, long long index) {
+  Setting s;
+  s.index = index;
+  long long rest = index;
+  const auto take = [&rest](std::size_t size) {
+    const auto n = static_cast<long long>(size);
+    const int value = static_cast<int>(rest % n);
+    rest /= n;
+    return value;
+  };
+  // The last list varies fastest.
+  s.dt = take(c.dts.values.size());
+  s.snr = take(c.snrs.values.size());
+  s.restore_velocity = take(c.restore_velocities.size());
+  s.velocity = take(c.velocities.values.size());
+  s.mode = take(c.modes.size());
+  s.code = take(c.codes.size());
+  s.image = take(c.images.size());
+  return s;
+}
+
+std::string setting_description(const ResolvedCampaign& c, const Setting& s) {
+  const auto& r = c.restore_velocities[s.restore_velocity];
+  const Json j = {{"image_sha256", c.images[s.image].sha256},
+                  {"code_sha256", c.codes[s.code].sha256},
+                  {"mode", to_string(c.modes[s.mode])},
+                  {"velocity", c.velocities.values[s.velocity]},
+                  {"restore_velocity", r ? Json(*r) : Json(nullptr)},
+                  {"snr", c.snrs.values[s.snr]},
+                  {"dt", c.dts.values[s.dt]}};
+  return j.dump();
+}
+
+std::uint64_t setting_seed(const ResolvedCampaign& c, const Setting& s) {
+  const std::string digest = sha256_hex(setting_description(c, s));
+  std::uint64_t h = 0;
+  std::from_chars(digest.data(), digest.data() + 16, h, 16);
+  std::uint64_t state = c.seed + h;
+  return splitmix64(state);
+}
+
+SimulationOptions setting_options(const ResolvedCampaign& c, const Setting& s) {
+  SimulationOptions o;
+  o.mode = c.modes[s.mode];
+  o.velocity_px_per_slot = c.velocities.values[s.velocity];
+  o.restore_velocity_px_per_slot = c.restore_velocities[s.restore_velocity];
+  o.snr = c.snrs.values[s.snr];
+  o.dt = c.dts.values[s.dt];
+  o.seed = setting_seed(c, s);
+  o.noise = c.noise;
+  o.rmse_margin_columns = c.rmse_margin_columns;
+  o.trials = c.trials;
+  return o;
+}
+
+}  // namespace fss

@@ -1,0 +1,322 @@
+#include "campaign_command.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_common.h"
+#include "fss/campaign/check.h"
+#include "fss/campaign/figures.h"
+#include "fss/campaign/run.h"
+#include "fss/core/error.h"
+
+namespace fssim {
+
+namespace {
+
+using Json = nlohmann::json;
+
+std::string read_text(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fss::throw_runtime_error("cannot read " + what + " '" + path + "'");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// A JSON value of the campaign file as a list of strings.
+std::vector<std::string> string_list(const Json& value, const std::string& key) {
+  std::vector<std::string> out;
+  for (const Json& item : value.is_array() ? value : Json::array({value})) {
+    if (!item.is_string()) fss::throw_usage_error("campaign file: '" + key + "' takes strings");
+    out.push_back(item.get<std::string>());
+  }
+  return out;
+}
+
+// A value list of the campaign file: "1:2:0.5", 3, or [1, "2:4:1"].
+std::string value_list(const Json& value, const std::string& key) {
+  std::string out;
+  for (const Json& item : value.is_array() ? value : Json::array({value})) {
+    if (!out.empty()) out += ",";
+    if (item.is_number()) {
+      out += format_number(item.get<double>(), 17);
+    } else if (item.is_string()) {
+      out += item.get<std::string>();
+    } else {
+      fss::throw_usage_error("campaign file: '" + key + "' takes numbers or range strings");
+    }
+  }
+  return out;
+}
+
+std::vector<fss::ShutterMode> parse_modes(const std::vector<std::string>& names) {
+  std::vector<fss::ShutterMode> modes;
+  for (const std::string& name : names) {
+    const auto mode = fss::shutter_mode_from_string(name);
+    if (!mode) fss::throw_usage_error("--mode '" + name + "': expected numerical or analog");
+    modes.push_back(*mode);
+  }
+  return modes;
+}
+
+fss::NoiseModel parse_noise(const std::string& name) {
+  const auto noise = fss::noise_model_from_string(name);
+  if (!noise) fss::throw_usage_error("--noise '" + name + "': not a noise model of fssim");
+  return *noise;
+}
+
+// A list field of a campaign file into `spec`; false if `key` is not one.
+bool apply_list(const std::string& key, const Json& value, fss::CampaignSpec& spec) {
+  if (key == "input") {
+    spec.inputs = string_list(value, key);
+  } else if (key == "code") {
+    spec.codes = string_list(value, key);
+  } else if (key == "mode") {
+    spec.modes = parse_modes(string_list(value, key));
+  } else if (key == "velocity") {
+    spec.velocity = value_list(value, key);
+  } else if (key == "restore_velocity") {
+    spec.restore_velocity = value_list(value, key);
+  } else if (key == "snr") {
+    spec.snr = value_list(value, key);
+  } else if (key == "dt") {
+    spec.dt = value_list(value, key);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// A scalar field of a campaign file; false if `key` is not one.
+bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& spec,
+                  std::string& noise) {
+  if (key == "trials" || key == "rmse_margin") {
+    // Out of int's range, a value breaks its rule anyway: -2, the rule's message.
+    const long long n = value.is_number_integer() ? value.get<long long>() : 0;
+    if (!value.is_number_integer() || n < -2 || n > (1LL << 30)) {
+      fss::throw_usage_error("campaign file: '" + key + "' takes an integer in range, got " +
+                             value.dump());
+    }
+    (key == "trials" ? spec.trials : spec.rmse_margin_columns) = static_cast<int>(n);
+  } else if (key == "seed") {
+    if (!value.is_number_unsigned()) {
+      fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
+    }
+    spec.seed = value.get<std::uint64_t>();
+  } else if (key == "noise") {
+    if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
+    noise = value.get<std::string>();
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The fields of a campaign file into `spec` (the command line overrides them).
+void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
+  for (const auto& [key, value] : j.items()) {
+    if (!apply_list(key, value, spec) && !apply_scalar(key, value, spec, noise)) {
+      fss::throw_usage_error("campaign file: unknown key '" + key +
+                             "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, "
+                             "seed, noise, rmse_margin)");
+    }
+  }
+}
+
+// "campaign: 12/40 settings, 3.1/s, ETA 9 s" over itself on a terminal.
+void print_progress(const fss::CampaignProgress& p) {
+  const long long ran = p.done - p.resumed;
+  const double rate = p.elapsed_s > 0.0 ? ran / p.elapsed_s : 0.0;
+  std::string eta = "--";
+  if (rate > 0.0) eta = format_number(std::ceil((p.total - p.done) / rate), 6) + " s";
+  std::fprintf(stderr, "\rcampaign: %lld/%lld settings, %.3g/s, ETA %s   ", p.done, p.total, rate,
+               eta.c_str());
+  if (p.done == p.total) std::fputc('\n', stderr);
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+CampaignCommand::CampaignCommand(CLI::App& app) {
+  campaign_ = app.add_subcommand(
+      "campaign",
+      "run images x codes x settings into a directory of tidy results (results.csv, "
+      "results.jsonl), resumably and in shards; see docs/campaign.md");
+  campaign_->require_subcommand(0, 1);
+  AddSpecOptions();
+  merge_ = campaign_->add_subcommand(
+      "merge", "merge the directories of the shards 1/N .. N/N of one campaign into DIR");
+  merge_->add_option("-o,--output", merge_output_, "directory of the merged results")
+      ->required()
+      ->check(not_empty());
+  merge_->add_option("parts", parts_, "the shards' directories")->required();
+  merge_->add_flag("--figures", merge_figures_, "also draw the figures into DIR/figures");
+  check_ = campaign_->add_subcommand(
+      "check", "compare RESULTS.csv with EXPECTED.csv; exit 1 on a deviation or a missing row");
+  check_->add_option("results", results_, "results.csv of a campaign")->required();
+  check_->add_option("expected", expected_, "expected values, columns named as results.csv's")
+      ->required();
+  check_
+      ->add_option("--columns", check_columns_, "quantities to compare (default: all EXPECTED has)")
+      ->delimiter(',');
+  check_->add_option("--abs", abs_tolerance_, "absolute tolerance")->check(CLI::NonNegativeNumber);
+  check_->add_option("--rel", rel_tolerance_, "relative tolerance")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  check_->add_option("--k-se", k_se_, "tolerance in standard errors of the means")
+      ->check(CLI::NonNegativeNumber);
+  check_->add_option("--junit", junit_, "also write a JUnit XML report to FILE");
+}
+
+void CampaignCommand::AddSpecOptions() {
+  CLI::App& c = *campaign_;
+  c.add_option("-f,--file", file_, "campaign file (JSON); options given override its fields");
+  c.add_option("-i,--input", inputs_, "input PNG images: files, directories, globs");
+  c.add_option("-c,--code", codes_, "codes: built-in names or code files");
+  c.add_option("-m,--mode", modes_, "modes: numerical, analog (default numerical)");
+  c.add_option("-v,--velocity", velocity_,
+               "velocities: V, a,b,c, start:stop:step or start:stop:xFACTOR")
+      ->capture_default_str();
+  c.add_option("--restore-velocity", restore_velocity_,
+               "velocities assumed by the restoration (default: the true one), as --velocity");
+  c.add_option("--snr", snr_, "snr values, as --velocity")->capture_default_str();
+  c.add_option("--dt", dt_, "time slot lengths, as --velocity")->capture_default_str();
+  c.add_option("--trials", trials_, "noise realizations per setting")
+      ->check(at_least(1))
+      ->capture_default_str();
+  c.add_option("--seed", seed_, "campaign seed; each setting's seed derives from it")
+      ->check(seed_value())
+      ->capture_default_str();
+  c.add_option("--noise", noise_, "noise model, any value of the simulation's --noise")
+      ->capture_default_str();
+  c.add_option("--rmse-margin", rmse_margin_, "RMSE margin in columns (-1: 3B)")
+      ->capture_default_str();
+  c.add_option("--threads", threads_, "threads of each simulation (0: all)")->check(at_least(0));
+  c.add_option("-o,--output", output_, "campaign directory (created; rerun to resume)")
+      ->check(not_empty());
+  c.add_option("--shard", shard_, "run part I of N (I/N) into DIR; merge with 'campaign merge'")
+      ->capture_default_str();
+  c.add_flag("--figures", figures_, "also draw the figures into DIR/figures (PNG and SVG)");
+  c.add_flag("!--no-progress", progress_, "no progress line, even on a terminal");
+}
+
+bool CampaignCommand::parsed() const { return campaign_->parsed(); }
+
+int CampaignCommand::Run() const {
+  return run_reporting_errors([this] {
+    if (merge_->parsed() || check_->parsed()) {
+      if (const std::string option = first_given_option(*campaign_); !option.empty()) {
+        fss::throw_usage_error(option + " is an option of 'campaign', not of 'campaign " +
+                               (merge_->parsed() ? "merge" : "check") + "'");
+      }
+    }
+    if (merge_->parsed()) return Merge();
+    if (check_->parsed()) return Check();
+    return RunCampaign();
+  });
+}
+
+fss::CampaignSpec CampaignCommand::Spec() const {
+  fss::CampaignSpec spec;
+  std::string noise = noise_;
+  if (!file_.empty()) {
+    Json j;
+    try {
+      j = Json::parse(read_text(file_, "campaign file"));
+    } catch (const Json::exception& e) {
+      fss::throw_usage_error("campaign file '" + file_ + "': " + e.what());
+    }
+    if (!j.is_object()) fss::throw_usage_error("campaign file '" + file_ + "': expected an object");
+    apply_file(j, spec, noise);
+  }
+  // Without a file every option counts; with one, only those given.
+  const auto use = [this](const char* name) { return file_.empty() || campaign_->count(name) > 0; };
+  if (use("--input")) spec.inputs = inputs_;
+  if (use("--code")) spec.codes = codes_;
+  if (use("--mode") && !modes_.empty()) spec.modes = parse_modes(modes_);
+  if (use("--velocity")) spec.velocity = velocity_;
+  if (use("--restore-velocity")) spec.restore_velocity = restore_velocity_;
+  if (use("--snr")) spec.snr = snr_;
+  if (use("--dt")) spec.dt = dt_;
+  if (use("--trials")) spec.trials = trials_;
+  if (use("--seed")) spec.seed = seed_;
+  if (use("--noise")) noise = noise_;
+  if (use("--rmse-margin")) spec.rmse_margin_columns = rmse_margin_;
+  spec.noise = parse_noise(noise);
+  return spec;
+}
+
+int CampaignCommand::RunCampaign() const {
+  if (output_.empty()) fss::throw_usage_error("campaign needs -o DIR, its output directory");
+  const fss::ResolvedCampaign campaign = fss::resolve_campaign(Spec());
+  fss::CampaignRunOptions options;
+  options.shard = fss::parse_shard(shard_);
+  options.threads = threads_;
+  options.fssim_version = FSS_VERSION;
+  if (progress_ && isatty(STDERR_FILENO)) options.progress = print_progress;
+  const fss::CampaignRunSummary summary = fss::RunCampaign(campaign, output_, options);
+  std::printf("campaign %s: %lld settings (%lld run now, %lld from the journal) in %s\n",
+              campaign.sha256.substr(0, 12).c_str(), summary.total, summary.ran, summary.resumed,
+              output_.c_str());
+  if (figures_) {
+    if (options.shard.count > 1) {
+      std::cerr << "fssim: warning: --figures of a shard are left out; give --figures to "
+                   "'campaign merge'\n";
+    } else {
+      DrawFigures(campaign, summary.rows, output_);
+    }
+  }
+  return kExitSuccess;
+}
+
+int CampaignCommand::Merge() const {
+  fss::ResolvedCampaign campaign;
+  const auto rows = fss::MergeCampaignParts(parts_, merge_output_, &campaign);
+  std::printf("merged %zu parts: %zu settings of campaign %s into %s\n", parts_.size(), rows.size(),
+              campaign.sha256.substr(0, 12).c_str(), merge_output_.c_str());
+  if (merge_figures_) DrawFigures(campaign, rows, merge_output_);
+  return kExitSuccess;
+}
+
+void CampaignCommand::DrawFigures(const fss::ResolvedCampaign& campaign,
+                                  const std::vector<std::vector<std::string>>& rows,
+                                  const std::string& dir) const {
+  const std::vector<fss::CampaignFigure> figures = fss::campaign_figures(campaign, rows);
+  const std::filesystem::path figure_dir = std::filesystem::path(dir) / "figures";
+  std::filesystem::create_directories(figure_dir);
+  for (const fss::CampaignFigure& f : figures) {
+    fss::write_file_durably((figure_dir / (f.name + ".png")).string(),
+                            std::string(f.png.begin(), f.png.end()));
+    fss::write_file_durably((figure_dir / (f.name + ".svg")).string(), f.svg);
+  }
+  std::printf("%zu figures in %s\n", figures.size(), figure_dir.c_str());
+}
+
+int CampaignCommand::Check() const {
+  fss::CheckOptions options;
+  options.columns = check_columns_;
+  options.abs_tolerance = abs_tolerance_;
+  options.rel_tolerance = rel_tolerance_;
+  options.k_standard_errors = k_se_;
+  const fss::CheckReport report =
+      fss::CheckCampaignResults(read_text(results_, "results"), results_,
+                                read_text(expected_, "expectations"), expected_, options);
+  for (const fss::CheckCase& c : report.cases) {
+    if (!c.passed) std::printf("%s\n", c.message.c_str());
+  }
+  if (!junit_.empty()) {
+    write_file_atomically(junit_, fss::check_junit_xml(report, "fssim campaign check"));
+  }
+  std::printf("campaign check: %zu comparisons, %d deviations\n", report.cases.size(),
+              report.failures());
+  return report.failures() > 0 ? kExitRuntime : kExitSuccess;
+}
+
+}  // namespace fssim

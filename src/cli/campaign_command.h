@@ -1,0 +1,58 @@
+// `fssim campaign`: images x codes x settings into a directory of tidy
+// results (fss/campaign/run.h), `campaign merge` of shards and `campaign
+// check` of results against expectations.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "fss/campaign/spec.h"
+
+namespace fssim {
+
+class CampaignCommand {
+ public:
+  explicit CampaignCommand(CLI::App& app);
+  bool parsed() const;
+  int Run() const;
+
+ private:
+  void AddSpecOptions();
+  fss::CampaignSpec Spec() const;
+  int RunCampaign() const;
+  int Merge() const;
+  int Check() const;
+  void DrawFigures(const fss::ResolvedCampaign& campaign,
+                   const std::vector<std::vector<std::string>>& rows, const std::string& dir) const;
+
+  CLI::App* campaign_ = nullptr;
+  CLI::App* merge_ = nullptr;
+  CLI::App* check_ = nullptr;
+
+  // campaign
+  std::string file_;
+  std::vector<std::string> inputs_, codes_, modes_;
+  std::string velocity_ = "1", restore_velocity_, snr_ = "100", dt_ = "1";
+  int trials_ = 1;
+  std::uint64_t seed_ = 0;
+  std::string noise_ = "poisson";
+  int rmse_margin_ = -1;
+  int threads_ = 0;
+  std::string output_;
+  std::string shard_ = "1/1";
+  bool figures_ = false;
+  bool progress_ = true;
+
+  // merge
+  std::string merge_output_;
+  std::vector<std::string> parts_;
+  bool merge_figures_ = false;
+
+  // check
+  std::string results_, expected_, junit_;
+  std::vector<std::string> check_columns_;
+  double abs_tolerance_ = 0.0, rel_tolerance_ = 1e-9, k_se_ = 0.0;
+};
+
+}  // namespace fssim

@@ -1,0 +1,385 @@
+// The campaign library: specification, hash, product order, seeds, rows,
+// journal and resume, shards and merge, regression checks, figures.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "fss/campaign/check.h"
+#include "fss/campaign/figures.h"
+#include "fss/campaign/results.h"
+#include "fss/campaign/run.h"
+#include "fss/campaign/sha256.h"
+#include "fss/campaign/spec.h"
+#include "fss/io/png_io.h"
+#include "support/test_util.h"
+
+namespace fss {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A 120 x 24 crop of data/camera.png, written into `dir`.
+std::string write_crop(const fs::path& dir, const std::string& name = "crop.png", int x0 = 200) {
+  const Image camera = read_png(test::source_path("data/camera.png"));
+  Image crop(120, 24, 1);
+  for (int y = 0; y < crop.height; ++y) {
+    for (int x = 0; x < crop.width; ++x) crop.at(0, y, x) = camera.at(0, 240 + y, x0 + x);
+  }
+  const auto png = encode_png8(crop);
+  const fs::path path = dir / name;
+  test::write_file(path, std::string(png.begin(), png.end()));
+  return path.string();
+}
+
+// A short code (L = 8), so that the crop fits its blur.
+std::string write_short_code(const fs::path& dir) {
+  const fs::path path = dir / "short.txt";
+  test::write_file(path, "1 0 1 1 0 0 1 1\n");
+  return path.string();
+}
+
+CampaignSpec small_spec(const test::TempDir& tmp) {
+  CampaignSpec spec;
+  spec.inputs = {write_crop(tmp.path())};
+  spec.codes = {write_short_code(tmp.path()), "raskar"};
+  spec.velocity = "0.5,1";
+  spec.snr = "50:200:x2";
+  spec.trials = 2;
+  spec.seed = 7;
+  return spec;
+}
+
+TEST(Sha256, KnownDigests) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  // Two blocks, and a message whose padding needs a block of its own.
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(ValueList, ListsAndRanges) {
+  EXPECT_EQ(parse_value_list("3", "v").values, std::vector<double>({3}));
+  EXPECT_EQ(parse_value_list("1,2.5,-1", "v").values, std::vector<double>({1, 2.5, -1}));
+  const ValueList arithmetic = parse_value_list("0.1:0.5:0.1", "v");
+  EXPECT_EQ(arithmetic.values, std::vector<double>({0.1, 0.2, 0.3, 0.4, 0.5}));
+  EXPECT_FALSE(arithmetic.geometric);
+  const ValueList geometric = parse_value_list("25:400:x2", "snr");
+  EXPECT_EQ(geometric.values, std::vector<double>({25, 50, 100, 200, 400}));
+  EXPECT_TRUE(geometric.geometric);
+  EXPECT_EQ(parse_value_list("1,10:30:10", "v").values, std::vector<double>({1, 10, 20, 30}));
+}
+
+TEST(ValueList, RefusesMalformedItems) {
+  for (const char* bad : {"", "a", "1,,2", "1:2", "2:1:1", "1:2:0", "0:8:x2", "1:8:x1", "1:8:xq",
+                          "1:2:3:4", "nan", "1:1e9:1"}) {
+    EXPECT_TRUE(
+        test::throws_error([&] { parse_value_list(bad, "--snr"); }, ErrorKind::kUsage, {"--snr"}))
+        << bad;
+  }
+}
+
+TEST(Campaign, HashIsCanonical) {
+  test::TempDir tmp;
+  CampaignSpec a = small_spec(tmp);
+  CampaignSpec b = a;
+  b.snr = "50,100,200";  // the same values, spelled out
+  b.snr = "50:200:x2";
+  b.velocity = "0.5:1:0.5";
+  const ResolvedCampaign ra = resolve_campaign(a), rb = resolve_campaign(b);
+  EXPECT_EQ(ra.sha256, rb.sha256);
+  b.trials = 3;
+  EXPECT_NE(resolve_campaign(b).sha256, ra.sha256);
+  // Rebuilt from its canonical form, without the files, it is the same.
+  EXPECT_EQ(campaign_from_canonical_json(ra.canonical_json).sha256, ra.sha256);
+}
+
+TEST(Campaign, InputsAreFilesDirectoriesAndGlobs) {
+  test::TempDir tmp;
+  fs::create_directories(tmp / "images");
+  write_crop(tmp / "images", "b.png", 100);
+  write_crop(tmp / "images", "a.png", 150);
+  test::write_file(tmp / "images" / "notes.txt", "not an image");
+  CampaignSpec spec = small_spec(tmp);
+  spec.inputs = {(tmp / "images").string(), (tmp / "images" / "*.png").string(),
+                 (tmp / "images" / "a.png").string()};
+  const ResolvedCampaign c = resolve_campaign(spec);
+  std::vector<std::string> names;
+  for (const CampaignImage& image : c.images) names.push_back(fs::path(image.name).filename());
+  EXPECT_EQ(names, std::vector<std::string>({"a.png", "b.png"}));  // each once, sorted
+  EXPECT_NE(c.images[0].sha256, c.images[1].sha256);
+  spec.inputs = {(tmp / "images" / "*.jpg").string()};
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"matches no PNG file"}));
+  spec.inputs = {(tmp / "missing.png").string()};
+  EXPECT_TRUE(
+      test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage, {"does not exist"}));
+}
+
+TEST(Campaign, ProductOrderIsStable) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  ASSERT_EQ(c.setting_count(), 1 * 2 * 1 * 2 * 1 * 3 * 1);
+  const Setting s0 = setting_at(c, 0), s1 = setting_at(c, 1), s3 = setting_at(c, 3);
+  EXPECT_EQ(s0.snr, 0);
+  EXPECT_EQ(s1.snr, 1);  // snr varies faster than velocity
+  EXPECT_EQ(s3.velocity, 1);
+  EXPECT_EQ(setting_at(c, 6).code, 1);  // codes vary slower
+}
+
+TEST(Campaign, SeedsDependOnTheSettingNotItsPosition) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  const ResolvedCampaign c = resolve_campaign(spec);
+  std::swap(spec.codes[0], spec.codes[1]);
+  spec.velocity = "1,0.5";
+  const ResolvedCampaign swapped = resolve_campaign(spec);
+  std::set<std::uint64_t> seeds;
+  for (long long i = 0; i < c.setting_count(); ++i) {
+    const Setting s = setting_at(c, i);
+    Setting t = s;
+    t.code = 1 - s.code;
+    t.velocity = 1 - s.velocity;
+    EXPECT_EQ(setting_seed(c, s), setting_seed(swapped, t));
+    seeds.insert(setting_seed(c, s));
+  }
+  EXPECT_EQ(seeds.size(), static_cast<std::size_t>(c.setting_count()));
+  spec.seed = 8;
+  EXPECT_NE(setting_seed(resolve_campaign(spec), setting_at(swapped, 0)),
+            setting_seed(swapped, setting_at(swapped, 0)));
+}
+
+std::string cell(const ResultRow& row, const char* column) {
+  return row[campaign_column_index(column)];
+}
+
+TEST(Campaign, SettingsThatCannotRunAreRowsWithAStatus) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.codes = {write_short_code(tmp.path()), "random", "raskar"};
+  spec.modes = {ShutterMode::kAnalog};
+  spec.snr = "-1,100";
+  const ResolvedCampaign c = resolve_campaign(spec);
+  const Image image = read_png(spec.inputs[0]);
+  std::map<std::string, int> statuses;
+  for (long long i = 0; i < c.setting_count(); ++i) {
+    const ResultRow row = run_setting(c, setting_at(c, i), image, {});
+    ASSERT_EQ(row.size(), campaign_columns().size());
+    statuses[cell(row, "status")]++;
+    if (cell(row, "status") != kStatusOk) EXPECT_FALSE(cell(row, "message").empty());
+  }
+  // snr -1: invalid; random in analog: code-refused; raskar (L = 52) on 120 columns: too narrow.
+  EXPECT_EQ(statuses[kStatusInvalid], 6);
+  EXPECT_EQ(statuses[kStatusCodeRefused], 2);
+  EXPECT_EQ(statuses[kStatusTooNarrow], 2);
+  EXPECT_EQ(statuses[kStatusOk], 2);
+}
+
+TEST(Campaign, RowsCarryProvenanceAndMatchSimulate) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const Image image = read_png(c.images[0].path);
+  const Setting s = setting_at(c, 1);
+  const ResultRow row = run_setting(c, s, image, {1, 0, "test-version"});
+  SimulationOptions o = setting_options(c, s);
+  const SimulationReport r = Simulate(o, image, c.codes[0].code);
+  EXPECT_EQ(std::stod(cell(row, "rmse_mean")), r.trials.rmse_mean);
+  EXPECT_EQ(std::stod(cell(row, "rmse_ci_sd")), r.trials.rmse_ci_sd);
+  EXPECT_EQ(cell(row, "seed"), std::to_string(o.seed));
+  EXPECT_EQ(cell(row, "image_sha256"), sha256_hex(test::read_file(c.images[0].path)));
+  EXPECT_EQ(cell(row, "fssim_version"), "test-version");
+  EXPECT_EQ(cell(row, "trials"), "2");
+}
+
+std::string results_of(const fs::path& dir) {
+  return test::read_file(dir / kCampaignResultsCsv) + test::read_file(dir / kCampaignResultsJsonl) +
+         test::read_file(dir / kCampaignManifest);
+}
+
+TEST(Campaign, ResumeRunsOnlyWhatIsMissingAndGivesTheSameBytes) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const CampaignRunSummary full = RunCampaign(c, (tmp / "full").string(), {});
+  EXPECT_EQ(full.ran, c.setting_count());
+  // A journal cut after three settings and in the middle of the fourth line,
+  // as a kill -9 leaves it.
+  const std::vector<std::string> lines =
+      test::lines_of(test::read_file(tmp / "full" / kCampaignJournal));
+  fs::create_directories(tmp / "cut");
+  std::string cut = lines[0] + "\n" + lines[1] + "\n" + lines[2] + "\n" + lines[3] + "\n";
+  cut += lines[4].substr(0, lines[4].size() / 2);
+  test::write_file(tmp / "cut" / kCampaignJournal, cut);
+  const CampaignRunSummary resumed = RunCampaign(c, (tmp / "cut").string(), {});
+  EXPECT_EQ(resumed.resumed, 3);
+  EXPECT_EQ(resumed.ran, c.setting_count() - 3);
+  EXPECT_EQ(results_of(tmp / "cut"), results_of(tmp / "full"));
+  EXPECT_EQ(test::read_file(tmp / "cut" / kCampaignJournal),
+            test::read_file(tmp / "full" / kCampaignJournal));
+  // Run again: nothing left to run.
+  EXPECT_EQ(RunCampaign(c, (tmp / "cut").string(), {}).ran, 0);
+}
+
+TEST(Campaign, AChangedSpecificationIsRefused) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  RunCampaign(resolve_campaign(spec), (tmp / "out").string(), {});
+  spec.trials = 3;
+  EXPECT_TRUE(
+      test::throws_error([&] { RunCampaign(resolve_campaign(spec), (tmp / "out").string(), {}); },
+                         ErrorKind::kUsage, {"another campaign", "use a new output directory"}));
+  CampaignRunOptions shard;
+  shard.shard = {1, 2};
+  spec.trials = 2;
+  EXPECT_TRUE(test::throws_error(
+      [&] { RunCampaign(resolve_campaign(spec), (tmp / "out").string(), shard); },
+      ErrorKind::kUsage, {"shard 1/1", "not shard 1/2"}));
+}
+
+TEST(Campaign, TwoRunsIntoOneDirectoryAreRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  fs::create_directories(tmp / "out");
+  const int fd = ::open((tmp / "out" / ".campaign.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);  // as another process's run holds it
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, (tmp / "out").string(), {}); },
+                                 ErrorKind::kUsage, {"in use by another fssim campaign"}));
+  ::close(fd);
+  EXPECT_EQ(RunCampaign(c, (tmp / "out").string(), {}).ran, c.setting_count());
+}
+
+TEST(Campaign, ShardsMergeToTheBytesOfOneRun) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  RunCampaign(c, (tmp / "single").string(), {});
+  std::vector<std::string> parts;
+  for (int i = 3; i >= 1; --i) {  // any order
+    CampaignRunOptions options;
+    options.shard = {i, 3};
+    const std::string dir = (tmp / ("part" + std::to_string(i))).string();
+    EXPECT_EQ(RunCampaign(c, dir, options).total, 4);
+    parts.push_back(dir);
+  }
+  const std::vector<ResultRow> rows = MergeCampaignParts(parts, (tmp / "merged").string());
+  EXPECT_EQ(static_cast<long long>(rows.size()), c.setting_count());
+  EXPECT_EQ(results_of(tmp / "merged"), results_of(tmp / "single"));
+  EXPECT_EQ(test::read_file(tmp / "merged" / kCampaignJournal),
+            test::read_file(tmp / "single" / kCampaignJournal));
+  // The merged directory is a finished run of the campaign.
+  EXPECT_EQ(RunCampaign(c, (tmp / "merged").string(), {}).ran, 0);
+}
+
+TEST(Campaign, MergeRefusesForeignMissingDuplicateAndIncompleteParts) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  const ResolvedCampaign c = resolve_campaign(spec);
+  const auto part = [&](const ResolvedCampaign& campaign, int i, int n, const std::string& name) {
+    CampaignRunOptions options;
+    options.shard = {i, n};
+    RunCampaign(campaign, (tmp / name).string(), options);
+    return (tmp / name).string();
+  };
+  const std::string p1 = part(c, 1, 2, "p1"), p2 = part(c, 2, 2, "p2");
+  spec.seed = 99;
+  const std::string foreign = part(resolve_campaign(spec), 2, 2, "foreign");
+  const std::string out = (tmp / "merged").string();
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, foreign}, out);
+      },
+      ErrorKind::kUsage, {"belongs to campaign", "cannot be merged"}));
+  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts({p1}, out); }, ErrorKind::kUsage,
+                                 {"shard 2/2 is missing"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, p1, p2}, out);
+      },
+      ErrorKind::kUsage, {"given more than once"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, (tmp / "nothing").string()}, out);
+      },
+      ErrorKind::kUsage, {"not a campaign directory"}));
+  // Part 2 with its last setting cut from the journal.
+  const std::string journal = test::read_file(fs::path(p2) / kCampaignJournal);
+  std::vector<std::string> lines = test::lines_of(journal);
+  lines.pop_back();
+  std::string shorter;
+  for (const std::string& line : lines) shorter += line + "\n";
+  test::write_file(fs::path(p2) / kCampaignJournal, shorter);
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({p1, p2}, out);
+      },
+      ErrorKind::kUsage, {"is incomplete", "5 of 6"}));
+  EXPECT_FALSE(fs::exists(fs::path(out) / kCampaignResultsCsv));
+}
+
+const char kResults[] =
+    "image,code,mode,velocity,snr,dt,trials,rmse_mean,rmse_sd,status\n"
+    "data/camera.png,raskar,numerical,1,100,1,20,2.36,0.016,ok\n"
+    "data/camera.png,mip,numerical,1,100,1,20,2.2,0.012,ok\n";
+
+TEST(Check, PassesWithinTolerancesAndReportsDeviations) {
+  CheckOptions options;
+  options.k_standard_errors = 3;
+  // raskar: 2.36 vs 2.352, SE sqrt(0.016^2/20 + 0.013^2/12) = 0.0048: 1.7 SE.
+  // mip: 2.2 vs 2.116, 17 SE.
+  const std::string expected =
+      "image,code,mode,velocity,snr,dt,trials,rmse_mean,rmse_sd\n"
+      "camera.png,raskar,numerical,1,100,1,12,2.352,0.013\n"
+      "camera.png,mip,numerical,1.0,100,1,12,2.116,0.014\n"
+      "camera.png,sinc,numerical,1,100,1,12,1.354,0.007\n";
+  const CheckReport report = CheckCampaignResults(kResults, "r.csv", expected, "e.csv", options);
+  ASSERT_EQ(report.cases.size(), 3u);
+  EXPECT_TRUE(report.cases[0].passed) << report.cases[0].message;
+  EXPECT_FALSE(report.cases[1].passed);
+  EXPECT_NE(report.cases[1].message.find("code=mip"), std::string::npos);
+  EXPECT_NE(report.cases[1].message.find("rmse_mean 2.2, expected 2.116"), std::string::npos);
+  EXPECT_FALSE(report.cases[2].passed);
+  EXPECT_NE(report.cases[2].message.find("no such row"), std::string::npos);
+  EXPECT_EQ(report.failures(), 2);
+  const std::string xml = check_junit_xml(report, "suite");
+  EXPECT_NE(xml.find("tests=\"3\" failures=\"2\""), std::string::npos);
+  // With a loose absolute tolerance mip passes too.
+  options.abs_tolerance = 0.1;
+  EXPECT_EQ(CheckCampaignResults(kResults, "r", expected, "e", options).failures(), 1);
+  // Without tolerances only equal values pass.
+  EXPECT_EQ(CheckCampaignResults(kResults, "r", kResults, "e", {}).failures(), 0);
+}
+
+TEST(Check, RefusesMalformedInput) {
+  EXPECT_TRUE(test::throws_error(
+      [&] { CheckCampaignResults(kResults, "r.csv", "code,psnr_mean\nraskar,1\n", "e.csv", {}); },
+      ErrorKind::kUsage, {"psnr_mean", "r.csv"}));
+  EXPECT_TRUE(test::throws_error([&] { parse_csv("a,b\n1\n", "x.csv"); }, ErrorKind::kUsage,
+                                 {"x.csv", "line 2"}));
+  EXPECT_TRUE(test::throws_error([&] { parse_csv("a\n\"1\n", "x.csv"); }, ErrorKind::kUsage,
+                                 {"not closed"}));
+}
+
+TEST(Figures, OneFigurePerSweptQuantityAndFixedSetting) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const CampaignRunSummary run = RunCampaign(c, (tmp / "out").string(), {});
+  const std::vector<CampaignFigure> figures = campaign_figures(c, run.rows);
+  // velocity (2 values): one per snr (3); snr (3 values, log axis): one per velocity (2).
+  ASSERT_EQ(figures.size(), 5u);
+  EXPECT_EQ(figures[0].name, "rmse_vs_velocity_1");
+  EXPECT_EQ(figures[3].name, "rmse_vs_snr_1");
+  for (const CampaignFigure& f : figures) {
+    EXPECT_GT(f.png.size(), 1000u);
+    EXPECT_NE(f.svg.find("<svg"), std::string::npos);
+  }
+  EXPECT_NE(figures[3].svg.find("(log scale)"), std::string::npos);
+  EXPECT_NE(figures[3].svg.find("2 trials"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fss

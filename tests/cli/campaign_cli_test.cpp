@@ -1,0 +1,235 @@
+// `fssim campaign`, `campaign merge` and `campaign check` end to end: kill -9
+// and resume, shards merged to the bytes of one run, refusals, the campaign
+// file, and the regression check against the reference program's figures.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "fss/io/png_io.h"
+#include "support/test_util.h"
+
+namespace fss {
+namespace {
+
+namespace fs = std::filesystem;
+using test::quote;
+using test::run_fssim;
+
+// A width x height crop of data/camera.png, written into `dir`.
+std::string write_crop(const fs::path& dir, int width, int height) {
+  const Image camera = read_png(test::source_path("data/camera.png"));
+  Image crop(width, height, 1);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) crop.at(0, y, x) = camera.at(0, 200 + y, 150 + x);
+  }
+  const auto png = encode_png8(crop);
+  const fs::path path = dir / "crop.png";
+  test::write_file(path, std::string(png.begin(), png.end()));
+  return path.string();
+}
+
+std::string write_short_code(const fs::path& dir) {
+  test::write_file(dir / "short.txt", "1 0 1 1 0 0 1 1\n");
+  return (dir / "short.txt").string();
+}
+
+std::string outputs(const fs::path& dir) {
+  return test::read_file(dir / "results.csv") + test::read_file(dir / "results.jsonl") +
+         test::read_file(dir / "campaign.json");
+}
+
+std::size_t journal_lines(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir / "journal.jsonl", ec)) return 0;
+  const std::string text = test::read_file(dir / "journal.jsonl");
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+class CampaignCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    image_ = write_crop(tmp_.path(), 160, 32);
+    code_ = write_short_code(tmp_.path());
+    base_ = "campaign --no-progress -i " + quote(image_) + " -c " + quote(code_) +
+            " snapshot --velocity 0.2:2:0.2 --trials 2 --seed 3 --threads 1";
+    args_ = base_ + " --snr 20:640:x2";
+  }
+  test::TempDir tmp_;
+  std::string image_, code_, base_, args_;
+};
+
+// Starts `fssim ARGS` and kills it with SIGKILL once `dir`'s journal has
+// `lines` lines; false if it finished first.
+bool kill_after(const std::string& args, const fs::path& dir, std::size_t lines) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string command =
+        "exec " + quote(FSSIM_BINARY_PATH) + " " + args + " >/dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (journal_lines(dir) >= lines) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return false;
+}
+
+TEST_F(CampaignCli, KillNineAndResumeGivesTheBytesOfAnUninterruptedRun) {
+  const fs::path whole = tmp_ / "whole", killed = tmp_ / "killed";
+  const auto full = run_fssim(args_ + " -o " + quote(whole));
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const std::size_t total = journal_lines(whole) - 1;
+  ASSERT_EQ(total, 2u * 10u * 6u);
+  // Killed twice, at different points; each rerun resumes.
+  for (const std::size_t at : {5u, 40u}) {
+    ASSERT_TRUE(kill_after(args_ + " -o " + quote(killed), killed, at))
+        << "finished before the kill";
+    EXPECT_LT(journal_lines(killed), total + 1);
+    EXPECT_FALSE(fs::exists(killed / "results.csv"));
+  }
+  const auto resumed = run_fssim(args_ + " -o " + quote(killed));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("from the journal"), std::string::npos);
+  EXPECT_EQ(resumed.out.find("(0 run now"), std::string::npos) << resumed.out;
+  EXPECT_EQ(outputs(killed), outputs(whole));
+  // Nothing left over: no temporary files.
+  EXPECT_EQ(test::list_directory(killed), test::list_directory(whole));
+}
+
+TEST_F(CampaignCli, AChangedSpecificationIntoTheSameDirectoryIsRefused) {
+  const fs::path out = tmp_ / "out";
+  ASSERT_EQ(run_fssim(args_ + " -o " + quote(out)).exit_code, 0);
+  const std::string before = outputs(out);
+  const auto changed = run_fssim(base_ + " --snr 30 -o " + quote(out));
+  EXPECT_EQ(changed.exit_code, 2);
+  EXPECT_NE(changed.err.find("holds another campaign"), std::string::npos) << changed.err;
+  EXPECT_EQ(outputs(out), before);
+}
+
+TEST_F(CampaignCli, ShardsMergeToTheBytesOfOneRun) {
+  ASSERT_EQ(run_fssim(args_ + " -o " + quote(tmp_ / "single")).exit_code, 0);
+  std::string parts;
+  for (int i = 1; i <= 4; ++i) {
+    const fs::path part = tmp_ / ("part" + std::to_string(i));
+    const auto r = run_fssim(args_ + " --shard " + std::to_string(i) + "/4 -o " + quote(part));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    parts += " " + quote(part);
+  }
+  const auto merged = run_fssim("campaign merge -o " + quote(tmp_ / "merged") + parts);
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_EQ(outputs(tmp_ / "merged"), outputs(tmp_ / "single"));
+  // Three parts of four: refused, nothing written.
+  const auto missing =
+      run_fssim("campaign merge -o " + quote(tmp_ / "m2") + " " + quote(tmp_ / "part1") + " " +
+                quote(tmp_ / "part2") + " " + quote(tmp_ / "part4"));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("shard 3/4 is missing"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(tmp_ / "m2" / "results.csv"));
+}
+
+TEST_F(CampaignCli, CampaignFileAndOptionsGiveTheSameCampaign) {
+  const fs::path file = tmp_ / "campaign.json";
+  test::write_file(file, "{\"input\": \"" + image_ + "\", \"code\": [\"" + code_ +
+                             "\", \"snapshot\"], \"velocity\": \"0.2:2:0.2\", \"snr\": "
+                             "\"20:640:x2\", \"trials\": 5, \"seed\": 3}\n");
+  const auto from_file = run_fssim("campaign --no-progress --threads 1 -f " + quote(file) +
+                                   " --trials 2 -o " + quote(tmp_ / "f"));
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.err;
+  ASSERT_EQ(run_fssim(args_ + " -o " + quote(tmp_ / "o")).exit_code, 0);
+  EXPECT_EQ(outputs(tmp_ / "f"), outputs(tmp_ / "o"));
+  test::write_file(file, "{\"inputs\": []}");
+  const auto bad = run_fssim("campaign -f " + quote(file) + " -o " + quote(tmp_ / "b"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("unknown key 'inputs'"), std::string::npos) << bad.err;
+}
+
+TEST_F(CampaignCli, UsageErrors) {
+  EXPECT_EQ(run_fssim(args_).exit_code, 2);  // no -o
+  const auto shard = run_fssim(args_ + " --shard 5/4 -o " + quote(tmp_ / "x"));
+  EXPECT_EQ(shard.exit_code, 2);
+  EXPECT_NE(shard.err.find("shard '5/4'"), std::string::npos) << shard.err;
+  const auto range = run_fssim(base_ + " --snr 1:10:x0.5 -o " + quote(tmp_ / "x"));
+  EXPECT_EQ(range.exit_code, 2);
+  EXPECT_NE(range.err.find("factor > 1"), std::string::npos) << range.err;
+  const auto misplaced =
+      run_fssim("campaign --trials 3 merge -o " + quote(tmp_ / "m") + " " + quote(tmp_ / "p"));
+  EXPECT_EQ(misplaced.exit_code, 2);
+  EXPECT_NE(misplaced.err.find("--trials is an option of 'campaign'"), std::string::npos)
+      << misplaced.err;
+  const auto noise = run_fssim(args_ + " --noise loud -o " + quote(tmp_ / "x"));
+  EXPECT_EQ(noise.exit_code, 2);
+  EXPECT_NE(noise.err.find("--noise 'loud'"), std::string::npos) << noise.err;
+}
+
+TEST_F(CampaignCli, FiguresArePngAndSvg) {
+  const auto r = run_fssim(args_ + " --figures -o " + quote(tmp_ / "fig"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto files = test::list_directory(tmp_ / "fig" / "figures");
+  EXPECT_NE(std::find(files.begin(), files.end(), "rmse_vs_snr_1.png"), files.end());
+  EXPECT_NE(std::find(files.begin(), files.end(), "rmse_vs_velocity_1.svg"), files.end());
+}
+
+TEST_F(CampaignCli, ProgressOnATerminalOnly) {
+  std::string args = args_;
+  args.erase(args.find(" --no-progress"), 14);
+  const auto quiet = run_fssim(args + " -o " + quote(tmp_ / "quiet"));
+  ASSERT_EQ(quiet.exit_code, 0);
+  EXPECT_EQ(quiet.err, "");  // stderr is not a terminal here
+  // Under a pseudo-terminal (script(1)): settings done, rate and ETA.
+  const auto tty = test::run_command(
+      "script -qec " +
+      quote(std::string(FSSIM_BINARY_PATH) + " " + args + " -o " + (tmp_ / "tty").string()) +
+      " /dev/null");
+  ASSERT_EQ(tty.exit_code, 0) << tty.out << tty.err;
+  EXPECT_NE(tty.out.find("campaign: 120/120 settings"), std::string::npos) << tty.out;
+  EXPECT_NE(tty.out.find("ETA"), std::string::npos);
+}
+
+// The reference program's Table 1 figures on camera.png (mean of 12 runs)
+// and its noise-free Raskar run, checked as CI would.
+TEST(CampaignCheck, AgreesWithTheReferenceProgram) {
+  test::TempDir tmp;
+  const std::string camera = quote(test::source_path("data/camera.png"));
+  const auto run =
+      run_fssim("campaign --no-progress -i " + camera +
+                " -c snapshot raskar random sinc mip --trials 6 -o " + quote(tmp / "table1"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string results = quote(tmp / "table1" / "results.csv");
+  const auto check = run_fssim("campaign check " + results + " " +
+                               quote(test::fixture_path("table1_reference.csv")) +
+                               " --k-se 4 --junit " + quote(tmp / "junit.xml"));
+  EXPECT_EQ(check.exit_code, 0) << check.out;
+  EXPECT_NE(test::read_file(tmp / "junit.xml").find("tests=\"5\" failures=\"0\""),
+            std::string::npos);
+  const auto noise_free = run_fssim("campaign --no-progress -i " + camera +
+                                    " -c raskar --snr 1e6 -o " + quote(tmp / "nf"));
+  ASSERT_EQ(noise_free.exit_code, 0) << noise_free.err;
+  const auto check_nf =
+      run_fssim("campaign check " + quote(tmp / "nf" / "results.csv") + " " +
+                quote(test::fixture_path("reference_noisefree.csv")) + " --abs 1e-3");
+  EXPECT_EQ(check_nf.exit_code, 0) << check_nf.out;
+  // A regression: a tolerance far below the noise fails, one line per deviation.
+  const auto strict = run_fssim("campaign check " + results + " " +
+                                quote(test::fixture_path("table1_reference.csv")) +
+                                " --rel 1e-6 --junit " + quote(tmp / "strict.xml"));
+  EXPECT_EQ(strict.exit_code, 1);
+  EXPECT_EQ(test::lines_of(strict.out).size(), 6u) << strict.out;  // 5 deviations + summary
+  EXPECT_NE(test::read_file(tmp / "strict.xml").find("<failure"), std::string::npos);
+  // A missing row is a regression too.
+  test::write_file(tmp / "extra.csv", "image,code,rmse_mean\ncamera.png,accumulation2,1\n");
+  EXPECT_EQ(run_fssim("campaign check " + results + " " + quote(tmp / "extra.csv")).exit_code, 1);
+}
+
+}  // namespace
+}  // namespace fss

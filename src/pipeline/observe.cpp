@@ -17,7 +17,8 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
       gains_(gains.begin(), gains.end()),
       mode_(mode),
       snr_(params.snr),
-      fft_(RowFFT::for_size(width)) {
+      fft_(RowFFT::for_size(width)),
+      aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical) {
   if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
       if (!(gains_[k] >= 0.0 && gains_[k] <= 1.0)) {
@@ -46,7 +47,8 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
 RowObserver::Scratch::Scratch(const RowObserver& observer)
     : workspace(observer.width_),
       spectrum(static_cast<std::size_t>(observer.width_ / 2 + 1)),
-      sampler(observer.snr_) {}
+      sampler(observer.snr_),
+      aggregated(observer.snr_) {}
 
 void RowObserver::load_row(const double* row, Scratch& scratch) const {
   std::copy(row, row + width_, scratch.workspace.real().begin());
@@ -83,7 +85,9 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
   auto add_slot = [&](std::size_t k, std::span<const double> e) {
     const double alpha = gains_[k];
-    if (noisy) {
+    if (noisy && aggregate_) {
+      scratch.aggregated.add_frame(e, {seed, c, k, y}, alpha, out);  // finished below
+    } else if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
       for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
@@ -93,20 +97,22 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
     for (std::size_t k = 0; k < gains_.size(); ++k) {
       if (gains_[k] != 0.0) add_slot(k, filtered(filters_[k], scratch));
     }
-    return;
+  } else {
+    const std::span<const double> e0 = filtered(filters_[0], scratch);
+    scratch.shifted.resize(static_cast<std::size_t>(width_));
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      if (gains_[k] == 0.0) continue;
+      // e_k(x) = e_0((x - s k) mod W)
+      long long offset = (step_ * static_cast<long long>(k)) % width_;
+      if (offset < 0) offset += width_;
+      const auto o = static_cast<std::ptrdiff_t>(offset);
+      std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
+      std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
+      add_slot(k, scratch.shifted);
+    }
   }
-  const std::span<const double> e0 = filtered(filters_[0], scratch);
-  scratch.shifted.resize(static_cast<std::size_t>(width_));
-  for (std::size_t k = 0; k < gains_.size(); ++k) {
-    if (gains_[k] == 0.0) continue;
-    // e_k(x) = e_0((x - s k) mod W)
-    long long offset = (step_ * static_cast<long long>(k)) % width_;
-    if (offset < 0) offset += width_;
-    const auto o = static_cast<std::ptrdiff_t>(offset);
-    std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
-    std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
-    add_slot(k, scratch.shifted);
-  }
+  // The aggregated normal-branch frames: one normal per pixel.
+  if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
 }
 
 // ---------------------------------------------------------------------------

@@ -21,6 +21,7 @@ ObservationParams observation_params(const SimulationOptions& options) {
   params.velocity = options.velocity_px_per_slot;
   params.dt = options.dt;
   params.snr = options.snr;
+  params.aggregate_noise = options.noise == NoiseModel::kAggregated;
   return params;
 }
 

@@ -196,6 +196,12 @@ class AggregatedRowSampler {
 // processors with AVX2 (see noise_simd.cpp).
 void box_muller_batch(const double* u1, const double* u2, double* z, std::size_t pairs);
 
+// The same Box-Muller pairs computed with +, -, *, /, sqrt and exact bit
+// operations only (ln, cos and sin as series with constant coefficients, see
+// noise.cpp), so every processor gives the same bits; within a few ulp of
+// box_muller_batch. The aggregated sampler's normals, which are not rounded.
+void box_muller_portable(const double* u1, const double* u2, double* z, std::size_t pairs);
+
 // round(x) for x > 0 (halves away from zero), 0 for x <= 0; inline-friendly.
 double round_nonnegative(double x);
 

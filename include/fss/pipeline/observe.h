@@ -18,6 +18,9 @@ struct ObservationParams {
   double velocity = 1.0;  // pixels per time slot, signed
   double dt = 1.0;        // time slot length
   double snr = 100.0;     // SNR of a level-100 landscape seen through one slot
+  // Numerical mode: each pixel's normal-branch frames drawn as one normal
+  // (AggregatedRowSampler, docs/method.md §6c) instead of one by one.
+  bool aggregate_noise = false;
   // Used only by the whole-image reference paths (src/pipeline/reference_paths.h).
   std::uint64_t seed = 0;
   int threads = 0;
@@ -44,6 +47,7 @@ class RowObserver {
     std::vector<std::complex<double>> spectrum;
     std::vector<double> shifted;
     PoissonRowSampler sampler;
+    AggregatedRowSampler aggregated;
   };
 
   int width() const { return width_; }
@@ -55,7 +59,8 @@ class RowObserver {
 
   // out (width values) = the observation of the row last loaded into
   // `scratch`: noisy (PoissonSNR, streams of (seed, channel, slot k or 0,
-  // row)) or, when `noisy` is false, its expectation (docs/method.md §2, §3).
+  // row); aggregated: AggregatedRowSampler's) or, when `noisy` is false, its
+  // expectation (docs/method.md §2, §3, §6c).
   void observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
                std::span<double> out) const;
 
@@ -69,7 +74,8 @@ class RowObserver {
   ShutterMode mode_;
   double snr_;
   const RowFFT& fft_;
-  bool shift_ = false;  // numerical mode with an integer v dt
+  bool aggregate_ = false;  // numerical mode with aggregated noise
+  bool shift_ = false;      // numerical mode with an integer v dt
   long long step_ = 0;  // v dt when shift_
   // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
   std::vector<std::vector<std::complex<double>>> filters_;

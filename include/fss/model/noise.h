@@ -151,10 +151,11 @@ double poisson_snr_variance(double e, double lambda2);
 // per-frame sampler clamps each frame at 0 (probability about 1e-12 a frame),
 // A does not. Different variates: the streams are the kAggregate lanes, so
 // the aggregated and per-frame observations of one seed are independent
-// draws. And as A is not rounded, the last bits of N (libmvec's AVX2 and SSE
-// variants may differ by a few ulp, see box_muller_batch) reach the output:
-// the same seed gives the same bytes on the same processor kind, equal to
-// about 1e-15 relative elsewhere.
+// draws. As A is not rounded, the last bits of N reach the output: N comes
+// from box_muller_portable, which calls no libm or libmvec function (their
+// variants differ by processor), so a given M and V give the same bits on
+// every processor. (M and V come from e, whose last bits follow FFTW's
+// processor-dependent codelets, as every observation's do.)
 //
 // Use, per row: add_frame() for each frame with a nonzero gain, then
 // finish(). Each frame has its own Knuth stream, so the frames' order (or

@@ -608,9 +608,9 @@ TEST(BoxMullerPortable, WithinAFewUlpOfTheExactPair) {
     u2[j] = stream.uniform();
   }
   // The ends of both ranges and the quadrant boundaries of the angle.
-  const double edges[][2] = {{0x1p-53, 0.0},  {1.0, 0.125},  {0.5, 0.25},
-                             {0.25, 0.5},     {0.75, 0.75},  {0x1p-52, 1.0 - 0x1p-53},
-                             {1e-9, 0.375},   {0.999, 0.625}};
+  const double edges[][2] = {{0x1p-53, 0.0}, {1.0, 0.125},  {0.5, 0.25},
+                             {0.25, 0.5},    {0.75, 0.75},  {0x1p-52, 1.0 - 0x1p-53},
+                             {1e-9, 0.375},  {0.999, 0.625}};
   for (std::size_t i = 0; i < std::size(edges); ++i) {
     u1[i] = edges[i][0];
     u2[i] = edges[i][1];
@@ -649,11 +649,16 @@ TEST(BoxMullerPortable, SameBitsOnEveryProcessor) {
   const double u1[] = {0x1p-53, 0x1.93cd7bebaf281p-1, 0x1.1bd30a60484fp-3, 0x1.ce878ee3d631p-3,
                        0x1.485066e1dd47cp-1};
   const double u2[] = {0.0, 0.25, 0.5, 0x1.fffffffffffffp-1, 0.375};
-  const double expected[] = {0x1.124b2800eda48p+3,  0.0,
-                             -0.0,                  0x1.60cbcc86a8fefp-1,
-                             -0x1.fcf3e00c535dp+0,  -0.0,
-                             0x1.b99d4033887b2p+0,  -0x1.5ad7d0c6d0fe2p-50,
-                             -0x1.554c6fb7b90a9p-1, 0x1.554c6fb7b90a8p-1};
+  const double expected[] = {0x1.124b2800eda48p+3,
+                             0.0,
+                             -0.0,
+                             0x1.60cbcc86a8fefp-1,
+                             -0x1.fcf3e00c535dp+0,
+                             -0.0,
+                             0x1.b99d4033887b2p+0,
+                             -0x1.5ad7d0c6d0fe2p-50,
+                             -0x1.554c6fb7b90a9p-1,
+                             0x1.554c6fb7b90a8p-1};
   double z[10];
   box_muller_portable(u1, u2, z, 5);
   for (int i = 0; i < 10; ++i) {

@@ -76,7 +76,7 @@ class RowObserver {
   const RowFFT& fft_;
   bool aggregate_ = false;  // numerical mode with aggregated noise
   bool shift_ = false;      // numerical mode with an integer v dt
-  long long step_ = 0;  // v dt when shift_
+  long long step_ = 0;      // v dt when shift_
   // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
   std::vector<std::vector<std::complex<double>>> filters_;
 };

@@ -21,7 +21,7 @@ _fssim_options() {
             --restarts --iterations --seed -o --output" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
-            --rmse-margin --threads -o --output --plot" ;;
+            --noise --rmse-margin --threads -o --output --plot" ;;
   esac
 }
 
@@ -78,7 +78,7 @@ _fssim() {
       _fssim_add "numerical analog" "$cur"
       return ;;
     --noise)
-      _fssim_add "poisson none" "$cur"
+      _fssim_add "poisson aggregated none" "$cur"
       return ;;
     -i | --input | --json | --plot)
       _fssim_paths -f "$cur"

@@ -93,26 +93,31 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
       for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
     }
   };
-  if (!shift_) {
-    for (std::size_t k = 0; k < gains_.size(); ++k) {
-      if (gains_[k] != 0.0) add_slot(k, filtered(filters_[k], scratch));
-    }
-  } else {
-    const std::span<const double> e0 = filtered(filters_[0], scratch);
-    scratch.shifted.resize(static_cast<std::size_t>(width_));
-    for (std::size_t k = 0; k < gains_.size(); ++k) {
-      if (gains_[k] == 0.0) continue;
-      // e_k(x) = e_0((x - s k) mod W)
-      long long offset = (step_ * static_cast<long long>(k)) % width_;
-      if (offset < 0) offset += width_;
-      const auto o = static_cast<std::ptrdiff_t>(offset);
-      std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
-      std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
-      add_slot(k, scratch.shifted);
-    }
-  }
+  for_each_slot(scratch, add_slot);
   // The aggregated normal-branch frames: one normal per pixel.
   if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
+}
+
+template <typename PerSlot>
+void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const {
+  if (!shift_) {
+    for (std::size_t k = 0; k < gains_.size(); ++k) {
+      if (gains_[k] != 0.0) per_slot(k, filtered(filters_[k], scratch));
+    }
+    return;
+  }
+  const std::span<const double> e0 = filtered(filters_[0], scratch);
+  scratch.shifted.resize(static_cast<std::size_t>(width_));
+  for (std::size_t k = 0; k < gains_.size(); ++k) {
+    if (gains_[k] == 0.0) continue;
+    // e_k(x) = e_0((x - s k) mod W)
+    long long offset = (step_ * static_cast<long long>(k)) % width_;
+    if (offset < 0) offset += width_;
+    const auto o = static_cast<std::ptrdiff_t>(offset);
+    std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
+    std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
+    per_slot(k, std::span<const double>(scratch.shifted));
+  }
 }
 
 // ---------------------------------------------------------------------------

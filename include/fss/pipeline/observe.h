@@ -68,6 +68,10 @@ class RowObserver {
   // e = IDFT(spectrum * filter) / width into scratch.workspace.real().
   std::span<const double> filtered(const std::vector<std::complex<double>>& filter,
                                    Scratch& scratch) const;
+  // per_slot(k, e_k) for each slot k with a nonzero gain, in k order, e_k
+  // from the row last loaded into `scratch` (numerical mode).
+  template <typename PerSlot>
+  void for_each_slot(Scratch& scratch, const PerSlot& per_slot) const;
 
   int width_;
   std::vector<double> gains_;

@@ -375,30 +375,81 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
   // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
   RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kAggregateKnuth);
   const double scale = gain / lambda2_;
+  AggregatedRowPlan::KnuthFrame* recorded = nullptr;
+  if (plan_ != nullptr && plan_->knuth_pixels + (n - normal_pixels) <= max_knuth_pixels_) {
+    plan_->knuth_pixels += n - normal_pixels;
+    recorded = &plan_->knuth.emplace_back();
+    recorded->frame = id.frame;
+    recorded->gain = gain;
+  } else if (plan_ != nullptr) {
+    plan_->knuth_pixels = max_knuth_pixels_ + 1;  // too many: the row is not recorded
+  }
   for (std::size_t x = 0; x < n; ++x) {
-    if (lambda_[x] < kKnuthLimit) out[x] += scale * poisson_variate(lambda_[x], knuth_stream);
+    if (lambda_[x] < kKnuthLimit) {
+      out[x] += scale * poisson_variate(lambda_[x], knuth_stream);
+      if (recorded != nullptr) {
+        recorded->pixels.push_back(static_cast<std::uint32_t>(x));
+        recorded->lambdas.push_back(lambda_[x]);
+      }
+    }
   }
 }
 
+void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,
+                                       std::span<const double> variance_photons,
+                                       const RowNoiseId& id, std::span<double> out) {
+  const std::size_t n = mean_photons.size();
+  draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_,
+               /*portable=*/true);
+  // out += (M + sqrt(V) N) / lambda2
+  run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict mean = mean_photons.data();
+    const double* __restrict variance = variance_photons.data();
+    const double* __restrict normal = normals_.data();
+    double* __restrict sum = out.data();
+    const double lambda2 = lambda2_;
+    for (std::size_t x = 0; x < n; ++x) {
+      sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
+    }
+  });
+}
+
 void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
-  if (has_normal_) {
-    const std::size_t n = mean_.size();
-    draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_,
-                 /*portable=*/true);
-    // out += (M + sqrt(V) N) / lambda2
-    run_vectorized([&]() __attribute__((always_inline)) {
-      const double* __restrict mean = mean_.data();
-      const double* __restrict variance = variance_.data();
-      const double* __restrict normal = normals_.data();
-      double* __restrict sum = out.data();
-      const double lambda2 = lambda2_;
-      for (std::size_t x = 0; x < n; ++x) {
-        sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
+  if (has_normal_) add_normals(mean_, variance_, id, out);
+  if (plan_ != nullptr) {
+    if (plan_->knuth_pixels <= max_knuth_pixels_) {
+      if (has_normal_) {
+        plan_->mean = mean_;
+        plan_->variance = variance_;
       }
-    });
+      plan_->recorded = true;
+    } else {
+      *plan_ = AggregatedRowPlan();
+    }
+    plan_ = nullptr;
   }
   has_frame_ = false;
   has_normal_ = false;
+}
+
+void AggregatedRowSampler::record_next_row(AggregatedRowPlan* plan, std::size_t max_knuth_pixels) {
+  *plan = AggregatedRowPlan();
+  plan_ = plan;
+  max_knuth_pixels_ = max_knuth_pixels;
+}
+
+void AggregatedRowSampler::replay(const AggregatedRowPlan& plan, const RowNoiseId& id,
+                                  std::span<double> out) {
+  // The Knuth-branch frames in their order, each from its own lane and in
+  // pixel order, then the normal: add_frame()'s and finish()'s operations.
+  for (const AggregatedRowPlan::KnuthFrame& frame : plan.knuth) {
+    RandomStream knuth_stream = lane_stream(id, frame.frame, NoiseLane::kAggregateKnuth);
+    const double scale = frame.gain / lambda2_;
+    for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
+      out[frame.pixels[i]] += scale * poisson_variate(frame.lambdas[i], knuth_stream);
+    }
+  }
+  if (!plan.mean.empty()) add_normals(plan.mean, plan.variance, id, out);
 }
 
 }  // namespace fss

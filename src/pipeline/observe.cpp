@@ -98,6 +98,17 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
 }
 
+void RowObserver::record_plan(AggregatedRowPlan* plan, Scratch& scratch) const {
+  scratch.aggregated.record_next_row(plan, static_cast<std::size_t>(width_));
+}
+
+void RowObserver::replay(const AggregatedRowPlan& plan, std::uint64_t seed, int channel, int row,
+                         Scratch& scratch, std::span<double> out) const {
+  std::fill(out.begin(), out.end(), 0.0);
+  scratch.aggregated.replay(
+      plan, {seed, static_cast<std::uint64_t>(channel), 0, static_cast<std::uint64_t>(row)}, out);
+}
+
 template <typename PerSlot>
 void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const {
   if (!shift_) {

@@ -86,6 +86,70 @@ TEST(AggregatedNoise, SameBytesForAnyThreadCountAndNonIntegerMotion) {
   EXPECT_FALSE(Simulate(options, input, code).observed.data == one.observed.data);
 }
 
+// Trials share the work: the first trial records each row's plan, the
+// others replay it. Same bytes as drawing every row from its frames.
+TEST(AggregatedNoise, ReplayedRowIsTheDrawnRow) {
+  Image input = test::make_test_image(200, 3, 1, 5);
+  for (int x = 0; x < 2; ++x) input.at(0, 1, x) = 0.0;  // Knuth frames on row 1
+  for (const double snr : {3.0, 12.0, 100.0}) {
+    ObservationParams params;
+    params.velocity = 0.6;  // filtered frames, not shifts
+    params.snr = snr;
+    params.aggregate_noise = true;
+    const std::vector<double> gains = test::paper_gains("mip");
+    const RowObserver observer(input.width, gains, ShutterMode::kNumerical, params);
+    ASSERT_TRUE(observer.aggregates_noise());
+    RowObserver::Scratch scratch(observer);
+    std::vector<double> drawn(200), replayed(200);
+    int recorded_rows = 0;
+    for (int y = 0; y < input.height; ++y) {
+      AggregatedRowPlan plan;
+      observer.load_row(input.row(0, y), scratch);
+      observer.record_plan(&plan, scratch);
+      observer.observe(true, 40, 0, y, scratch, drawn);
+      if (!plan.recorded) continue;
+      ++recorded_rows;
+      for (const std::uint64_t seed : {40, 41, 12345}) {
+        observer.load_row(input.row(0, y), scratch);
+        observer.observe(true, seed, 0, y, scratch, drawn);
+        observer.replay(plan, seed, 0, y, scratch, replayed);
+        EXPECT_TRUE(drawn == replayed) << "snr " << snr << " row " << y << " seed " << seed;
+      }
+    }
+    // snr 3: every frame on Knuth's branch, more pixel frames than the
+    // width, nothing recorded; snr 100: only about 2 x 52 pixel frames of
+    // row 1 on Knuth's branch, every row recorded.
+    if (snr == 3.0) EXPECT_EQ(recorded_rows, 0);
+    if (snr == 100.0) EXPECT_EQ(recorded_rows, input.height);
+  }
+}
+
+TEST(AggregatedNoise, TrialsAreTheRunsOfTheirSeeds) {
+  // Trial t of a run with seed s has the noise of a one-trial run with seed
+  // s + t, whether it was drawn from its frames or replayed.
+  const Image input = test::make_test_image(480, 5, 3, 11);
+  const ShutterCode code{"sinc", test::paper_gains("sinc")};
+  for (const double velocity : {1.0, -0.45}) {
+    SimulationOptions options;
+    options.noise = NoiseModel::kAggregated;
+    options.velocity_px_per_slot = velocity;
+    options.snr = 15.0;
+    options.seed = 70;
+    double rmse_sum = 0.0, ci_sum = 0.0;
+    for (int t = 0; t < 3; ++t) {
+      options.seed = 70 + static_cast<std::uint64_t>(t);
+      const Metrics m = Simulate(options, input, code).metrics;
+      rmse_sum += m.rmse;
+      ci_sum += m.rmse_ci;
+    }
+    options.seed = 70;
+    options.trials = 3;
+    const TrialStatistics trials = Simulate(options, input, code).trials;
+    EXPECT_EQ(trials.rmse_mean, rmse_sum / 3) << "velocity " << velocity;
+    EXPECT_EQ(trials.rmse_ci_mean, ci_sum / 3) << "velocity " << velocity;
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Per-pixel mean and variance maps of the observation
 

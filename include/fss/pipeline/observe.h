@@ -64,6 +64,17 @@ class RowObserver {
   void observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
                std::span<double> out) const;
 
+  // Aggregated noise (numerical mode): the next noisy observe() with this
+  // scratch also records the row's plan (AggregatedRowPlan, noise.h) into
+  // `plan`, unless the row has more Knuth-branch pixel frames than its width
+  // (then the plan stays unrecorded); replay() then gives that row's noisy
+  // observation for any seed, the same bytes as observe(), without loading
+  // or filtering the row.
+  bool aggregates_noise() const { return aggregate_; }
+  void record_plan(AggregatedRowPlan* plan, Scratch& scratch) const;
+  void replay(const AggregatedRowPlan& plan, std::uint64_t seed, int channel, int row,
+              Scratch& scratch, std::span<double> out) const;
+
  private:
   // e = IDFT(spectrum * filter) / width into scratch.workspace.real().
   std::span<const double> filtered(const std::vector<std::complex<double>>& filter,

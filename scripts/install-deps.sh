@@ -10,6 +10,7 @@ packages=(
   libplplot-dev plplot-driver-cairo fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev
   jq time
+  python3-numpy python3-pil  # the numpy column of bench/run.sh (bench/numpy_flutter.py)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
 )

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -639,7 +640,10 @@ TEST(BoxMullerPortable, BatchEqualsPairByPair) {
   for (std::size_t j = 0; j < pairs; ++j) {
     double one[2];
     box_muller_portable(&u1[j], &u2[j], one, 1);
-    ASSERT_EQ(std::memcmp(one, &z[2 * j], sizeof one), 0) << "pair " << j;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(one[0]), std::bit_cast<std::uint64_t>(z[2 * j]))
+        << "pair " << j;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(one[1]), std::bit_cast<std::uint64_t>(z[2 * j + 1]))
+        << "pair " << j;
   }
 }
 
@@ -662,7 +666,7 @@ TEST(BoxMullerPortable, SameBitsOnEveryProcessor) {
   double z[10];
   box_muller_portable(u1, u2, z, 5);
   for (int i = 0; i < 10; ++i) {
-    EXPECT_EQ(std::memcmp(&z[i], &expected[i], sizeof(double)), 0)
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(z[i]), std::bit_cast<std::uint64_t>(expected[i]))
         << "output " << i << ": " << z[i] << " instead of " << expected[i];
   }
 }

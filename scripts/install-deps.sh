@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   jq time
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module fss (python/)
+  python3-pil  # with python3-numpy: the numpy column of bench/run.sh (bench/numpy_flutter.py)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
   slurmctld slurmd slurm-client munge  # the campaign's single-node Slurm cluster test (label slurm)

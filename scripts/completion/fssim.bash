@@ -21,7 +21,7 @@ _fssim_options() {
             --restarts --iterations --seed -o --output" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
-            --rmse-margin --threads -o --output --plot" ;;
+            --noise --rmse-margin --threads -o --output --plot" ;;
     campaign)
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
             --snr --dt --trials --seed --noise --rmse-margin --threads -o --output --shard
@@ -86,7 +86,7 @@ _fssim() {
       _fssim_add "numerical analog" "$cur"
       return ;;
     --noise)
-      _fssim_add "poisson none" "$cur"
+      _fssim_add "poisson aggregated none" "$cur"
       return ;;
     --png-depth)
       _fssim_add "8 16 auto" "$cur"

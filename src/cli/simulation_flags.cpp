@@ -101,8 +101,11 @@ void SimulationFlags::AddSeed(CLI::App& app) {
 }
 
 void SimulationFlags::AddNoise(CLI::App& app) {
-  app.add_option("--noise", noise_, "poisson, or none for a noise-free run of the same pipeline")
-      ->check(CLI::IsMember({"poisson", "none"}))
+  app.add_option("--noise", noise_,
+                 "poisson (every frame drawn), aggregated (numerical mode: each pixel's frames "
+                 "above 50 photons drawn as one normal of the same mean and variance, much "
+                 "faster), or none for a noise-free run of the same pipeline")
+      ->check(CLI::IsMember({"poisson", "aggregated", "none"}))
       ->capture_default_str();
 }
 
@@ -162,6 +165,11 @@ fss::SimulationOptions SimulationFlags::Options() const {
   }
   options.mode = *fss::shutter_mode_from_string(mode_);
   options.noise = *fss::noise_model_from_string(noise_);
+  const std::string noise_problem = fss::noise_rule(options.noise == fss::NoiseModel::kAggregated,
+                                                    options.mode == fss::ShutterMode::kAnalog);
+  if (!noise_problem.empty()) {
+    fss::throw_usage_error("--noise: value " + noise_ + " " + noise_problem);
+  }
   return options;
 }
 

@@ -155,6 +155,7 @@ SweepCommand::SweepCommand(CLI::App& app) {
   flags_.AddDt(*sweep_);
   flags_.AddTrials(*sweep_);
   flags_.AddSeed(*sweep_);
+  flags_.AddNoise(*sweep_);
   flags_.AddRmseMargin(*sweep_);
   flags_.AddThreads(*sweep_);
   sweep_->add_option("-o,--output", output_, "CSV file to write")->required();

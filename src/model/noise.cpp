@@ -1,6 +1,8 @@
 #include "fss/model/noise.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -172,6 +174,89 @@ void run_vectorized(const Kernel& kernel) {
   }
 }
 
+// ln u for a normal double u > 0, with +, -, *, / and exact bit operations
+// only: u = 2^E m with m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) =
+// 2 (s + s^3 / 3 + s^5 / 5 + ...) with s = (m - 1) / (m + 1), |s| < 0.1716,
+// summed to s^23 (the next term is below 1e-18 relative); E ln 2 in two
+// parts, the first exact for |E| < 2^21 (fdlibm's split of ln 2).
+[[gnu::always_inline]] inline double portable_log(double u) {
+  constexpr double kLn2High = 0x1.62e42feep-1;
+  constexpr double kLn2Low = 0x1.a39ef35793c76p-33;
+  constexpr double kSqrt2 = 0x1.6a09e667f3bcdp+0;
+  const auto bits = std::bit_cast<std::uint64_t>(u);
+  // The biased exponent field, read as a double by the 2^52 trick: exact.
+  const double biased = std::bit_cast<double>(0x4330000000000000ULL | (bits >> 52)) - 0x1p52;
+  const double mantissa =
+      std::bit_cast<double>((bits & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL);
+  const bool high = mantissa > kSqrt2;
+  const double m = high ? 0.5 * mantissa : mantissa;
+  const double exponent = (high ? biased + 1.0 : biased) - 1023.0;
+  const double s = (m - 1.0) / (m + 1.0);
+  const double s2 = s * s;
+  // 1 / 23, 1 / 21, ..., 1 / 3: constants, correctly rounded by the compiler.
+  constexpr std::array<double, 11> kInverseOdd = [] {
+    std::array<double, 11> c{};
+    for (int i = 0; i < 11; ++i) c[i] = 1.0 / (23 - 2 * i);
+    return c;
+  }();
+  double series = kInverseOdd[0];
+  for (int i = 1; i < 11; ++i) series = series * s2 + kInverseOdd[i];
+  const double ln_m = 2.0 * s + 2.0 * s * (s2 * series);
+  return exponent * kLn2High + (exponent * kLn2Low + ln_m);
+}
+
+// cos(2 pi u) and sin(2 pi u) for u in [0, 1], with +, -, * and exact
+// operations only: 4u = q + r with q = nearest integer, r in [-1/2, 1/2]
+// (both exact), theta = r pi / 2 in [-pi/4, pi/4], Taylor series of sin and
+// cos of theta to theta^17 and theta^18 (the next terms are below 1e-19),
+// then the quadrant q turns (cos theta, sin theta) by q quarter turns.
+[[gnu::always_inline]] inline void portable_cos_sin(double u, double& cosine, double& sine) {
+  constexpr double kHalfPi = 0x1.921fb54442d18p+0;
+  const double w = 4.0 * u;
+  const double q = (w + 0x1p52) - 0x1p52;  // 0, 1, 2, 3 or 4 (4 is a full turn)
+  const double theta = (w - q) * kHalfPi;
+  const double t2 = theta * theta;
+  // sin = theta (1 - t2 / 3! (1 - t2 / (4 5) (1 - ...))), likewise cos.
+  // 1 / (n (n - 1)) for n = 18, 17, ..., 2: constants, correctly rounded by the compiler.
+  constexpr std::array<double, 17> kInverse = [] {
+    std::array<double, 17> c{};
+    for (int i = 0; i < 17; ++i) c[i] = 1.0 / ((18 - i) * (17 - i));
+    return c;
+  }();
+  double sin_series = 1.0;  // n = 17, 15, ..., 3: kInverse[1], [3], ..., [15]
+  for (int i = 1; i < 17; i += 2) sin_series = 1.0 - t2 * kInverse[i] * sin_series;
+  double cos_series = 1.0;  // n = 18, 16, ..., 2: kInverse[0], [2], ..., [16]
+  for (int i = 0; i < 17; i += 2) cos_series = 1.0 - t2 * kInverse[i] * cos_series;
+  const double s = theta * sin_series;
+  const double c = cos_series;
+  const bool odd = q == 1.0 || q == 3.0;
+  const double a = odd ? s : c;
+  const double b = odd ? c : s;
+  cosine = (q == 1.0 || q == 2.0) ? -a : a;
+  sine = (q == 2.0 || q == 3.0) ? -b : b;
+}
+
+}  // namespace
+
+void box_muller_portable(const double* u1, const double* u2, double* z, std::size_t pairs) {
+  run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict first = u1;
+    const double* __restrict second = u2;
+    double* __restrict normal = z;
+    for (std::size_t j = 0; j < pairs; ++j) {
+      // sqrt(-2 ln U1) (cos 2 pi U2, sin 2 pi U2)
+      const double radius = std::sqrt(-2.0 * portable_log(first[j]));
+      double cosine = 0.0;
+      double sine = 0.0;
+      portable_cos_sin(second[j], cosine, sine);
+      normal[2 * j] = radius * cosine;
+      normal[2 * j + 1] = radius * sine;
+    }
+  });
+}
+
+namespace {
+
 RandomStream lane_stream(const RowNoiseId& id, std::uint64_t frame, NoiseLane lane) {
   return {id.seed, id.channel, frame, id.row, static_cast<std::uint64_t>(lane)};
 }
@@ -180,7 +265,7 @@ RandomStream lane_stream(const RowNoiseId& id, std::uint64_t frame, NoiseLane la
 // a Box-Muller batch whose pair j takes U1 = stream's (2j)-th draw,
 // U2 = its (2j+1)-th.
 void draw_normals(RandomStream stream, std::size_t n, std::vector<double>& u1,
-                  std::vector<double>& u2, std::vector<double>& normals) {
+                  std::vector<double>& u2, std::vector<double>& normals, bool portable = false) {
   const std::size_t pairs = (n + 1) / 2;
   u1.resize(pairs);
   u2.resize(pairs);
@@ -189,7 +274,11 @@ void draw_normals(RandomStream stream, std::size_t n, std::vector<double>& u1,
     u1[j] = stream.uniform_open_zero();
     u2[j] = stream.uniform();
   }
-  box_muller_batch(u1.data(), u2.data(), normals.data(), pairs);
+  if (portable) {
+    box_muller_portable(u1.data(), u2.data(), normals.data(), pairs);
+  } else {
+    box_muller_batch(u1.data(), u2.data(), normals.data(), pairs);
+  }
 }
 }  // namespace
 
@@ -286,29 +375,81 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
   // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
   RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kAggregateKnuth);
   const double scale = gain / lambda2_;
+  AggregatedRowPlan::KnuthFrame* recorded = nullptr;
+  if (plan_ != nullptr && plan_->knuth_pixels + (n - normal_pixels) <= max_knuth_pixels_) {
+    plan_->knuth_pixels += n - normal_pixels;
+    recorded = &plan_->knuth.emplace_back();
+    recorded->frame = id.frame;
+    recorded->gain = gain;
+  } else if (plan_ != nullptr) {
+    plan_->knuth_pixels = max_knuth_pixels_ + 1;  // too many: the row is not recorded
+  }
   for (std::size_t x = 0; x < n; ++x) {
-    if (lambda_[x] < kKnuthLimit) out[x] += scale * poisson_variate(lambda_[x], knuth_stream);
+    if (lambda_[x] < kKnuthLimit) {
+      out[x] += scale * poisson_variate(lambda_[x], knuth_stream);
+      if (recorded != nullptr) {
+        recorded->pixels.push_back(static_cast<std::uint32_t>(x));
+        recorded->lambdas.push_back(lambda_[x]);
+      }
+    }
   }
 }
 
+void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,
+                                       std::span<const double> variance_photons,
+                                       const RowNoiseId& id, std::span<double> out) {
+  const std::size_t n = mean_photons.size();
+  draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_,
+               /*portable=*/true);
+  // out += (M + sqrt(V) N) / lambda2
+  run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict mean = mean_photons.data();
+    const double* __restrict variance = variance_photons.data();
+    const double* __restrict normal = normals_.data();
+    double* __restrict sum = out.data();
+    const double lambda2 = lambda2_;
+    for (std::size_t x = 0; x < n; ++x) {
+      sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
+    }
+  });
+}
+
 void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
-  if (has_normal_) {
-    const std::size_t n = mean_.size();
-    draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_);
-    // out += (M + sqrt(V) N) / lambda2
-    run_vectorized([&]() __attribute__((always_inline)) {
-      const double* __restrict mean = mean_.data();
-      const double* __restrict variance = variance_.data();
-      const double* __restrict normal = normals_.data();
-      double* __restrict sum = out.data();
-      const double lambda2 = lambda2_;
-      for (std::size_t x = 0; x < n; ++x) {
-        sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
+  if (has_normal_) add_normals(mean_, variance_, id, out);
+  if (plan_ != nullptr) {
+    if (plan_->knuth_pixels <= max_knuth_pixels_) {
+      if (has_normal_) {
+        plan_->mean = mean_;
+        plan_->variance = variance_;
       }
-    });
+      plan_->recorded = true;
+    } else {
+      *plan_ = AggregatedRowPlan();
+    }
+    plan_ = nullptr;
   }
   has_frame_ = false;
   has_normal_ = false;
+}
+
+void AggregatedRowSampler::record_next_row(AggregatedRowPlan* plan, std::size_t max_knuth_pixels) {
+  *plan = AggregatedRowPlan();
+  plan_ = plan;
+  max_knuth_pixels_ = max_knuth_pixels;
+}
+
+void AggregatedRowSampler::replay(const AggregatedRowPlan& plan, const RowNoiseId& id,
+                                  std::span<double> out) {
+  // The Knuth-branch frames in their order, each from its own lane and in
+  // pixel order, then the normal: add_frame()'s and finish()'s operations.
+  for (const AggregatedRowPlan::KnuthFrame& frame : plan.knuth) {
+    RandomStream knuth_stream = lane_stream(id, frame.frame, NoiseLane::kAggregateKnuth);
+    const double scale = frame.gain / lambda2_;
+    for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
+      out[frame.pixels[i]] += scale * poisson_variate(frame.lambdas[i], knuth_stream);
+    }
+  }
+  if (!plan.mean.empty()) add_normals(plan.mean, plan.variance, id, out);
 }
 
 }  // namespace fss

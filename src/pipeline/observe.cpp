@@ -17,7 +17,8 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
       gains_(gains.begin(), gains.end()),
       mode_(mode),
       snr_(params.snr),
-      fft_(RowFFT::for_size(width)) {
+      fft_(RowFFT::for_size(width)),
+      aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical) {
   if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
       if (!(gains_[k] >= 0.0 && gains_[k] <= 1.0)) {
@@ -46,7 +47,8 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
 RowObserver::Scratch::Scratch(const RowObserver& observer)
     : workspace(observer.width_),
       spectrum(static_cast<std::size_t>(observer.width_ / 2 + 1)),
-      sampler(observer.snr_) {}
+      sampler(observer.snr_),
+      aggregated(observer.snr_) {}
 
 void RowObserver::load_row(const double* row, Scratch& scratch) const {
   std::copy(row, row + width_, scratch.workspace.real().begin());
@@ -75,35 +77,42 @@ namespace {
 // shifted like its exposure; otherwise each slot adds V of its own exposure.
 class VarianceRow {
  public:
-  VarianceRow(bool noisy, bool shifts, double snr, std::span<double> variance)
+  VarianceRow(bool noisy, double snr, std::span<double> variance, std::vector<double>& unit)
       : active_(!noisy && !variance.empty()),
-        shifts_(shifts),
         lambda2_(active_ ? PoissonSNR(snr).lambda2() : 0.0),
-        variance_(variance) {
+        variance_(variance),
+        unit_(unit) {
     if (active_) std::fill(variance_.begin(), variance_.end(), 0.0);
   }
 
-  // Slot k's exposure e_k (or the analog exposure, weight 1).
-  void add_slot(std::span<const double> e, double weight) {
-    if (active_ && !shifts_) add(e, weight, variance_);
-  }
-  // unit = V(e_0), for the shifts.
-  void set_unit(std::span<const double> e0, std::vector<double>& unit) const {
+  // Slot k's exposure e_k (or the analog exposure, weight 1). With shifts
+  // (shift.e0 not empty), unit = V(e_0) is computed at the first slot and
+  // each slot adds it shifted by its offset.
+  void add_slot(std::span<const double> e, std::span<const double> e0, std::size_t offset,
+                double weight) {
     if (!active_) return;
-    unit.assign(e0.size(), 0.0);
-    add(e0, 1.0, unit);
+    if (e0.empty()) {
+      add(e, weight, variance_);
+      return;
+    }
+    if (!unit_ready_) {
+      unit_.assign(e0.size(), 0.0);
+      add(e0, 1.0, unit_);
+      unit_ready_ = true;
+    }
+    add_shifted(offset, weight);
   }
+
+ private:
   // variance[x] += weight * unit[(x - offset) mod W], offset in [0, W).
-  void add_shifted(const std::vector<double>& unit, std::size_t offset, double weight) {
-    if (!active_) return;
-    const std::size_t n = unit.size();
-    const double* __restrict from = unit.data();
+  void add_shifted(std::size_t offset, double weight) {
+    const std::size_t n = unit_.size();
+    const double* __restrict from = unit_.data();
     double* __restrict sum = variance_.data();
     for (std::size_t x = 0; x < offset; ++x) sum[x] += weight * from[x + n - offset];
     for (std::size_t x = offset; x < n; ++x) sum[x] += weight * from[x - offset];
   }
 
- private:
   // into[x] += weight * V(e[x]): poisson_snr_variance's formula and branch
   // test, inline so that the loop vectorizes, and with a product by 1 / lambda2
   // instead of its division (equal within an ulp; a division per slot and
@@ -121,9 +130,10 @@ class VarianceRow {
   }
 
   bool active_;
-  bool shifts_;
+  bool unit_ready_ = false;
   double lambda2_;
   std::span<double> variance_;
+  std::vector<double>& unit_;
 };
 
 }  // namespace
@@ -133,36 +143,55 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   const auto c = static_cast<std::uint64_t>(channel);
   const auto y = static_cast<std::uint64_t>(row);
   std::fill(out.begin(), out.end(), 0.0);
-  VarianceRow var(noisy, shift_, snr_, variance);  // for the exact prediction
+  VarianceRow var(noisy, snr_, variance, scratch.unit_variance);  // the exact prediction
   if (mode_ == ShutterMode::kAnalog) {
     const std::span<const double> e = filtered(filters_[0], scratch);
     if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
     } else {
       for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
-      var.add_slot(e, 1.0);
+      var.add_slot(e, {}, 0, 1.0);
     }
     return;
   }
   // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
-  auto add_slot = [&](std::size_t k, std::span<const double> e) {
+  auto add_slot = [&](std::size_t k, std::span<const double> e, const SlotShift& shift) {
     const double alpha = gains_[k];
-    if (noisy) {
+    if (noisy && aggregate_) {
+      scratch.aggregated.add_frame(e, {seed, c, k, y}, alpha, out);  // finished below
+    } else if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
       for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
-      var.add_slot(e, alpha * alpha);
+      var.add_slot(e, shift.e0, shift.offset, alpha * alpha);
     }
   };
+  for_each_slot(scratch, add_slot);
+  // The aggregated normal-branch frames: one normal per pixel.
+  if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
+}
+
+void RowObserver::record_plan(AggregatedRowPlan* plan, Scratch& scratch) const {
+  scratch.aggregated.record_next_row(plan, static_cast<std::size_t>(width_));
+}
+
+void RowObserver::replay(const AggregatedRowPlan& plan, std::uint64_t seed, int channel, int row,
+                         Scratch& scratch, std::span<double> out) const {
+  std::fill(out.begin(), out.end(), 0.0);
+  scratch.aggregated.replay(
+      plan, {seed, static_cast<std::uint64_t>(channel), 0, static_cast<std::uint64_t>(row)}, out);
+}
+
+template <typename PerSlot>
+void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const {
   if (!shift_) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
-      if (gains_[k] != 0.0) add_slot(k, filtered(filters_[k], scratch));
+      if (gains_[k] != 0.0) per_slot(k, filtered(filters_[k], scratch), SlotShift{});
     }
     return;
   }
   const std::span<const double> e0 = filtered(filters_[0], scratch);
   scratch.shifted.resize(static_cast<std::size_t>(width_));
-  var.set_unit(e0, scratch.unit_variance);
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;
     // e_k(x) = e_0((x - s k) mod W)
@@ -171,8 +200,8 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
     const auto o = static_cast<std::ptrdiff_t>(offset);
     std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
     std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
-    add_slot(k, scratch.shifted);
-    var.add_shifted(scratch.unit_variance, static_cast<std::size_t>(offset), gains_[k] * gains_[k]);
+    per_slot(k, std::span<const double>(scratch.shifted),
+             SlotShift{e0, static_cast<std::size_t>(offset)});
   }
 }
 

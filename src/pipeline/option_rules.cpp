@@ -22,6 +22,13 @@ std::string margin_rule(long long columns) {
   return {};
 }
 
+std::string noise_rule(bool aggregated, bool analog) {
+  return aggregated && analog
+             ? "must be poisson or none in analog mode (aggregated noise sums the frames of the "
+               "numerical mode)"
+             : std::string();
+}
+
 std::string trials_rule(long long trials) { return trials < 1 ? "must be >= 1" : std::string(); }
 
 std::string threads_rule(long long threads) {

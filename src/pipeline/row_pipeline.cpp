@@ -21,6 +21,7 @@ ObservationParams observation_params(const SimulationOptions& options) {
   params.velocity = options.velocity_px_per_slot;
   params.dt = options.dt;
   params.snr = options.snr;
+  params.aggregate_noise = options.noise == NoiseModel::kAggregated;
   return params;
 }
 
@@ -36,7 +37,12 @@ RowPipeline::RowPipeline(const Image& input, const ShutterCode& code,
       observer_(input.width, code.gains, options.mode, observation_params(options)),
       restorer_(geometry, code.gains,
                 options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
-                options.dt) {}
+                options.dt) {
+  const auto samples = static_cast<std::size_t>(input.width) * input.height * input.channels;
+  if (observer_.aggregates_noise() && options.trials > 1 && samples <= kMaxPlannedSamples) {
+    plans_.resize(static_cast<std::size_t>(input.channels) * input.height);
+  }
+}
 
 // The buffers of one thread and the three steps of a row.
 class RowPipeline::Worker {
@@ -48,8 +54,16 @@ class RowPipeline::Worker {
         observation_(static_cast<std::size_t>(pipeline.geometry_.width)),
         row_(static_cast<std::size_t>(pipeline.geometry_.output_width)) {}
 
-  // observation = o (noisy) or E[o] (no seed) of input row (c, y).
-  void observe(int c, int y, std::optional<std::uint64_t> noise_seed) {
+  // observation = o (noisy) or E[o] (no seed) of input row (c, y); with a
+  // plan (aggregated noise), replayed when recorded, else recorded.
+  void observe(int c, int y, std::optional<std::uint64_t> noise_seed,
+               AggregatedRowPlan* plan = nullptr) {
+    const RowObserver& observer = pipeline_.observer_;
+    if (plan != nullptr && plan->recorded) {
+      observer.replay(*plan, *noise_seed, c, y, observer_scratch_, observation_);
+      return;
+    }
+    if (plan != nullptr) observer.record_plan(plan, observer_scratch_);
     pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
     pipeline_.observer_.observe(noise_seed.has_value(), noise_seed.value_or(0), c, y,
                                 observer_scratch_, observation_);
@@ -104,8 +118,9 @@ void RowPipeline::for_each_row(const PerRow& per_row) const {
 bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
                               ObservedRowSink* observed) const {
   std::atomic<bool> observed_finite{true};
-  for_each_row([&](Worker& worker, int c, int y, int /*r*/) {
-    worker.observe(c, y, noise_seed);
+  for_each_row([&](Worker& worker, int c, int y, int r) {
+    const bool planned = noise_seed.has_value() && !plans_.empty();
+    worker.observe(c, y, noise_seed, planned ? &plans_[static_cast<std::size_t>(r)] : nullptr);
     if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
     worker.restore(restored.row(c, y));
   });

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "fss/core/image.h"
 #include "fss/model/code.h"
@@ -72,6 +73,15 @@ class RowPipeline {
   double observed_divisor_;
   RowObserver observer_;
   RowRestorer restorer_;
+
+  // Aggregated noise with trials > 1 on at most kMaxPlannedSamples samples
+  // (W H C): each row's plan, recorded by the first trial and replayed by
+  // the others, so that a later trial costs its variates, the restoration
+  // and the metrics only. At most 28 bytes a sample (M, V, and a width's
+  // worth of Knuth-branch pixel frames, 12 bytes each; a row with more is
+  // not recorded and is drawn from its frames every trial): 56 MiB at most.
+  static constexpr std::size_t kMaxPlannedSamples = std::size_t{1} << 21;
+  mutable std::vector<AggregatedRowPlan> plans_;  // one per row, written by that row's worker
 };
 
 }  // namespace fss

@@ -13,11 +13,22 @@
 
 namespace fss {
 
-std::string to_string(NoiseModel noise) { return noise == NoiseModel::kNone ? "none" : "poisson"; }
+std::string to_string(NoiseModel noise) {
+  switch (noise) {
+    case NoiseModel::kNone:
+      return "none";
+    case NoiseModel::kAggregated:
+      return "aggregated";
+    case NoiseModel::kPoisson:
+      break;
+  }
+  return "poisson";
+}
 
 std::optional<NoiseModel> noise_model_from_string(std::string_view text) {
   if (text == "poisson") return NoiseModel::kPoisson;
   if (text == "none") return NoiseModel::kNone;
+  if (text == "aggregated") return NoiseModel::kAggregated;
   return std::nullopt;
 }
 
@@ -47,7 +58,9 @@ bool SimulationOptions::IsValid(std::string* error) const {
     }
   }
   const std::string margin = std::to_string(rmse_margin_columns);
-  return !(broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
+  return !(broken("noise", to_string(noise),
+                  noise_rule(noise == NoiseModel::kAggregated, mode == ShutterMode::kAnalog)) ||
+           broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
            broken("trials", std::to_string(trials), trials_rule(trials)) ||
            broken("threads", std::to_string(threads), threads_rule(threads)));
 }

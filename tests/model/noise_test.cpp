@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -529,7 +530,8 @@ TEST(AggregatedRowSampler, FinishWithoutFramesAddsNothing) {
 
 // Pixel x's normal as the header documents it: output x of Box-Muller pairs
 // (U1, U2) taken in order from the lane's stream, here by the scalar libm
-// (the samplers use the vector library, equal to a few ulp).
+// (the samplers use the vector library or box_muller_portable, equal to a
+// few ulp).
 std::vector<double> documented_normals(RandomStream stream, std::size_t n) {
   std::vector<double> normals;
   while (normals.size() < n) {
@@ -593,6 +595,79 @@ TEST(AggregatedRowSampler, FollowsTheDocumentedStreamLayout) {
     expected[x] += (mean[x] + std::sqrt(variance[x]) * normals[x]) / row.lambda2;
     EXPECT_NEAR(out[x], expected[x], 1e-12 * (std::abs(mean[x]) + std::sqrt(variance[x])))
         << "pixel " << x;
+  }
+}
+
+// box_muller_portable: accurate to a few ulp of the radius (against long
+// double libm), and fixed bits whatever the processor or the batch length.
+TEST(BoxMullerPortable, WithinAFewUlpOfTheExactPair) {
+  RandomStream stream(31, 0, 0, 0);
+  const std::size_t pairs = 200000;
+  std::vector<double> u1(pairs), u2(pairs), z(2 * pairs);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    u1[j] = stream.uniform_open_zero();
+    u2[j] = stream.uniform();
+  }
+  // The ends of both ranges and the quadrant boundaries of the angle.
+  const double edges[][2] = {{0x1p-53, 0.0}, {1.0, 0.125},  {0.5, 0.25},
+                             {0.25, 0.5},    {0.75, 0.75},  {0x1p-52, 1.0 - 0x1p-53},
+                             {1e-9, 0.375},  {0.999, 0.625}};
+  for (std::size_t i = 0; i < std::size(edges); ++i) {
+    u1[i] = edges[i][0];
+    u2[i] = edges[i][1];
+  }
+  box_muller_portable(u1.data(), u2.data(), z.data(), pairs);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    const long double radius = std::sqrt(-2.0L * std::log(static_cast<long double>(u1[j])));
+    const long double angle = 2.0L * 3.14159265358979323846264338327950288L * u2[j];
+    const double tolerance = 2e-15 * static_cast<double>(radius) + 1e-300;
+    ASSERT_NEAR(z[2 * j], static_cast<double>(radius * std::cos(angle)), tolerance) << "pair " << j;
+    ASSERT_NEAR(z[2 * j + 1], static_cast<double>(radius * std::sin(angle)), tolerance)
+        << "pair " << j;
+  }
+}
+
+TEST(BoxMullerPortable, BatchEqualsPairByPair) {
+  // The vectorized body and the scalar remainder of the loop give the same bits.
+  RandomStream stream(32, 0, 0, 0);
+  const std::size_t pairs = 1003;
+  std::vector<double> u1(pairs), u2(pairs), z(2 * pairs);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    u1[j] = stream.uniform_open_zero();
+    u2[j] = stream.uniform();
+  }
+  box_muller_portable(u1.data(), u2.data(), z.data(), pairs);
+  for (std::size_t j = 0; j < pairs; ++j) {
+    double one[2];
+    box_muller_portable(&u1[j], &u2[j], one, 1);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(one[0]), std::bit_cast<std::uint64_t>(z[2 * j]))
+        << "pair " << j;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(one[1]), std::bit_cast<std::uint64_t>(z[2 * j + 1]))
+        << "pair " << j;
+  }
+}
+
+TEST(BoxMullerPortable, SameBitsOnEveryProcessor) {
+  // Recorded on an AMD EPYC (AVX2); any processor, with or without AVX2 or
+  // FMA, must give these bits: only correctly rounded operations are used.
+  const double u1[] = {0x1p-53, 0x1.93cd7bebaf281p-1, 0x1.1bd30a60484fp-3, 0x1.ce878ee3d631p-3,
+                       0x1.485066e1dd47cp-1};
+  const double u2[] = {0.0, 0.25, 0.5, 0x1.fffffffffffffp-1, 0.375};
+  const double expected[] = {0x1.124b2800eda48p+3,
+                             0.0,
+                             -0.0,
+                             0x1.60cbcc86a8fefp-1,
+                             -0x1.fcf3e00c535dp+0,
+                             -0.0,
+                             0x1.b99d4033887b2p+0,
+                             -0x1.5ad7d0c6d0fe2p-50,
+                             -0x1.554c6fb7b90a9p-1,
+                             0x1.554c6fb7b90a8p-1};
+  double z[10];
+  box_muller_portable(u1, u2, z, 5);
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(z[i]), std::bit_cast<std::uint64_t>(expected[i]))
+        << "output " << i << ": " << z[i] << " instead of " << expected[i];
   }
 }
 

@@ -151,10 +151,11 @@ double poisson_snr_variance(double e, double lambda2);
 // per-frame sampler clamps each frame at 0 (probability about 1e-12 a frame),
 // A does not. Different variates: the streams are the kAggregate lanes, so
 // the aggregated and per-frame observations of one seed are independent
-// draws. And as A is not rounded, the last bits of N (libmvec's AVX2 and SSE
-// variants may differ by a few ulp, see box_muller_batch) reach the output:
-// the same seed gives the same bytes on the same processor kind, equal to
-// about 1e-15 relative elsewhere.
+// draws. As A is not rounded, the last bits of N reach the output: N comes
+// from box_muller_portable, which calls no libm or libmvec function (their
+// variants differ by processor), so a given M and V give the same bits on
+// every processor. (M and V come from e, whose last bits follow FFTW's
+// processor-dependent codelets, as every observation's do.)
 //
 // Use, per row: add_frame() for each frame with a nonzero gain, then
 // finish(). Each frame has its own Knuth stream, so the frames' order (or
@@ -164,6 +165,26 @@ double poisson_snr_variance(double e, double lambda2);
 // summed into two row-sized accumulators, M and V, which finish() turns
 // into the normal and resets for the next row: no frame's row is kept.
 // Holds scratch buffers: one sampler per thread.
+//
+// Trials: everything but the variates is the same for every seed. A row's
+// AggregatedRowPlan (M, V and the Knuth-branch frames' pixels and
+// intensities), recorded while the row is drawn once, lets replay() draw the
+// row again for any seed without its frames: the same bytes as add_frame()
+// for each frame then finish().
+struct AggregatedRowPlan {
+  struct KnuthFrame {
+    std::uint64_t frame = 0;
+    double gain = 0.0;
+    std::vector<std::uint32_t> pixels;  // in pixel order
+    std::vector<double> lambdas;        // their intensities, lambda < 50
+  };
+  bool recorded = false;
+  std::vector<double> mean;      // M; empty when no pixel had a normal-branch frame
+  std::vector<double> variance;  // V
+  std::vector<KnuthFrame> knuth;
+  std::size_t knuth_pixels = 0;  // total over the frames
+};
+
 class AggregatedRowSampler {
  public:
   explicit AggregatedRowSampler(double snr);
@@ -178,8 +199,24 @@ class AggregatedRowSampler {
   // nothing when no pixel had a normal-branch frame.
   void finish(const RowNoiseId& id, std::span<double> out);
 
+  // Records the row's plan during the next add_frame() calls and finish()
+  // into `plan` (which must outlive them); finish() marks it recorded unless
+  // its Knuth-branch pixel frames exceeded `max_knuth_pixels` (then it is
+  // left empty and not recorded: that row is drawn from its frames).
+  void record_next_row(AggregatedRowPlan* plan, std::size_t max_knuth_pixels);
+  // The row of a recorded plan with the noise of (id.seed, id.channel,
+  // id.row): out[x] += what add_frame() for each of its frames, then
+  // finish(), would add.
+  void replay(const AggregatedRowPlan& plan, const RowNoiseId& id, std::span<double> out);
+
  private:
+  // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
+  void add_normals(std::span<const double> mean, std::span<const double> variance,
+                   const RowNoiseId& id, std::span<double> out);
+
   double lambda2_;
+  AggregatedRowPlan* plan_ = nullptr;  // being recorded
+  std::size_t max_knuth_pixels_ = 0;
   bool has_frame_ = false;   // add_frame() was called since the last finish()
   bool has_normal_ = false;  // and some pixel of some frame was on the normal branch
   std::vector<double> lambda_;
@@ -195,6 +232,12 @@ class AggregatedRowSampler {
 // Vectorized with glibc's vector math library where available, 4 wide on
 // processors with AVX2 (see noise_simd.cpp).
 void box_muller_batch(const double* u1, const double* u2, double* z, std::size_t pairs);
+
+// The same Box-Muller pairs computed with +, -, *, /, sqrt and exact bit
+// operations only (ln, cos and sin as series with constant coefficients, see
+// noise.cpp), so every processor gives the same bits; within a few ulp of
+// box_muller_batch. The aggregated sampler's normals, which are not rounded.
+void box_muller_portable(const double* u1, const double* u2, double* z, std::size_t pairs);
 
 // round(x) for x > 0 (halves away from zero), 0 for x <= 0; inline-friendly.
 double round_nonnegative(double x);

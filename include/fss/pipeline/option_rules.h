@@ -35,6 +35,11 @@ bool scale_is_positive(double value);  // finite and > 0, whatever the range
 // "must be at most 65536" or "must be >= 0 (or -1 for the default 3B)".
 std::string margin_rule(long long columns);
 
+// noise: the aggregated noise sums the frames of the numerical mode, so with
+// the analog mode it "must be poisson or none in analog mode (aggregated
+// noise sums the frames of the numerical mode)".
+std::string noise_rule(bool aggregated, bool analog);
+
 // trials: "must be >= 1".
 std::string trials_rule(long long trials);
 

@@ -19,7 +19,11 @@
 
 namespace fss {
 
-enum class NoiseModel { kPoisson, kNone };
+// Photon noise (docs/method.md §3): kPoisson draws every frame (the paper's
+// sampler), kNone observes the expectation, kAggregated (numerical mode only,
+// §6c) draws each pixel's normal-branch frames as one normal of the same
+// mean and variance.
+enum class NoiseModel { kPoisson, kNone, kAggregated };
 std::string to_string(NoiseModel noise);
 std::optional<NoiseModel> noise_model_from_string(std::string_view text);
 

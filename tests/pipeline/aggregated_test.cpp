@@ -1,0 +1,345 @@
+// Statistical validation of the aggregated photon noise (docs/method.md §6c)
+// against the per-frame sampler (§3) through the whole pipeline: per-pixel
+// mean and variance maps of the observation, and the means of RMSE and
+// RMSE_CI over many trials for every code of the paper. Plus the option's
+// wiring: names, refusal with the analog mode, reproducibility.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fss/core/image.h"
+#include "fss/io/png_io.h"
+#include "fss/model/code.h"
+#include "fss/model/noise.h"
+#include "fss/pipeline/observe.h"
+#include "fss/pipeline/simulate.h"
+#include "pipeline/reference_paths.h"
+#include "support/test_util.h"
+
+namespace fss {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The option
+
+TEST(AggregatedNoise, NameRoundTrips) {
+  for (const NoiseModel noise :
+       {NoiseModel::kPoisson, NoiseModel::kNone, NoiseModel::kAggregated}) {
+    EXPECT_EQ(noise_model_from_string(to_string(noise)), noise);
+  }
+  EXPECT_EQ(to_string(NoiseModel::kAggregated), "aggregated");
+  EXPECT_FALSE(noise_model_from_string("Aggregated").has_value());
+}
+
+TEST(AggregatedNoise, RefusedInAnalogMode) {
+  SimulationOptions options;
+  options.noise = NoiseModel::kAggregated;
+  EXPECT_TRUE(options.IsValid(nullptr));
+  options.mode = ShutterMode::kAnalog;
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("noise = aggregated: must be poisson or none in analog mode"),
+            std::string::npos)
+      << error;
+  const Image input = test::make_test_image(480, 2, 1);
+  EXPECT_TRUE(test::throws_error([&] { Simulate(options, input, builtin_code("raskar").value()); },
+                                 ErrorKind::kUsage, {"noise = aggregated", "analog"}));
+}
+
+TEST(AggregatedNoise, CommandLineRefusesItInAnalogMode) {
+  const test::CommandResult r =
+      test::run_fssim("-i " + test::quote(test::source_path("data/camera.png")) +
+                      " --mode analog --noise aggregated --outdir /nonexistent/never-written");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--noise: value aggregated must be poisson or none in analog mode"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(AggregatedNoise, SameBytesForAnyThreadCountAndNonIntegerMotion) {
+  const Image input = test::make_test_image(500, 6, 3, 7);
+  SimulationOptions options;
+  options.noise = NoiseModel::kAggregated;
+  options.velocity_px_per_slot = -0.73;
+  options.dt = 1.3;
+  options.snr = 20.0;  // both branches
+  options.trials = 3;
+  options.seed = 99;
+  options.threads = 1;
+  const ShutterCode code = builtin_code("mip").value();
+  const SimulationReport one = Simulate(options, input, code);
+  options.threads = 3;
+  const SimulationReport three = Simulate(options, input, code);
+  EXPECT_TRUE(one.observed.data == three.observed.data);
+  EXPECT_TRUE(one.restored.data == three.restored.data);
+  EXPECT_EQ(one.trials.rmse_mean, three.trials.rmse_mean);
+  EXPECT_EQ(one.trials.rmse_ci_mean, three.trials.rmse_ci_mean);
+  // And it is noise: another seed, another observation; the per-frame
+  // sampler draws other variates.
+  options.seed = 100;
+  EXPECT_FALSE(Simulate(options, input, code).observed.data == one.observed.data);
+  options.seed = 99;
+  options.noise = NoiseModel::kPoisson;
+  EXPECT_FALSE(Simulate(options, input, code).observed.data == one.observed.data);
+}
+
+// Trials share the work: the first trial records each row's plan, the
+// others replay it. Same bytes as drawing every row from its frames.
+TEST(AggregatedNoise, ReplayedRowIsTheDrawnRow) {
+  Image input = test::make_test_image(200, 3, 1, 5);
+  for (int x = 0; x < 2; ++x) input.at(0, 1, x) = 0.0;  // Knuth frames on row 1
+  for (const double snr : {3.0, 12.0, 100.0}) {
+    ObservationParams params;
+    params.velocity = 0.6;  // filtered frames, not shifts
+    params.snr = snr;
+    params.aggregate_noise = true;
+    const std::vector<double> gains = test::paper_gains("mip");
+    const RowObserver observer(input.width, gains, ShutterMode::kNumerical, params);
+    ASSERT_TRUE(observer.aggregates_noise());
+    RowObserver::Scratch scratch(observer);
+    std::vector<double> drawn(200), replayed(200);
+    int recorded_rows = 0;
+    for (int y = 0; y < input.height; ++y) {
+      AggregatedRowPlan plan;
+      observer.load_row(input.row(0, y), scratch);
+      observer.record_plan(&plan, scratch);
+      observer.observe(true, 40, 0, y, scratch, drawn);
+      if (!plan.recorded) continue;
+      ++recorded_rows;
+      for (const std::uint64_t seed : {40, 41, 12345}) {
+        observer.load_row(input.row(0, y), scratch);
+        observer.observe(true, seed, 0, y, scratch, drawn);
+        observer.replay(plan, seed, 0, y, scratch, replayed);
+        EXPECT_TRUE(drawn == replayed) << "snr " << snr << " row " << y << " seed " << seed;
+      }
+    }
+    // snr 3: every frame on Knuth's branch, more pixel frames than the
+    // width, nothing recorded; snr 100: only about 2 x 52 pixel frames of
+    // row 1 on Knuth's branch, every row recorded.
+    if (snr == 3.0) EXPECT_EQ(recorded_rows, 0);
+    if (snr == 100.0) EXPECT_EQ(recorded_rows, input.height);
+  }
+}
+
+TEST(AggregatedNoise, TrialsAreTheRunsOfTheirSeeds) {
+  // Trial t of a run with seed s has the noise of a one-trial run with seed
+  // s + t, whether it was drawn from its frames or replayed.
+  const Image input = test::make_test_image(480, 5, 3, 11);
+  const ShutterCode code{"sinc", test::paper_gains("sinc")};
+  for (const double velocity : {1.0, -0.45}) {
+    SimulationOptions options;
+    options.noise = NoiseModel::kAggregated;
+    options.velocity_px_per_slot = velocity;
+    options.snr = 15.0;
+    options.seed = 70;
+    double rmse_sum = 0.0, ci_sum = 0.0;
+    for (int t = 0; t < 3; ++t) {
+      options.seed = 70 + static_cast<std::uint64_t>(t);
+      const Metrics m = Simulate(options, input, code).metrics;
+      rmse_sum += m.rmse;
+      ci_sum += m.rmse_ci;
+    }
+    options.seed = 70;
+    options.trials = 3;
+    const TrialStatistics trials = Simulate(options, input, code).trials;
+    EXPECT_EQ(trials.rmse_mean, rmse_sum / 3) << "velocity " << velocity;
+    EXPECT_EQ(trials.rmse_ci_mean, ci_sum / 3) << "velocity " << velocity;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Per-pixel mean and variance maps of the observation
+
+struct Moments {
+  std::vector<double> mean, variance;  // per pixel, sample variance
+};
+
+// Moments of the numerical observation of `u` over seeds [0, seeds).
+Moments observation_moments(const RowSpectra& u, const std::vector<double>& gains,
+                            ObservationParams params, int seeds) {
+  const std::size_t n = static_cast<std::size_t>(u.width) * u.height * u.channels;
+  std::vector<double> sum(n, 0.0), sum_sq(n, 0.0);
+  for (int s = 0; s < seeds; ++s) {
+    params.seed = static_cast<std::uint64_t>(s);
+    const Image o = observe_numerical(u, gains, params);
+    for (std::size_t i = 0; i < n; ++i) {
+      sum[i] += o.data[i];
+      sum_sq[i] += o.data[i] * o.data[i];
+    }
+  }
+  Moments m{std::vector<double>(n), std::vector<double>(n)};
+  for (std::size_t i = 0; i < n; ++i) {
+    m.mean[i] = sum[i] / seeds;
+    m.variance[i] = (sum_sq[i] - seeds * m.mean[i] * m.mean[i]) / (seeds - 1);
+  }
+  return m;
+}
+
+// The exact per-pixel variance of the numerical observation,
+// sum_k alpha_k^2 Var(PoissonSNR(e_k)) (docs/method.md §6b), from each
+// slot's noise-free observation max(e_k, 0); and how many pixel frames are
+// on each branch.
+struct ExactVariance {
+  std::vector<double> variance;
+  int knuth_frames = 0;
+  int normal_frames = 0;
+};
+
+ExactVariance exact_variance(const RowSpectra& u, const std::vector<double>& gains,
+                             const ObservationParams& params) {
+  const double lambda2 = params.snr * params.snr / 100.0;
+  ExactVariance exact;
+  exact.variance.assign(static_cast<std::size_t>(u.width) * u.height * u.channels, 0.0);
+  for (std::size_t k = 0; k < gains.size(); ++k) {
+    if (gains[k] == 0.0) continue;
+    std::vector<double> unit(gains.size(), 0.0);
+    unit[k] = 1.0;
+    const Image e = observe_noise_free(u, unit, ShutterMode::kNumerical, params);
+    for (std::size_t i = 0; i < exact.variance.size(); ++i) {
+      exact.variance[i] += gains[k] * gains[k] * poisson_snr_variance(e.data[i], lambda2);
+      (e.data[i] * lambda2 < kKnuthLimit ? exact.knuth_frames : exact.normal_frames) += 1;
+    }
+  }
+  return exact;
+}
+
+struct MapCase {
+  const char* code;
+  double velocity;
+  double snr;
+};
+
+class ObservationMaps : public ::testing::TestWithParam<MapCase> {};
+
+// Both samplers' mean maps agree with E[o] and their variance maps with the
+// exact variance, pixel by pixel within sampling error and pooled within a
+// few standard errors of the pooled statistic; and with each other.
+TEST_P(ObservationMaps, AgreeWithThePerFrameSamplerAndTheExactMoments) {
+  const MapCase c = GetParam();
+  constexpr int kSeeds = 600;
+  // Levels 10 to 240: lambda from 10 lambda2 up (at least 2.5 here), so
+  // that Knuth's frames are not too skewed: a pixel's excess kurtosis is at
+  // most 0.1 with its tens of frames.
+  Image input = test::make_test_image(96, 4, 1, 3);
+  for (double& value : input.data) value = 10.0 + 0.9 * value;
+  const RowSpectra u = row_spectra(input, 1);
+  const std::vector<double> gains = test::paper_gains(c.code);
+  ObservationParams params;
+  params.velocity = c.velocity;
+  params.snr = c.snr;
+  const Image expectation = observe_noise_free(u, gains, ShutterMode::kNumerical, params);
+  const ExactVariance exact = exact_variance(u, gains, params);
+  EXPECT_GT(exact.knuth_frames, 0);
+  EXPECT_GT(exact.normal_frames, 0);
+  const Moments per_frame = observation_moments(u, gains, params, kSeeds);
+  params.aggregate_noise = true;
+  const Moments aggregated = observation_moments(u, gains, params, kSeeds);
+
+  const std::vector<double>& variance = exact.variance;
+  const std::size_t n = variance.size();
+  // Standard error of a sample variance: sigma^2 sqrt(2 / (S - 1) + kappa / S),
+  // kappa the excess kurtosis, at most 0.1 here.
+  const double variance_relative_se = std::sqrt(2.0 / (kSeeds - 1) + 0.1 / kSeeds);
+  double mean_z2 = 0.0, between_z2 = 0.0, ratio_aggregated = 0.0, ratio_per_frame = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_GT(variance[i], 0.0);
+    const double se = std::sqrt(variance[i] / kSeeds);
+    const double z = (aggregated.mean[i] - expectation.data[i]) / se;
+    EXPECT_LT(std::abs(z), 4.5) << "pixel " << i << " mean " << aggregated.mean[i] << " vs "
+                                << expectation.data[i];
+    mean_z2 += z * z;
+    const double between = (aggregated.mean[i] - per_frame.mean[i]) / (std::sqrt(2.0) * se);
+    between_z2 += between * between;
+    ratio_aggregated += aggregated.variance[i] / variance[i];
+    ratio_per_frame += per_frame.variance[i] / variance[i];
+    EXPECT_NEAR(aggregated.variance[i] / variance[i], 1.0, 4.5 * variance_relative_se)
+        << "pixel " << i;
+    EXPECT_NEAR(per_frame.variance[i] / variance[i], 1.0, 4.5 * variance_relative_se)
+        << "pixel " << i;
+  }
+  // Pooled over the n independent pixels: the mean of z^2 is 1 within 4
+  // sqrt(2 / n), the mean variance ratio 1 within 4 of its standard errors.
+  const double count = static_cast<double>(n);
+  EXPECT_NEAR(mean_z2 / count, 1.0, 4.0 * std::sqrt(2.0 / count));
+  EXPECT_NEAR(between_z2 / count, 1.0, 4.0 * std::sqrt(2.0 / count));
+  EXPECT_NEAR(ratio_aggregated / count, 1.0, 4.0 * variance_relative_se / std::sqrt(count));
+  EXPECT_NEAR(ratio_per_frame / count, 1.0, 4.0 * variance_relative_se / std::sqrt(count));
+}
+
+INSTANTIATE_TEST_SUITE_P(Codes, ObservationMaps,
+                         ::testing::Values(MapCase{"raskar", 1.0, 6.0}, MapCase{"mip", 0.7, 8.0},
+                                           MapCase{"sinc", -1.3, 6.0}),
+                         [](const auto& info) { return std::string(info.param.code); });
+
+// ---------------------------------------------------------------------------
+// RMSE and RMSE_CI over many trials, every code of the paper
+
+// A 300 x 8 crop of camera.png (columns 100..399, rows 200..207): wide
+// enough for L = 52 with a 20-column RMSE margin (RMSE over 104 columns,
+// RMSE_CI over 40), small enough for a fast suite.
+Image camera_crop() {
+  const Image camera = read_png(test::source_path("data/camera.png"));
+  Image crop(300, 8, 1);
+  for (int y = 0; y < crop.height; ++y) {
+    for (int x = 0; x < crop.width; ++x) crop.at(0, y, x) = camera.at(0, 200 + y, 100 + x);
+  }
+  return crop;
+}
+
+struct TrialCase {
+  const char* code;
+  double snr;
+};
+
+class TrialMeans : public ::testing::TestWithParam<TrialCase> {};
+
+// The means over 100 trials of RMSE and of RMSE_CI agree between the two
+// samplers within 3 standard errors of their difference (the two samplers
+// use separate streams, so the trials are independent).
+TEST_P(TrialMeans, AgreeWithThePerFrameSampler) {
+  const TrialCase c = GetParam();
+  static const Image input = camera_crop();
+  SimulationOptions options;
+  options.snr = c.snr;
+  options.trials = 100;
+  options.rmse_margin_columns = 20;
+  options.seed = 1000;
+  const ShutterCode code{c.code, test::paper_gains(c.code)};
+  const TrialStatistics per_frame = Simulate(options, input, code).trials;
+  options.noise = NoiseModel::kAggregated;
+  const TrialStatistics aggregated = Simulate(options, input, code).trials;
+  const double n = options.trials;
+  const double rmse_se = std::sqrt(
+      (per_frame.rmse_sd * per_frame.rmse_sd + aggregated.rmse_sd * aggregated.rmse_sd) / n);
+  const double ci_se = std::sqrt((per_frame.rmse_ci_sd * per_frame.rmse_ci_sd +
+                                  aggregated.rmse_ci_sd * aggregated.rmse_ci_sd) /
+                                 n);
+  ASSERT_GT(rmse_se, 0.0);
+  ASSERT_GT(ci_se, 0.0);
+  EXPECT_LT(std::abs(aggregated.rmse_mean - per_frame.rmse_mean), 3.0 * rmse_se)
+      << "RMSE " << aggregated.rmse_mean << " vs " << per_frame.rmse_mean << " (se " << rmse_se
+      << ")";
+  EXPECT_LT(std::abs(aggregated.rmse_ci_mean - per_frame.rmse_ci_mean), 3.0 * ci_se)
+      << "RMSE_CI " << aggregated.rmse_ci_mean << " vs " << per_frame.rmse_ci_mean << " (se "
+      << ci_se << ")";
+}
+
+std::vector<TrialCase> trial_cases() {
+  std::vector<TrialCase> cases;
+  for (const char* name : {"snapshot", "accumulation", "raskar", "random", "mip", "sinc"}) {
+    for (const double snr : {5.0, 100.0}) cases.push_back({name, snr});
+  }
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(PaperCodes, TrialMeans, ::testing::ValuesIn(trial_cases()),
+                         [](const auto& info) {
+                           return std::string(info.param.code) + "_snr" +
+                                  std::to_string(static_cast<int>(info.param.snr));
+                         });
+
+}  // namespace
+}  // namespace fss

@@ -10,6 +10,7 @@ packages=(
   libplplot-dev plplot-driver-cairo fonts-dejavu-core
   libgtest-dev libgmock-dev libbenchmark-dev
   jq time
+  strace  # fault injection into output publishing (tests/cli/fault_injection_test.cpp)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
 )

@@ -1,13 +1,19 @@
 #include "cli_common.h"
 
+#include <unistd.h>
 #include <charconv>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <new>
 
 #include "fss/core/error.h"
+#include "fss/io/safe_write.h"
 #include "fss/pipeline/option_rules.h"
 
 namespace fssim {
@@ -127,6 +133,37 @@ std::string first_given_option(const CLI::App& app) {
 
 void report_error(std::string_view message) {
   std::cerr << "fssim: error: " << fss::escape_control_characters(message) << std::endl;
+}
+
+void write_output(const std::string& path, std::string_view bytes,
+                  const std::vector<std::string>& inputs) {
+  if (!is_stdout(path)) {
+    fss::write_file_safely(path, bytes, inputs);
+    return;
+  }
+  std::cout.flush();
+  if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
+      std::fflush(stdout) != 0) {
+    fss::throw_runtime_error(std::string("cannot write to standard output: ") +
+                             std::strerror(errno));
+  }
+}
+
+int check_standard_streams(int status) {
+  errno = 0;
+  std::cout.flush();
+  bool out_failed = !std::cout.good();
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) out_failed = true;
+  const int out_error = errno;
+  // close() reports what a buffered write could not (NFS, a full disk).
+  if (::close(STDOUT_FILENO) != 0 && errno != EBADF) out_failed = true;
+  if (out_failed && status == kExitSuccess) {  // else the failure is reported already
+    report_error(std::string("cannot write to standard output: ") +
+                 std::strerror(out_error != 0 ? out_error : EIO));
+  }
+  std::cerr.flush();
+  const bool err_failed = !std::cerr.good() || std::fflush(stderr) != 0 || std::ferror(stderr) != 0;
+  return (out_failed || err_failed) && status == kExitSuccess ? kExitRuntime : status;
 }
 
 int run_reporting_errors(const std::function<int()>& body, const ErrorContext* context) {

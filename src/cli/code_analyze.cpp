@@ -100,7 +100,9 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
                        std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule")
       ->check(at_least(0))
       ->capture_default_str();
-  app_->add_option("--json", json_, "also write the analysis as JSON to this file");
+  app_->add_option("--json", json_,
+                   "also write the analysis as JSON to this file (-: standard output, "
+                   "instead of the text)");
 }
 
 int CodeAnalyzeCommand::Run() const {
@@ -108,8 +110,8 @@ int CodeAnalyzeCommand::Run() const {
   const fss::ShutterMode mode = *fss::shutter_mode_from_string(mode_);
   // The code is checked as the simulator checks it (fss::check_code_for_mode).
   const fss::CodeAnalysis a = fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_);
-  if (!json_.empty()) write_file_atomically(json_, analysis_json(code, a).dump(2) + "\n");
-  print_analysis(code, a, mode_);
+  if (!json_.empty()) write_output(json_, analysis_json(code, a).dump(2) + "\n", {code_});
+  if (!is_stdout(json_)) print_analysis(code, a, mode_);  // else stdout is the JSON
   return kExitSuccess;
 }
 

@@ -64,8 +64,9 @@ int main(int argc, char** argv) {
   // Beyond a file size limit (ulimit -f), a write must fail with EFBIG, which
   // is reported and cleaned up, rather than kill the process mid-write.
   std::signal(SIGXFSZ, SIG_IGN);
+  int status = fssim::kExitRuntime;
   try {
-    return run(argc, argv);
+    status = run(argc, argv);
   } catch (const std::bad_alloc&) {
     fssim::report_error("out of memory");
   } catch (const std::exception& e) {
@@ -73,5 +74,6 @@ int main(int argc, char** argv) {
   } catch (...) {
     fssim::report_error("unexpected failure");
   }
-  return fssim::kExitRuntime;
+  // Results that did not reach stdout (a full disk, /dev/full) are a failure.
+  return fssim::check_standard_streams(status);
 }

@@ -34,6 +34,7 @@
 #include <utility>
 
 #include "fss/core/error.h"
+#include "fss/io/safe_write.h"
 
 namespace fss {
 
@@ -104,7 +105,8 @@ int lock_fd(int fd, int operation) {
 ino_t write_new_file(int dir_fd, const std::string& name, const std::string& bytes,
                      const std::string& shown) {
   Fd fd(::openat(dir_fd, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666));
-  if (fd.get() < 0) throw_runtime_error("cannot write output '" + shown + "': " + error_text(errno));
+  if (fd.get() < 0)
+    throw_runtime_error("cannot write output '" + shown + "': " + error_text(errno));
   int error = write_all(fd.get(), bytes);
   if (error == 0 && ::fsync(fd.get()) != 0) error = errno;
   struct stat st {};
@@ -145,8 +147,8 @@ void publish_forward(int stage_fd, int out_fd, const std::vector<Entry>& manifes
       // directory: that is not an output).
       if (inode_of(out_fd, entry.name) == 0 || inode_of(stage_fd, entry.name) != 0) continue;
       if (is_directory_at(out_fd, entry.name)) continue;
-      if (::renameat2(out_fd, entry.name.c_str(), stage_fd, entry.name.c_str(),
-                      RENAME_NOREPLACE) != 0) {
+      if (::renameat2(out_fd, entry.name.c_str(), stage_fd, entry.name.c_str(), RENAME_NOREPLACE) !=
+          0) {
         error = errno;
       }
     } else if (inode_of(stage_fd, entry.name) == entry.inode) {
@@ -289,8 +291,8 @@ Stage create_stage(int out_fd, const fs::path& outdir) {
   };
   if (const int error = lock_fd(out_fd, LOCK_EX); error != 0) fail(error);
   for (int attempt = 0;; ++attempt) {
-    const std::string name = kStagePrefix + std::to_string(::getpid()) + "-" +
-                             std::to_string(now) + "-" + std::to_string(counter++);
+    const std::string name = kStagePrefix + std::to_string(::getpid()) + "-" + std::to_string(now) +
+                             "-" + std::to_string(counter++);
     if (::mkdirat(out_fd, name.c_str(), 0700) != 0) {
       if (errno == EEXIST && attempt < 100) continue;
       fail(errno);
@@ -434,33 +436,7 @@ void write_output_set(const fs::path& outdir, const std::vector<OutputFile>& fil
 }
 
 void write_file_atomically(const fs::path& path, const std::string& bytes) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    throw_runtime_error("cannot write '" + path.string() + "': it is a directory");
-  }
-  const fs::path target = path.has_parent_path() ? path : "./" / path;
-  const fs::path dir = target.parent_path();
-  std::string prefix = ".";
-  prefix += target.filename().string();
-  prefix += ".fssim-" + std::to_string(::getpid()) + "-";
-  for (int attempt = 0;; ++attempt) {
-    const fs::path temporary = dir / (prefix + std::to_string(attempt) + ".tmp");
-    Fd fd(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666));
-    if (fd.get() < 0) {
-      if (errno == EEXIST && attempt < 100) continue;
-      throw_runtime_error("cannot write output '" + target.string() +
-                          "': cannot create a file in '" + dir.string() +
-                          "': " + error_text(errno));
-    }
-    int error = write_all(fd.get(), bytes);
-    if (error == 0 && ::fsync(fd.get()) != 0) error = errno;
-    if (error == 0 && ::rename(temporary.c_str(), target.c_str()) != 0) error = errno;
-    if (error != 0) {
-      ::unlink(temporary.c_str());
-      throw_runtime_error("cannot write output '" + target.string() + "': " + error_text(error));
-    }
-    return;
-  }
+  write_file_safely(path, bytes);
 }
 
 }  // namespace fss

@@ -103,9 +103,9 @@ class FaultInjection : public ::testing::Test {
 
   // Runs B under strace with `inject` (an strace -e inject= value).
   CommandResult run_b_injected(const std::string& syscall, const std::string& inject) {
-    return test::run_command("strace -f -qq -o /dev/null -e trace=" + syscall + " -e inject=" +
-                             syscall + ":" + inject + " '" + FSSIM_BINARY_PATH + "' " +
-                             command(args_b_));
+    return test::run_command("strace -f -qq -o /dev/null -e trace=" + syscall +
+                             " -e inject=" + syscall + ":" + inject + " '" + FSSIM_BINARY_PATH +
+                             "' " + command(args_b_));
   }
 
   bool is_a() const { return outputs_in(out_) == reference_a_; }
@@ -169,8 +169,9 @@ TEST_F(FaultInjection, SigkillAtRandomMomentsLeavesOneSetAfterTheNextRun) {
   for (int i = 0; i < 12; ++i) {
     reset_to_a();
     const std::string delay = std::to_string(0.005 * i);
-    test::run_command("{ '" + binary + "' " + command(args_b_) + " >/dev/null 2>&1 & pid=$!; sleep " +
-                      delay + "; kill -9 $pid 2>/dev/null; wait $pid; }");
+    test::run_command("{ '" + binary + "' " + command(args_b_) +
+                      " >/dev/null 2>&1 & pid=$!; sleep " + delay +
+                      "; kill -9 $pid 2>/dev/null; wait $pid; }");
     EXPECT_EQ(test::read_file(out_ / "notes.txt"), kNotes);
     expect_good_run_recovers(args_a_, reference_a_);
   }
@@ -224,10 +225,9 @@ TEST_F(FaultInjection, ConcurrentPairsLeaveOneSet) {
   int mixed = 0;
   for (int pair = 0; pair < 100; ++pair) {
     fs::remove_all(out_);
-    const CommandResult r =
-        test::run_command("{ '" + binary + "' " + command(args_a_) + " >/dev/null & a=$!; '" +
-                          binary + "' " + command(args_b_) +
-                          " >/dev/null & b=$!; wait $a || exit 3; wait $b || exit 4; }");
+    const CommandResult r = test::run_command(
+        "{ '" + binary + "' " + command(args_a_) + " >/dev/null & a=$!; '" + binary + "' " +
+        command(args_b_) + " >/dev/null & b=$!; wait $a || exit 3; wait $b || exit 4; }");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     if (!is_a() && !is_b()) ++mixed;
     EXPECT_EQ(debris_in(out_), std::vector<std::string>{});

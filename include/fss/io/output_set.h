@@ -33,7 +33,8 @@ void write_output_set(const std::filesystem::path& outdir, const std::vector<Out
                       const std::vector<std::string>& stale_names = {});
 
 // Writes `bytes` to `path` through a temporary file in the same directory
-// renamed into place, so `path` is either untouched or complete. Throws a
+// renamed into place, so `path` is either untouched or complete: the same as
+// write_file_safely (safe_write.h) without inputs to protect. Throws a
 // runtime fss::Error naming the file on failure.
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 

@@ -1,0 +1,177 @@
+// Every file a subcommand writes (code generate -o, code analyze --json,
+// code optimize -o, spectra -o, sweep -o and --plot): never over an input,
+// whatever path names it; "-" is standard output; a device, FIFO or
+// /proc/self/fd/N is written in place, never replaced; a symbolic link stays
+// one; a write error on standard output is exit status 1.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <string>
+
+#include "fss/io/png_io.h"
+#include "fss/io/safe_write.h"
+#include "support/test_util.h"
+
+namespace fss {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CommandResult;
+using test::quote;
+using ::testing::HasSubstr;
+
+class SubcommandOutput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    test::write_file(code_, kCode);
+    const std::vector<std::uint8_t> png = encode_png8(test::make_test_image(300, 16, 1));
+    test::write_file(image_, std::string(png.begin(), png.end()));
+  }
+
+  // fssim run in the test directory (relative paths name its files).
+  CommandResult fssim(const std::string& arguments) const {
+    return test::run_command("cd " + quote(dir_.path()) + " && { '" + FSSIM_BINARY_PATH + "' " +
+                             arguments + "; }");
+  }
+
+  // A refusal: exit status `status`, one line naming `culprit`, the code
+  // file unchanged.
+  void expect_refused(const CommandResult& r, int status, const std::string& culprit) const {
+    EXPECT_EQ(r.exit_code, status) << r.err;
+    EXPECT_THAT(r.err, HasSubstr(culprit));
+    EXPECT_EQ(test::lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_EQ(test::read_file(code_), kCode);
+  }
+
+  static constexpr char kCode[] = "1 0 1 1 0 0 1\n";
+  test::TempDir dir_;
+  fs::path code_ = dir_ / "c.txt";
+  fs::path image_ = dir_ / "in.png";
+};
+
+TEST_F(SubcommandOutput, AnalyzeJsonNeverOverwritesItsCodeFile) {
+  expect_refused(fssim("code analyze c.txt --json c.txt"), 1, "c.txt");
+  expect_refused(fssim("code analyze c.txt --json ./c.txt"), 1, "c.txt");
+}
+
+TEST_F(SubcommandOutput, SpectraNeverOverwritesACodeFile) {
+  expect_refused(fssim("spectra -o c.txt c.txt"), 1, "c.txt");
+  fs::create_symlink("c.txt", dir_ / "link.txt");
+  expect_refused(fssim("spectra -o link.txt raskar c.txt"), 1, "c.txt");
+}
+
+TEST_F(SubcommandOutput, SweepNeverOverwritesItsInputs) {
+  expect_refused(fssim("sweep --input in.png --code c.txt -o c.txt"), 1, "c.txt");
+  expect_refused(fssim("sweep --input in.png --code c.txt -o x.csv --plot ./c.txt"), 1, "c.txt");
+  const std::string png = test::read_file(image_);
+  EXPECT_EQ(
+      fssim("sweep --input in.png -o ../" + dir_.path().filename().string() + "/in.png").exit_code,
+      1);
+  EXPECT_EQ(test::read_file(image_), png);
+}
+
+TEST_F(SubcommandOutput, SweepOutputAndPlotMustBeTwoFiles) {
+  const CommandResult r = fssim("sweep --input in.png -o x.csv --plot ./x.csv");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("same file"));
+  EXPECT_FALSE(fs::exists(dir_ / "x.csv"));
+}
+
+TEST_F(SubcommandOutput, DashIsStandardOutput) {
+  CommandResult r = fssim("code generate sinc --length 4 -o -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, ::testing::StartsWith("# sinc code, L = 4"));
+  r = fssim("code analyze raskar --json -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.substr(0, 2), "{\n");
+  r = fssim("spectra -o - raskar");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.substr(1, 3), "PNG");
+  r = fssim("sweep --input in.png -o -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, ::testing::StartsWith("velocity,snr,"));
+  r = fssim("code optimize --length 4 --velocity 1 --restarts 1 --iterations 5 -o -");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, ::testing::StartsWith("# optimized"));
+  EXPECT_FALSE(fs::exists(dir_ / "-"));
+}
+
+TEST_F(SubcommandOutput, FullStandardOutputIsExitStatusOne) {
+  for (const std::string command :
+       {"code generate sinc --length 200", "code analyze raskar", "spectra -o s.png raskar",
+        "sweep --input in.png -o x.csv", "code generate sinc --length 4 -o -"}) {
+    const CommandResult r = fssim(command + " >/dev/full");
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr("standard output")) << command;
+  }
+}
+
+TEST_F(SubcommandOutput, DevicesAndOpenFilesAreWrittenInPlace) {
+  struct stat before {};
+  ASSERT_EQ(::stat("/dev/null", &before), 0);
+  EXPECT_EQ(fssim("code generate sinc --length 4 -o /dev/null").exit_code, 0);
+  struct stat after {};
+  ASSERT_EQ(::stat("/dev/null", &after), 0);
+  EXPECT_TRUE(S_ISCHR(after.st_mode));
+  EXPECT_EQ(after.st_ino, before.st_ino);
+
+  fs::create_symlink("/proc/self/fd/1", dir_ / "to-stdout");
+  const CommandResult r = fssim("code generate sinc --length 4 -o to-stdout");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("# sinc code, L = 4"));
+  EXPECT_TRUE(fs::is_symlink(dir_ / "to-stdout"));
+}
+
+TEST_F(SubcommandOutput, FifoIsWrittenInPlace) {
+  const fs::path fifo = dir_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const CommandResult r =
+      test::run_command("cd " + quote(dir_.path()) + " && { cat fifo > got & '" +
+                        FSSIM_BINARY_PATH + "' code generate sinc --length 4 -o fifo; wait; }");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_THAT(test::read_file(dir_ / "got"), ::testing::StartsWith("# sinc code, L = 4"));
+}
+
+TEST_F(SubcommandOutput, SymbolicLinkToAFileStaysALink) {
+  test::write_file(dir_ / "real.txt", "old\n");
+  fs::create_symlink("real.txt", dir_ / "link.txt");
+  ASSERT_EQ(fssim("code generate sinc --length 4 -o link.txt").exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.txt"));
+  EXPECT_THAT(test::read_file(dir_ / "real.txt"), ::testing::StartsWith("# sinc code, L = 4"));
+  EXPECT_EQ(test::list_directory(dir_.path()),
+            (std::vector<std::string>{"c.txt", "in.png", "link.txt", "real.txt"}));
+}
+
+TEST(SafeWrite, RefusesDirectoriesAndDanglingLinksAndKeepsPermissions) {
+  const test::TempDir dir;
+  EXPECT_TRUE(test::throws_error([&] { write_file_safely(dir.path(), "x"); }, ErrorKind::kRuntime,
+                                 {"directory"}));
+  fs::create_symlink("missing", dir / "dangling");
+  EXPECT_TRUE(test::throws_error([&] { write_file_safely(dir / "dangling", "x"); },
+                                 ErrorKind::kRuntime, {"missing"}));
+  const fs::path file = dir / "f";
+  test::write_file(file, "old");
+  fs::permissions(file, fs::perms::owner_read | fs::perms::owner_write);
+  write_file_safely(file, "new");
+  EXPECT_EQ(test::read_file(file), "new");
+  EXPECT_EQ(fs::status(file).permissions(), fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_TRUE(
+      test::throws_error([&] { write_file_safely(file, "x", {(dir / "." / "f").string()}); },
+                         ErrorKind::kRuntime, {"refusing"}));
+  EXPECT_EQ(test::read_file(file), "new");
+}
+
+TEST(SafeWrite, SameFileComparesFilesNotSpellings) {
+  const test::TempDir dir;
+  test::write_file(dir / "a", "a");
+  fs::create_hard_link(dir / "a", dir / "hard");
+  EXPECT_TRUE(same_file(dir / "a", dir / "hard"));
+  EXPECT_TRUE(same_file(dir / "new", dir / "." / "new"));
+  EXPECT_FALSE(same_file(dir / "a", dir / "new"));
+}
+
+}  // namespace
+}  // namespace fss

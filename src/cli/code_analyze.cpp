@@ -98,7 +98,7 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
   app_->add_option("--grid", grid_,
                    "M on the N-point DFT grid (the simulator uses N = 2 (W - B)); 0: an " +
                        std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule")
-      ->check(at_least(0))
+      ->check(integer_in(0, fss::kMaxAnalysisGridPoints))
       ->capture_default_str();
   app_->add_option("--json", json_,
                    "also write the analysis as JSON to this file (-: standard output, "

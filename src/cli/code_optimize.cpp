@@ -90,11 +90,11 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code) {
       ->check(finite())
       ->capture_default_str();
   app_->add_option("--restarts", o.restarts, "random starting codes (seeded by --seed)")
-      ->check(at_least(0))
+      ->check(integer_in(0, fss::kMaxRestarts))
       ->capture_default_str();
   app_->add_option("--iterations", o.max_iterations,
                    "per start: quasi-Newton iterations, or moves of the binary search")
-      ->check(at_least(1))
+      ->check(integer_in(1, fss::kMaxIterations))
       ->capture_default_str();
   app_->add_option("--seed", o.seed, "seed of the random starts")->capture_default_str();
   app_->add_option("-o,--output", output_,

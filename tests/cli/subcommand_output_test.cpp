@@ -145,6 +145,33 @@ TEST_F(SubcommandOutput, SymbolicLinkToAFileStaysALink) {
             (std::vector<std::string>{"c.txt", "in.png", "link.txt", "real.txt"}));
 }
 
+// Work is bounded before it starts (issue 12): a code longer than
+// kMaxCodeLength is refused while it is read, and the search and grid sizes
+// have upper bounds; each refusal is one line.
+TEST_F(SubcommandOutput, LongCodesAndHugeEffortsAreRefusedAtOnce) {
+  std::string gains;
+  for (int i = 0; i < 1000000; ++i) gains += "0.5\n";
+  test::write_file(dir_ / "long.txt", gains);
+  for (const std::string command : {"code analyze long.txt", "spectra -o s.png long.txt",
+                                    "--input in.png --code long.txt --outdir out"}) {
+    const CommandResult r = fssim(command);
+    EXPECT_EQ(r.exit_code, 1) << command << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr("more than 1024 gains")) << command;
+    EXPECT_EQ(test::lines_of(r.err).size(), 1u) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  for (const auto& [command, option] : std::vector<std::pair<std::string, std::string>>{
+           {"code analyze raskar --grid 2147483647", "--grid"},
+           {"code optimize --length 8 --velocity 1 --restarts 1000000000", "--restarts"},
+           {"code optimize --length 8 --velocity 1 --iterations 1000000000", "--iterations"},
+           {"code optimize --length 100000 --velocity 1", "--length"},
+           {"code generate sinc --length 10000", "--length"}}) {
+    const CommandResult r = fssim(command);
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr(option)) << command;
+  }
+}
+
 TEST(SafeWrite, RefusesDirectoriesAndDanglingLinksAndKeepsPermissions) {
   const test::TempDir dir;
   EXPECT_TRUE(test::throws_error([&] { write_file_safely(dir.path(), "x"); }, ErrorKind::kRuntime,

@@ -131,8 +131,59 @@ std::string first_given_option(const CLI::App& app) {
   return {};
 }
 
+namespace {
+
+// Length of the well-formed UTF-8 sequence at text[i] (1 for ASCII), 0 if
+// there is none.
+std::size_t utf8_length(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char lead = byte(i);
+  if (lead < 0x80) return 1;
+  const std::size_t length = lead >= 0xC2 && lead <= 0xDF   ? 2
+                             : lead >= 0xE0 && lead <= 0xEF ? 3
+                             : lead >= 0xF0 && lead <= 0xF4 ? 4
+                                                            : 0;
+  if (length == 0 || i + length > text.size()) return 0;
+  for (std::size_t k = 1; k < length; ++k) {
+    if ((byte(i + k) & 0xC0) != 0x80) return 0;
+  }
+  // Overlong forms, surrogates and values past U+10FFFF.
+  if (lead == 0xE0 && byte(i + 1) < 0xA0) return 0;
+  if (lead == 0xED && byte(i + 1) >= 0xA0) return 0;
+  if (lead == 0xF0 && byte(i + 1) < 0x90) return 0;
+  if (lead == 0xF4 && byte(i + 1) >= 0x90) return 0;
+  return length;
+}
+
+// `text` with bytes that are not UTF-8 and the invisible U+FEFF (a byte
+// order mark) written as \xNN, so a message shows what the file holds.
+std::string escape_invisible_and_invalid(std::string_view text) {
+  constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < text.size();) {
+    std::size_t length = utf8_length(text, i);
+    const bool bom = text.substr(i, 3) == "\xEF\xBB\xBF";
+    if (length == 0 || bom) {
+      for (std::size_t k = 0; k < (bom ? 3 : 1); ++k) {
+        const auto byte = static_cast<unsigned char>(text[i + k]);
+        out += "\\x";
+        out += kHex[byte >> 4];
+        out += kHex[byte & 0xf];
+      }
+      i += bom ? 3 : 1;
+      continue;
+    }
+    out.append(text.substr(i, length));
+    i += length;
+  }
+  return out;
+}
+
+}  // namespace
+
 void report_error(std::string_view message) {
-  std::cerr << "fssim: error: " << fss::escape_control_characters(message) << std::endl;
+  std::cerr << "fssim: error: "
+            << escape_invisible_and_invalid(fss::escape_control_characters(message)) << std::endl;
 }
 
 void write_output(const std::string& path, std::string_view bytes,

@@ -53,7 +53,9 @@ CodeGenerateCommand::CodeGenerateCommand(CLI::App& code) {
   app_->add_option("--dt", options_.dt, "sinc, mip: time slot length, > 0")
       ->check(scale())
       ->capture_default_str();
-  app_->add_option("--seed", options_.seed, "random: seed of the gains")->capture_default_str();
+  app_->add_option("--seed", options_.seed, "random: seed of the gains")
+      ->check(seed_value())
+      ->capture_default_str();
   app_->add_flag("--analog", options_.analog,
                  "random: gains on [0, 1) (analog) instead of [-1, 1)");
   app_->add_option("-o,--output", output_, "code file to write (default, or -: standard output)");

@@ -96,7 +96,9 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code) {
                    "per start: quasi-Newton iterations, or moves of the binary search")
       ->check(integer_in(1, fss::kMaxIterations))
       ->capture_default_str();
-  app_->add_option("--seed", o.seed, "seed of the random starts")->capture_default_str();
+  app_->add_option("--seed", o.seed, "seed of the random starts")
+      ->check(seed_value())
+      ->capture_default_str();
   app_->add_option("-o,--output", output_,
                    "code file to write the optimum to (-: standard output, without the "
                    "report)");

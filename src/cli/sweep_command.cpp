@@ -163,6 +163,7 @@ SweepCommand::SweepCommand(CLI::App& app) {
   flags_.AddSeed(*sweep_);
   flags_.AddRmseMargin(*sweep_);
   flags_.AddThreads(*sweep_);
+  flags_.AddMaxMemory(*sweep_);  // the simulator's memory guard, for the image and each row
   sweep_->add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep_->add_option("--plot", plot_,
                      "also draw measured and predicted RMSE against the swept parameter into "
@@ -172,7 +173,8 @@ SweepCommand::SweepCommand(CLI::App& app) {
 bool SweepCommand::parsed() const { return sweep_->parsed(); }
 
 int SweepCommand::Run() const {
-  return run_reporting_errors([this] { return Sweep(); });
+  const ErrorContext context{" (raise it with --max-memory)", ""};
+  return run_reporting_errors([this] { return Sweep(); }, &context);
 }
 
 SweepCommand::Grid SweepCommand::ParseGrid() const {
@@ -214,8 +216,8 @@ int SweepCommand::Sweep() const {
   const Grid grid = ParseGrid();
   CheckPaths();
   const fss::ShutterCode code = fss::load_code(flags_.code_name());
-  const fss::Image image = fss::read_png(input_);
   const fss::SimulationOptions options = flags_.Options();
+  const fss::Image image = fss::read_png(input_, options.max_memory_bytes);
   // Refuse a code the mode cannot use before any row runs (Simulate would, at
   // the first setting that fits the image).
   fss::check_code_for_mode(code, options.mode);

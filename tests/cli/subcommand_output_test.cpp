@@ -172,6 +172,37 @@ TEST_F(SubcommandOutput, LongCodesAndHugeEffortsAreRefusedAtOnce) {
   }
 }
 
+TEST_F(SubcommandOutput, SeedsAreParsedStrictly) {
+  for (const std::string command :
+       {"code generate random --length 4 --seed", "code optimize --length 4 --velocity 1 --seed"}) {
+    for (const std::string seed : {"-1", "18446744073709551616", "1e3"}) {
+      const CommandResult r = fssim(command + " " + seed);
+      EXPECT_EQ(r.exit_code, 2) << command << " " << seed << ": " << r.err;
+      EXPECT_THAT(r.err, HasSubstr("--seed")) << r.err;
+    }
+  }
+}
+
+TEST_F(SubcommandOutput, SweepHasTheMemoryGuard) {
+  const CommandResult r = fssim("sweep --input in.png -o x.csv --max-memory 1K");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("raise it with --max-memory"));
+  EXPECT_FALSE(fs::exists(dir_ / "x.csv"));
+}
+
+TEST_F(SubcommandOutput, InvisibleAndInvalidBytesAreShownEscaped) {
+  test::write_file(dir_ / "bom.txt",
+                   "\xEF\xBB\xBF"
+                   "1 0 1\n");
+  CommandResult r = fssim("code analyze bom.txt");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("'\\xef\\xbb\\xbf1' is not a number"));
+  test::write_file(dir_ / "bad.txt", "1 \xFF 1\n");
+  r = fssim("code analyze bad.txt");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("'\\xff'"));
+}
+
 TEST(SafeWrite, RefusesDirectoriesAndDanglingLinksAndKeepsPermissions) {
   const test::TempDir dir;
   EXPECT_TRUE(test::throws_error([&] { write_file_safely(dir.path(), "x"); }, ErrorKind::kRuntime,

@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <zlib.h>
 
 #include <filesystem>
 #include <string>
@@ -201,6 +202,44 @@ TEST_F(SubcommandOutput, InvisibleAndInvalidBytesAreShownEscaped) {
   r = fssim("code analyze bad.txt");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_THAT(r.err, HasSubstr("'\\xff'"));
+}
+
+// A 4000 x 4000 gray PNG whose IDAT has a bad CRC: decoding would fail on
+// it, so a refusal naming the run's memory comes from the header alone.
+std::string png_with_bad_idat(std::uint32_t width, std::uint32_t height) {
+  const auto be32 = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16),
+                       static_cast<char>(v >> 8), static_cast<char>(v)};
+  };
+  const auto chunk = [&](const std::string& type, const std::string& data, bool good_crc) {
+    const std::string body = type + data;
+    uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(body.data()), body.size());
+    if (!good_crc) crc ^= 1;
+    return be32(static_cast<std::uint32_t>(data.size())) + body +
+           be32(static_cast<std::uint32_t>(crc));
+  };
+  const std::string raw(static_cast<std::size_t>(width + 1) * height, '\0');
+  uLongf size = compressBound(raw.size());
+  std::string packed(size, '\0');
+  compress2(reinterpret_cast<Bytef*>(packed.data()), &size,
+            reinterpret_cast<const Bytef*>(raw.data()), raw.size(), 9);
+  packed.resize(size);
+  const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x00\x00\x00\x00", 5);
+  return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr, true) +
+         chunk("IDAT", packed, false) + chunk("IEND", "", true);
+}
+
+TEST_F(SubcommandOutput, RunTooLargeForTheLimitIsRefusedFromTheHeader) {
+  test::write_file(dir_ / "big.png", png_with_bad_idat(4000, 4000));
+  const CommandResult r = fssim("--input big.png --outdir out --max-memory 300M");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("a run on this 4000 x 4000 x 1 image needs about"));
+  EXPECT_THAT(r.err, HasSubstr("raise it with --max-memory"));
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  // Within the limit the header passes and decoding finds the bad CRC.
+  const CommandResult decoded = fssim("--input big.png --outdir out --max-memory 0");
+  EXPECT_EQ(decoded.exit_code, 1) << decoded.err;
+  EXPECT_THAT(decoded.err, ::testing::Not(HasSubstr("memory")));
 }
 
 TEST(SafeWrite, RefusesDirectoriesAndDanglingLinksAndKeepsPermissions) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -49,6 +50,17 @@ inline std::uint8_t png8_sample(double value) {
   const int whole = static_cast<int>(value);  // truncation; exact in [0.5, 255)
   return static_cast<std::uint8_t>(whole + (value - whole >= 0.5 ? 1 : 0));
 }
+
+// The size the header (IHDR) of a PNG file declares, read from its first 33
+// bytes without decoding: channels as read_png gives them (1 for gray, 3 for
+// colour; a palette counts 1, the least it may give). Nothing when the file
+// does not start with a PNG signature and an IHDR: read_png then says why.
+struct PngHeaderSize {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+};
+std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& path);
 
 // Encodes an 8-bit gray (1 channel) or RGB (3 channels) PNG; each value
 // becomes png8_sample(value).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <future>
 #include <iostream>
 #include <optional>
@@ -52,6 +53,14 @@ void check_memory_from_header(const std::string& input, const fss::SimulationOpt
   if (options.max_memory_bytes == 0) return;
   const std::optional<fss::PngHeaderSize> size = fss::read_png_header_size(input);
   if (!size) return;  // read_png says what is wrong
+  // A header declaring more pixels (at 1 bit each) than the file can hold
+  // after deflate (at most 1032 times) is corrupt: read_png says so.
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(input, ec);
+  if (ec || static_cast<double>(size->width) * size->height / 8.0 >
+                1032.0 * (static_cast<double>(file_bytes) + 1.0)) {
+    return;
+  }
   fss::Geometry geometry;
   try {
     const double v = std::max(std::abs(options.velocity_px_per_slot),
@@ -64,9 +73,10 @@ void check_memory_from_header(const std::string& input, const fss::SimulationOpt
   const std::size_t needed = fss::estimate_working_memory_bytes(
       size->width, size->height, size->channels, geometry, options.trials, sheet ? nullptr : &sink);
   if (needed > options.max_memory_bytes) {
-    fss::throw_limit_error("a run on this " + std::to_string(size->width) + " x " +
-                           std::to_string(size->height) + " x " + std::to_string(size->channels) +
-                           " image needs about " + fss::format_bytes(static_cast<double>(needed)) +
+    fss::throw_limit_error("input '" + input + "': a run on this " + std::to_string(size->width) +
+                           " x " + std::to_string(size->height) + " x " +
+                           std::to_string(size->channels) + " image needs about " +
+                           fss::format_bytes(static_cast<double>(needed)) +
                            " of memory, more than the memory limit of " +
                            fss::format_bytes(static_cast<double>(options.max_memory_bytes)));
   }

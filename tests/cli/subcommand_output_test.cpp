@@ -233,7 +233,7 @@ TEST_F(SubcommandOutput, RunTooLargeForTheLimitIsRefusedFromTheHeader) {
   test::write_file(dir_ / "big.png", png_with_bad_idat(4000, 4000));
   const CommandResult r = fssim("--input big.png --outdir out --max-memory 300M");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("a run on this 4000 x 4000 x 1 image needs about"));
+  EXPECT_THAT(r.err, HasSubstr("input 'big.png': a run on this 4000 x 4000 x 1 image needs about"));
   EXPECT_THAT(r.err, HasSubstr("raise it with --max-memory"));
   EXPECT_FALSE(fs::exists(dir_ / "out"));
   // Within the limit the header passes and decoding finds the bad CRC.

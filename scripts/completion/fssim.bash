@@ -21,7 +21,7 @@ _fssim_options() {
             --restarts --iterations --seed -o --output" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
-            --rmse-margin --threads -o --output --plot" ;;
+            --rmse-margin --threads --max-memory -o --output --plot" ;;
   esac
 }
 

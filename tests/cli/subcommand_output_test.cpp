@@ -184,6 +184,15 @@ TEST_F(SubcommandOutput, SeedsAreParsedStrictly) {
   }
 }
 
+TEST_F(SubcommandOutput, MaxMemoryIsParsedStrictly) {
+  for (const std::string value : {"0.5", "1e-300", "''", "0.0001K"}) {
+    const CommandResult r = fssim("--input in.png --outdir out --max-memory " + value);
+    EXPECT_EQ(r.exit_code, 2) << value << ": " << r.err;
+    EXPECT_THAT(r.err, HasSubstr("--max-memory")) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out"));
+  }
+}
+
 TEST_F(SubcommandOutput, SweepHasTheMemoryGuard) {
   const CommandResult r = fssim("sweep --input in.png -o x.csv --max-memory 1K");
   EXPECT_EQ(r.exit_code, 1) << r.err;

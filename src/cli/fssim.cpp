@@ -15,13 +15,32 @@
 
 namespace {
 
+// CLI11's message for `e` in fssim's words: "unexpected arguments: 3 -x" (in
+// the order typed), "--velocity needs a value".
+std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
+  const std::string what = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+    std::string extras;
+    for (const std::string& word : app.remaining(true))
+      extras += (extras.empty() ? "" : " ") + word;
+    if (!extras.empty()) return "unexpected arguments: " + extras;
+  }
+  // "--velocity: 1 required FLOAT:FINITE missing"
+  const std::size_t colon = what.find(": ");
+  if (colon != std::string::npos && what.find(" required ", colon) != std::string::npos &&
+      what.size() > 8 && what.compare(what.size() - 8, 8, " missing") == 0) {
+    return what.substr(0, colon) + " needs a value";
+  }
+  return what;
+}
+
 // Parses the command line; an error is reported and its exit status returned.
 int parse(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    fssim::report_error(std::string(e.what()) + " (see " + fssim::help_hint(app) + ")");
+    fssim::report_error(parse_error_message(app, e) + " (see " + fssim::help_hint(app) + ")");
     return fssim::kExitUsage;
   } catch (const std::exception& e) {
     fssim::report_error(std::string(e.what()) + " (see fssim --help)");

@@ -193,6 +193,16 @@ TEST_F(SubcommandOutput, MaxMemoryIsParsedStrictly) {
   }
 }
 
+TEST_F(SubcommandOutput, ParseErrorsAreInFssimsWords) {
+  CommandResult r = fssim("--input in.png 3 -x");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("unexpected arguments: 3 -x"));
+  r = fssim("code analyze raskar --velocity");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--velocity needs a value"));
+  EXPECT_THAT(r.err, ::testing::Not(HasSubstr("FLOAT")));
+}
+
 TEST_F(SubcommandOutput, SweepHasTheMemoryGuard) {
   const CommandResult r = fssim("sweep --input in.png -o x.csv --max-memory 1K");
   EXPECT_EQ(r.exit_code, 1) << r.err;

@@ -97,7 +97,8 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
       ->capture_default_str();
   app_->add_option("--grid", grid_,
                    "M on the N-point DFT grid (the simulator uses N = 2 (W - B)); 0: an " +
-                       std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule")
+                       std::to_string(2 * fss::kBandGridPoints) +
+                       "-node midpoint rule; N <= " + std::to_string(fss::kMaxAnalysisGridPoints))
       ->check(integer_in(0, fss::kMaxAnalysisGridPoints))
       ->capture_default_str();
   app_->add_option("--json", json_,

@@ -89,11 +89,14 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code) {
                    "light budget for analog or binary codes: sum of gains >= this (slots)")
       ->check(finite())
       ->capture_default_str();
-  app_->add_option("--restarts", o.restarts, "random starting codes (seeded by --seed)")
+  app_->add_option(
+          "--restarts", o.restarts,
+          "random starting codes (seeded by --seed), at most " + std::to_string(fss::kMaxRestarts))
       ->check(integer_in(0, fss::kMaxRestarts))
       ->capture_default_str();
   app_->add_option("--iterations", o.max_iterations,
-                   "per start: quasi-Newton iterations, or moves of the binary search")
+                   "per start: quasi-Newton iterations, or moves of the binary search; at most " +
+                       std::to_string(fss::kMaxIterations))
       ->check(integer_in(1, fss::kMaxIterations))
       ->capture_default_str();
   app_->add_option("--seed", o.seed, "seed of the random starts")

@@ -34,6 +34,34 @@ std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
   return what;
 }
 
+// --help shows a value's kind in one plain word (NUMBER, INTEGER, SEED,
+// PATH, TEXT), not CLI11's type and validator strings such as
+// "FLOAT:(FINITE) AND (POSITIVE)": the description says the rule.
+void simplify_type_names(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string full = option->get_type_name();
+    if (full.empty()) continue;
+    const std::string type = full.substr(0, full.find(':'));
+    std::string word = "TEXT";
+    if (type.rfind("FLOAT", 0) == 0) word = "NUMBER";
+    if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0) word = "INTEGER";
+    if (full.find("UINT64") != std::string::npos) word = "SEED";
+    if (full.find("PATH") != std::string::npos) word = "PATH";
+    option->type_name(word);
+    // Validators' names go too, but a list of choices ("{numerical,analog}") stays.
+    for (int i = 0;; ++i) {
+      CLI::Validator* validator = nullptr;
+      try {
+        validator = option->get_validator(i);
+      } catch (const CLI::OptionNotFound&) {
+        break;
+      }
+      if (validator->get_description().rfind('{', 0) != 0) validator->description("");
+    }
+  }
+  for (CLI::App* sub : app.get_subcommands({})) simplify_type_names(*sub);
+}
+
 // Parses the command line; an error is reported and its exit status returned.
 int parse(CLI::App& app, int argc, char** argv) {
   try {
@@ -63,6 +91,7 @@ int run(int argc, char** argv) {
   const fssim::CodeCommands code(app);
   const fssim::SweepCommand sweep(app);
 
+  simplify_type_names(app);
   if (const int status = parse(app, argc, argv); status >= 0) return status;
   if (app.get_subcommands().empty()) return simulate.Run();
   if (const std::string option = fssim::first_given_option(app); !option.empty()) {

@@ -203,6 +203,17 @@ TEST_F(SubcommandOutput, ParseErrorsAreInFssimsWords) {
   EXPECT_THAT(r.err, ::testing::Not(HasSubstr("FLOAT")));
 }
 
+TEST_F(SubcommandOutput, HelpShowsPlainValueKinds) {
+  for (const std::string command : {"--help", "code analyze --help", "code optimize --help",
+                                    "code generate --help", "spectra --help", "sweep --help"}) {
+    const CommandResult r = fssim(command);
+    EXPECT_EQ(r.exit_code, 0) << command;
+    for (const char* cli11 : {"FLOAT", "FINITE", "POSITIVE", "UINT64", "TEXT:PATH", "INTEGER:"}) {
+      EXPECT_THAT(r.out, ::testing::Not(HasSubstr(cli11))) << command;
+    }
+  }
+}
+
 TEST_F(SubcommandOutput, SweepHasTheMemoryGuard) {
   const CommandResult r = fssim("sweep --input in.png -o x.csv --max-memory 1K");
   EXPECT_EQ(r.exit_code, 1) << r.err;

@@ -21,7 +21,7 @@ _fssim_options() {
             --restarts --iterations --seed -o --output" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
-            --noise --rmse-margin --threads -o --output --plot" ;;
+            --noise --rmse-margin --threads --max-memory -o --output --plot" ;;
     campaign)
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
             --snr --dt --trials --seed --noise --rmse-margin --threads -o --output --shard

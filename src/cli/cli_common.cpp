@@ -1,13 +1,19 @@
 #include "cli_common.h"
 
+#include <unistd.h>
 #include <charconv>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <new>
 
 #include "fss/core/error.h"
+#include "fss/io/safe_write.h"
 #include "fss/pipeline/option_rules.h"
 
 namespace fssim {
@@ -125,8 +131,90 @@ std::string first_given_option(const CLI::App& app) {
   return {};
 }
 
+namespace {
+
+// Length of the well-formed UTF-8 sequence at text[i] (1 for ASCII), 0 if
+// there is none.
+std::size_t utf8_length(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char lead = byte(i);
+  if (lead < 0x80) return 1;
+  const std::size_t length = lead >= 0xC2 && lead <= 0xDF   ? 2
+                             : lead >= 0xE0 && lead <= 0xEF ? 3
+                             : lead >= 0xF0 && lead <= 0xF4 ? 4
+                                                            : 0;
+  if (length == 0 || i + length > text.size()) return 0;
+  for (std::size_t k = 1; k < length; ++k) {
+    if ((byte(i + k) & 0xC0) != 0x80) return 0;
+  }
+  // Overlong forms, surrogates and values past U+10FFFF.
+  if (lead == 0xE0 && byte(i + 1) < 0xA0) return 0;
+  if (lead == 0xED && byte(i + 1) >= 0xA0) return 0;
+  if (lead == 0xF0 && byte(i + 1) < 0x90) return 0;
+  if (lead == 0xF4 && byte(i + 1) >= 0x90) return 0;
+  return length;
+}
+
+// `text` with bytes that are not UTF-8 and the invisible U+FEFF (a byte
+// order mark) written as \xNN, so a message shows what the file holds.
+std::string escape_invisible_and_invalid(std::string_view text) {
+  constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < text.size();) {
+    std::size_t length = utf8_length(text, i);
+    const bool bom = text.substr(i, 3) == "\xEF\xBB\xBF";
+    if (length == 0 || bom) {
+      for (std::size_t k = 0; k < (bom ? 3 : 1); ++k) {
+        const auto byte = static_cast<unsigned char>(text[i + k]);
+        out += "\\x";
+        out += kHex[byte >> 4];
+        out += kHex[byte & 0xf];
+      }
+      i += bom ? 3 : 1;
+      continue;
+    }
+    out.append(text.substr(i, length));
+    i += length;
+  }
+  return out;
+}
+
+}  // namespace
+
 void report_error(std::string_view message) {
-  std::cerr << "fssim: error: " << fss::escape_control_characters(message) << std::endl;
+  std::cerr << "fssim: error: "
+            << escape_invisible_and_invalid(fss::escape_control_characters(message)) << std::endl;
+}
+
+void write_output(const std::string& path, std::string_view bytes,
+                  const std::vector<std::string>& inputs) {
+  if (!is_stdout(path)) {
+    fss::write_file_safely(path, bytes, inputs);
+    return;
+  }
+  std::cout.flush();
+  if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size() ||
+      std::fflush(stdout) != 0) {
+    fss::throw_runtime_error(std::string("cannot write to standard output: ") +
+                             std::strerror(errno));
+  }
+}
+
+int check_standard_streams(int status) {
+  errno = 0;
+  std::cout.flush();
+  bool out_failed = !std::cout.good();
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) out_failed = true;
+  const int out_error = errno;
+  // close() reports what a buffered write could not (NFS, a full disk).
+  if (::close(STDOUT_FILENO) != 0 && errno != EBADF) out_failed = true;
+  if (out_failed && status == kExitSuccess) {  // else the failure is reported already
+    report_error(std::string("cannot write to standard output: ") +
+                 std::strerror(out_error != 0 ? out_error : EIO));
+  }
+  std::cerr.flush();
+  const bool err_failed = !std::cerr.good() || std::fflush(stderr) != 0 || std::ferror(stderr) != 0;
+  return (out_failed || err_failed) && status == kExitSuccess ? kExitRuntime : status;
 }
 
 int run_reporting_errors(const std::function<int()>& body, const ErrorContext* context) {

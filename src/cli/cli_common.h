@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fss/core/error.h"
 #include "fss/io/outputs.h"
@@ -64,6 +65,20 @@ struct ErrorContext {
 // status: kExitUsage for a usage fss::Error, kExitRuntime otherwise. `context`
 // (may be null) is read when the exception arrives, so the body may update it.
 int run_reporting_errors(const std::function<int()>& body, const ErrorContext* context = nullptr);
+
+// Whether `path` is "-", standard output.
+inline bool is_stdout(const std::string& path) { return path == "-"; }
+
+// Writes a command's output file: "-" is standard output, anything else goes
+// through fss::write_file_safely (atomic, never over one of `inputs`, a
+// device or FIFO written in place).
+void write_output(const std::string& path, std::string_view bytes,
+                  const std::vector<std::string>& inputs = {});
+
+// Flushes standard output and checks both standard streams, for the end of
+// main(): a write that failed (a full disk, a closed pipe, /dev/full) turns
+// `status` 0 into kExitRuntime, reported on stderr where it still works.
+int check_standard_streams(int status);
 
 using fss::format_number;          // fss/core/error.h
 using fss::write_file_atomically;  // fss/io/outputs.h

@@ -101,10 +101,13 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
   app_->add_option("--grid", grid_,
                    "M on the N-point DFT grid (the simulator uses N = 2 (W - B): the SNR at "
                    "level 100 is then the simulator's stationary figure of merit); 0: an " +
-                       std::to_string(2 * fss::kBandGridPoints) + "-node midpoint rule")
-      ->check(at_least(0))
+                       std::to_string(2 * fss::kBandGridPoints) +
+                       "-node midpoint rule; N <= " + std::to_string(fss::kMaxAnalysisGridPoints))
+      ->check(integer_in(0, fss::kMaxAnalysisGridPoints))
       ->capture_default_str();
-  app_->add_option("--json", json_, "also write the analysis as JSON to this file");
+  app_->add_option("--json", json_,
+                   "also write the analysis as JSON to this file (-: standard output, "
+                   "instead of the text)");
 }
 
 int CodeAnalyzeCommand::Run() const {
@@ -112,8 +115,8 @@ int CodeAnalyzeCommand::Run() const {
   const fss::ShutterMode mode = *fss::shutter_mode_from_string(mode_);
   // The code is checked as the simulator checks it (fss::check_code_for_mode).
   const fss::CodeAnalysis a = fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_);
-  if (!json_.empty()) write_file_atomically(json_, analysis_json(code, a).dump(2) + "\n");
-  print_analysis(code, a, mode_);
+  if (!json_.empty()) write_output(json_, analysis_json(code, a).dump(2) + "\n", {code_});
+  if (!is_stdout(json_)) print_analysis(code, a, mode_);  // else stdout is the JSON
   return kExitSuccess;
 }
 

@@ -53,10 +53,12 @@ CodeGenerateCommand::CodeGenerateCommand(CLI::App& code) {
   app_->add_option("--dt", options_.dt, "sinc, mip: time slot length, > 0")
       ->check(scale())
       ->capture_default_str();
-  app_->add_option("--seed", options_.seed, "random: seed of the gains")->capture_default_str();
+  app_->add_option("--seed", options_.seed, "random: seed of the gains")
+      ->check(seed_value())
+      ->capture_default_str();
   app_->add_flag("--analog", options_.analog,
                  "random: gains on [0, 1) (analog) instead of [-1, 1)");
-  app_->add_option("-o,--output", output_, "code file to write (default: standard output)");
+  app_->add_option("-o,--output", output_, "code file to write (default, or -: standard output)");
 }
 
 int CodeGenerateCommand::Run() const {
@@ -71,10 +73,10 @@ int CodeGenerateCommand::Run() const {
   }
   const fss::ShutterCode code = fss::generate_code(options);
   const std::string text = generate_header(options) + fss::format_code_txt(code);
-  if (output_.empty()) {
-    std::cout << text;
+  if (output_.empty() || is_stdout(output_)) {
+    write_output("-", text);
   } else {
-    write_file_atomically(output_, text);
+    write_output(output_, text);
     std::printf("%s code, L = %d: written to %s\n", family_.c_str(), options.length,
                 output_.c_str());
   }

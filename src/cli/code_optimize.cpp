@@ -89,15 +89,22 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code) {
                    "light budget for analog or binary codes: sum of gains >= this (slots)")
       ->check(finite())
       ->capture_default_str();
-  app_->add_option("--restarts", o.restarts, "random starting codes (seeded by --seed)")
-      ->check(at_least(0))
+  app_->add_option(
+          "--restarts", o.restarts,
+          "random starting codes (seeded by --seed), at most " + std::to_string(fss::kMaxRestarts))
+      ->check(integer_in(0, fss::kMaxRestarts))
       ->capture_default_str();
   app_->add_option("--iterations", o.max_iterations,
-                   "per start: quasi-Newton iterations, or moves of the binary search")
-      ->check(at_least(1))
+                   "per start: quasi-Newton iterations, or moves of the binary search; at most " +
+                       std::to_string(fss::kMaxIterations))
+      ->check(integer_in(1, fss::kMaxIterations))
       ->capture_default_str();
-  app_->add_option("--seed", o.seed, "seed of the random starts")->capture_default_str();
-  app_->add_option("-o,--output", output_, "code file to write the optimum to");
+  app_->add_option("--seed", o.seed, "seed of the random starts")
+      ->check(seed_value())
+      ->capture_default_str();
+  app_->add_option("-o,--output", output_,
+                   "code file to write the optimum to (-: standard output, without the "
+                   "report)");
 }
 
 void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
@@ -110,7 +117,7 @@ void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
          << " at snr " << format_number(options.snr) << " (snapshot "
          << format_number(a.snapshot_snr_level100) << ")\n";
   const fss::ShutterCode code{"optimized", result.gains};
-  write_file_atomically(output_, header.str() + fss::format_code_txt(code));
+  write_output(output_, header.str() + fss::format_code_txt(code));
 }
 
 int CodeOptimizeCommand::Run() const {
@@ -119,6 +126,7 @@ int CodeOptimizeCommand::Run() const {
   check_options(options);
   const fss::OptimizationResult result = fss::optimize_code(options);
   if (!output_.empty()) WriteCode(options, result);
+  if (is_stdout(output_)) return kExitSuccess;  // stdout holds the code file alone
   std::cout << result.FullReport();
   print_paper_comparison(options, options.binary ? "binary" : mode_, result.analysis);
   std::printf("Gains:");

@@ -16,13 +16,60 @@
 
 namespace {
 
+// CLI11's message for `e` in fssim's words: "unexpected arguments: 3 -x" (in
+// the order typed), "--velocity needs a value".
+std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
+  const std::string what = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+    std::string extras;
+    for (const std::string& word : app.remaining(true))
+      extras += (extras.empty() ? "" : " ") + word;
+    if (!extras.empty()) return "unexpected arguments: " + extras;
+  }
+  // "--velocity: 1 required FLOAT:FINITE missing"
+  const std::size_t colon = what.find(": ");
+  if (colon != std::string::npos && what.find(" required ", colon) != std::string::npos &&
+      what.size() > 8 && what.compare(what.size() - 8, 8, " missing") == 0) {
+    return what.substr(0, colon) + " needs a value";
+  }
+  return what;
+}
+
+// --help shows a value's kind in one plain word (NUMBER, INTEGER, SEED,
+// PATH, TEXT), not CLI11's type and validator strings such as
+// "FLOAT:(FINITE) AND (POSITIVE)": the description says the rule.
+void simplify_type_names(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string full = option->get_type_name();
+    if (full.empty()) continue;
+    const std::string type = full.substr(0, full.find(':'));
+    std::string word = "TEXT";
+    if (type.rfind("FLOAT", 0) == 0) word = "NUMBER";
+    if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0) word = "INTEGER";
+    if (full.find("UINT64") != std::string::npos) word = "SEED";
+    if (full.find("PATH") != std::string::npos) word = "PATH";
+    option->type_name(word);
+    // Validators' names go too, but a list of choices ("{numerical,analog}") stays.
+    for (int i = 0;; ++i) {
+      CLI::Validator* validator = nullptr;
+      try {
+        validator = option->get_validator(i);
+      } catch (const CLI::OptionNotFound&) {
+        break;
+      }
+      if (validator->get_description().rfind('{', 0) != 0) validator->description("");
+    }
+  }
+  for (CLI::App* sub : app.get_subcommands({})) simplify_type_names(*sub);
+}
+
 // Parses the command line; an error is reported and its exit status returned.
 int parse(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    fssim::report_error(std::string(e.what()) + " (see " + fssim::help_hint(app) + ")");
+    fssim::report_error(parse_error_message(app, e) + " (see " + fssim::help_hint(app) + ")");
     return fssim::kExitUsage;
   } catch (const std::exception& e) {
     fssim::report_error(std::string(e.what()) + " (see fssim --help)");
@@ -46,6 +93,7 @@ int run(int argc, char** argv) {
   const fssim::SweepCommand sweep(app);
   const fssim::CampaignCommand campaign(app);
 
+  simplify_type_names(app);
   if (const int status = parse(app, argc, argv); status >= 0) return status;
   if (app.get_subcommands().empty()) return simulate.Run();
   if (const std::string option = fssim::first_given_option(app); !option.empty()) {
@@ -67,8 +115,9 @@ int main(int argc, char** argv) {
   // Beyond a file size limit (ulimit -f), a write must fail with EFBIG, which
   // is reported and cleaned up, rather than kill the process mid-write.
   std::signal(SIGXFSZ, SIG_IGN);
+  int status = fssim::kExitRuntime;
   try {
-    return run(argc, argv);
+    status = run(argc, argv);
   } catch (const std::bad_alloc&) {
     fssim::report_error("out of memory");
   } catch (const std::exception& e) {
@@ -76,5 +125,6 @@ int main(int argc, char** argv) {
   } catch (...) {
     fssim::report_error("unexpected failure");
   }
-  return fssim::kExitRuntime;
+  // Results that did not reach stdout (a full disk, /dev/full) are a failure.
+  return fssim::check_standard_streams(status);
 }

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <future>
 #include <iostream>
 #include <optional>
@@ -42,6 +44,43 @@ std::future<fss::RunPlots> start_plots(const fss::ShutterCode& code,
     // no thread: drawn by write_outputs
   }
   return {};
+}
+
+// Refuses, from the PNG header alone, a run the memory guard of Simulate
+// would refuse after decoding (the same estimate, with the fewest channels
+// the header allows): a huge image fails at once, before it is decoded.
+void check_memory_from_header(const std::string& input, const fss::SimulationOptions& options,
+                              const fss::ShutterCode& code, bool sheet) {
+  if (options.max_memory_bytes == 0) return;
+  const std::optional<fss::PngHeaderSize> size = fss::read_png_header_size(input);
+  if (!size) return;  // read_png says what is wrong
+  // A header declaring more pixels (at 1 bit each) than the file can hold
+  // after deflate (at most 1032 times) is corrupt: read_png says so.
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(input, ec);
+  if (ec || static_cast<double>(size->width) * size->height / 8.0 >
+                1032.0 * (static_cast<double>(file_bytes) + 1.0)) {
+    return;
+  }
+  fss::Geometry geometry;
+  try {
+    const double v = std::max(std::abs(options.velocity_px_per_slot),
+                              std::abs(options.restore_velocity_px_per_slot.value_or(0.0)));
+    geometry = fss::Geometry::compute(size->width, code.length(), v, options.dt);
+  } catch (const fss::Error&) {
+    return;  // Simulate reports it
+  }
+  const fss::ObservedPng8 sink(size->height, size->channels);  // allocates nothing yet
+  const std::size_t needed = fss::estimate_working_memory_bytes(
+      size->width, size->height, size->channels, geometry, options.trials, sheet ? nullptr : &sink);
+  if (needed > options.max_memory_bytes) {
+    fss::throw_limit_error("input '" + input + "': a run on this " + std::to_string(size->width) +
+                           " x " + std::to_string(size->height) + " x " +
+                           std::to_string(size->channels) + " image needs about " +
+                           fss::format_bytes(static_cast<double>(needed)) +
+                           " of memory, more than the memory limit of " +
+                           fss::format_bytes(static_cast<double>(options.max_memory_bytes)));
+  }
 }
 
 // "trial 3/10" on a terminal, for runs of several trials.
@@ -162,6 +201,7 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const fss::ShutterCode code = fss::load_code(code_name);
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
+  check_memory_from_header(input_, options, code, output_options.sheet);
   fss::ImageFileInfo input_info;
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes, &input_info);
   output_options.image_depth = resolve_png_depth(png_depth_, input_info);

@@ -45,7 +45,11 @@ std::string parse_memory_size(const std::string& text, std::size_t* bytes) {
   if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
   const bool suffix_ok = suffix.empty() || scale > 1.0;
   if (used == 0 || !suffix_ok || !std::isfinite(value) || value <= 0.0 || value * scale >= 1e18) {
-    return "value " + text + " is not a memory size (e.g. 800M, 1.5G, 0 for no limit)";
+    return "value '" + text + "' is not a memory size (e.g. 800M, 1.5G, 0 for no limit)";
+  }
+  // Below one byte it would silently mean no limit.
+  if (value * scale < 1.0) {
+    return "value '" + text + "' is less than one byte (0 means no limit)";
   }
   *bytes = static_cast<std::size_t>(value * scale);
   return {};
@@ -155,7 +159,7 @@ void SimulationFlags::AddAll(CLI::App& app) {
 fss::SimulationOptions SimulationFlags::Options() const {
   fss::SimulationOptions options = options_;
   if (max_memory_option_ != nullptr) options.max_memory_bytes = default_memory_limit();
-  if (!max_memory_.empty()) {
+  if (max_memory_option_ != nullptr && max_memory_option_->count() > 0) {  // "" too
     const std::string problem = parse_memory_size(max_memory_, &options.max_memory_bytes);
     if (!problem.empty())
       fss::throw_usage_error("--max-memory: " + problem + " (see fssim --help)");

@@ -14,7 +14,8 @@ SpectraCommand::SpectraCommand(CLI::App& app) {
                                 "plot |K| of several codes on one picture (no simulation): fssim "
                                 "spectra --output FILE CODE...");
   spectra_->add_option("codes", codes_, "built-in code names or code files (1 to 8)")->required();
-  spectra_->add_option("-o,--output", output_, "PNG file to write")->required();
+  spectra_->add_option("-o,--output", output_, "PNG file to write (-: standard output)")
+      ->required();
   spectra_->add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
       ->check(finite())
       ->capture_default_str();
@@ -40,13 +41,16 @@ int SpectraCommand::Plot() const {
   for (const std::string& name : codes_) codes.push_back(fss::load_code(name));
   const std::vector<std::uint8_t> png =
       fss::plot_spectra_overlay_png(codes, velocity_, dt_, !linear_, plot_);
-  write_file_atomically(output_, std::string(png.begin(), png.end()));
+  write_output(output_, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
+               codes_);
+  // With the PNG on stdout, the summary goes to stderr.
+  std::FILE* info = is_stdout(output_) ? stderr : stdout;
   for (const fss::ShutterCode& code : codes) {
     const fss::KernelAnalysis k = fss::analyze_kernel(code.gains, velocity_, dt_);
-    std::printf("%s: min |K| %g at xi %g%s\n", code.name.c_str(), k.min_abs, k.min_abs_xi,
-                k.invertible ? "" : " (not invertible)");
+    std::fprintf(info, "%s: min |K| %g at xi %g%s\n", code.name.c_str(), k.min_abs, k.min_abs_xi,
+                 k.invertible ? "" : " (not invertible)");
   }
-  std::printf("Plot: %s\n", output_.c_str());
+  std::fprintf(info, "Plot: %s\n", output_.c_str());
   return kExitSuccess;
 }
 

@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <utility>
 
 #include "cli_common.h"
 #include "fss/core/error.h"
 #include "fss/io/image_io.h"
 #include "fss/io/plot.h"
+#include "fss/io/safe_write.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/simulate.h"
@@ -66,8 +68,12 @@ struct Curves {
 class SweepRunner {
  public:
   SweepRunner(const fss::SimulationOptions& options, const fss::Image& image,
-              const fss::ShutterCode& code, bool by_velocity)
-      : options_(options), image_(image), code_(code), by_velocity_(by_velocity) {}
+              const fss::ShutterCode& code, bool by_velocity, std::FILE* console)
+      : options_(options),
+        image_(image),
+        code_(code),
+        by_velocity_(by_velocity),
+        console_(console) {}
 
   std::string Row(double velocity, double snr);
   const Curves& curves() const { return curves_; }
@@ -79,6 +85,7 @@ class SweepRunner {
   const fss::Image& image_;
   const fss::ShutterCode& code_;
   bool by_velocity_;
+  std::FILE* console_;  // stdout, or stderr when the CSV goes to stdout
   Curves curves_;
 };
 
@@ -89,7 +96,7 @@ std::string SweepRunner::TooNarrowRow(double velocity, double snr, const std::st
   curves_.x.push_back(by_velocity_ ? velocity : snr);
   curves_.measured.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));
-  std::printf("velocity %g, snr %g: too narrow\n", velocity, snr);
+  std::fprintf(console_, "velocity %g, snr %g: too narrow\n", velocity, snr);
   return (blur_length > 0 ? std::to_string(blur_length) : "") + ",,,,,,,too-narrow\n";
 }
 
@@ -108,12 +115,12 @@ std::string SweepRunner::Row(double velocity, double snr) {
   curves_.measured.push_back(r.trials.rmse_mean);
   curves_.predicted.push_back(p.finite ? p.rmse : std::nan(""));
   if (p.finite) {
-    std::printf("velocity %g, snr %g: RMSE %f (sd %f, %d trial%s), predicted %f\n", velocity, snr,
-                r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n, r.trials.n == 1 ? "" : "s",
-                p.rmse);
+    std::fprintf(console_, "velocity %g, snr %g: RMSE %f (sd %f, %d trial%s), predicted %f\n",
+                 velocity, snr, r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n,
+                 r.trials.n == 1 ? "" : "s", p.rmse);
   } else {
-    std::printf("velocity %g, snr %g: RMSE %g (%d trial%s), not invertible\n", velocity, snr,
-                r.trials.rmse_mean, r.trials.n, r.trials.n == 1 ? "" : "s");
+    std::fprintf(console_, "velocity %g, snr %g: RMSE %g (%d trial%s), not invertible\n", velocity,
+                 snr, r.trials.rmse_mean, r.trials.n, r.trials.n == 1 ? "" : "s");
   }
   return setting + std::to_string(r.geometry.blur_length) + "," + csv_number(r.trials.rmse_mean) +
          "," + csv_number(r.trials.rmse_sd) + "," + csv_number(p.rmse) + "," +
@@ -158,7 +165,8 @@ SweepCommand::SweepCommand(CLI::App& app) {
   flags_.AddNoise(*sweep_);
   flags_.AddRmseMargin(*sweep_);
   flags_.AddThreads(*sweep_);
-  sweep_->add_option("-o,--output", output_, "CSV file to write")->required();
+  flags_.AddMaxMemory(*sweep_);  // the simulator's memory guard, for the image and each row
+  sweep_->add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep_->add_option("--plot", plot_,
                      "also draw measured and predicted RMSE against the swept parameter into "
                      "this PNG (one of --velocity, --snr must be a range)");
@@ -167,7 +175,8 @@ SweepCommand::SweepCommand(CLI::App& app) {
 bool SweepCommand::parsed() const { return sweep_->parsed(); }
 
 int SweepCommand::Run() const {
-  return run_reporting_errors([this] { return Sweep(); });
+  const ErrorContext context{" (raise it with --max-memory)", ""};
+  return run_reporting_errors([this] { return Sweep(); }, &context);
 }
 
 SweepCommand::Grid SweepCommand::ParseGrid() const {
@@ -187,13 +196,21 @@ SweepCommand::Grid SweepCommand::ParseGrid() const {
   return grid;
 }
 
+// The inputs (image, code file) are never written over (write_output
+// checks them again), and --output and --plot must be two files.
 void SweepCommand::CheckPaths() const {
-  std::error_code ec;
-  if (!plot_.empty() && (std::filesystem::equivalent(input_, plot_, ec) || plot_ == output_)) {
-    fss::throw_runtime_error("--plot '" + plot_ + "' must differ from the input and the CSV");
+  const std::vector<std::string> inputs = {input_, flags_.code_name()};
+  for (const auto& [option, path] : {std::pair{"--output", &output_}, {"--plot", &plot_}}) {
+    for (const std::string& input : inputs) {
+      if (!path->empty() && !is_stdout(*path) && fss::same_file(*path, input)) {
+        fss::throw_runtime_error(std::string(option) + " '" + *path + "' is the input '" + input +
+                                 "': refusing to write over it");
+      }
+    }
   }
-  if (std::filesystem::equivalent(input_, output_, ec)) {
-    fss::throw_runtime_error("refusing to write the CSV '" + output_ + "' over the input");
+  if (!plot_.empty() && (is_stdout(plot_) ? is_stdout(output_) : fss::same_file(plot_, output_))) {
+    fss::throw_usage_error("--plot '" + plot_ + "' and --output '" + output_ +
+                           "' are the same file: give two");
   }
 }
 
@@ -201,12 +218,13 @@ int SweepCommand::Sweep() const {
   const Grid grid = ParseGrid();
   CheckPaths();
   const fss::ShutterCode code = fss::load_code(flags_.code_name());
-  const fss::Image image = fss::read_image(input_);
   const fss::SimulationOptions options = flags_.Options();
+  const fss::Image image = fss::read_image(input_, options.max_memory_bytes);
   // Refuse a code the mode cannot use before any row runs (Simulate would, at
   // the first setting that fits the image).
   fss::check_code_for_mode(code, options.mode);
-  SweepRunner runner(options, image, code, grid.by_velocity());
+  const bool on_stdout = is_stdout(output_) || is_stdout(plot_);
+  SweepRunner runner(options, image, code, grid.by_velocity(), on_stdout ? stderr : stdout);
   std::string csv = kCsvHeader;
   int rows = 0;
   for (const double velocity : grid.velocities) {
@@ -232,11 +250,14 @@ int SweepCommand::Sweep() const {
                                grid.by_velocity() ? "velocity (pixels per time slot)" : "snr",
                                "RMSE (gray levels)", plot_options);
   }
-  write_file_atomically(output_, csv);
-  std::printf("Wrote %d row%s to %s\n", rows, rows == 1 ? "" : "s", output_.c_str());
+  const std::vector<std::string> inputs = {input_, flags_.code_name()};
+  std::FILE* console = on_stdout ? stderr : stdout;
+  write_output(output_, csv, inputs);
+  std::fprintf(console, "Wrote %d row%s to %s\n", rows, rows == 1 ? "" : "s", output_.c_str());
   if (!plot_.empty()) {
-    write_file_atomically(plot_, std::string(png.begin(), png.end()));
-    std::printf("Plot: %s\n", plot_.c_str());
+    write_output(plot_, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
+                 inputs);
+    std::fprintf(console, "Plot: %s\n", plot_.c_str());
   }
   return kExitSuccess;
 }

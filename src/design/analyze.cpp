@@ -30,7 +30,10 @@ void check_analysis_setting(double velocity, double dt, double snr, int grid) {
   if (!(std::isfinite(snr) && snr > 0.0)) {
     throw_usage_error("snr " + format_number(snr) + " must be finite and > 0");
   }
-  if (grid < 0) throw_usage_error("grid " + std::to_string(grid) + " must be >= 0");
+  if (grid < 0 || grid > kMaxAnalysisGridPoints) {
+    throw_usage_error("grid " + std::to_string(grid) + " must lie in [0, " +
+                      std::to_string(kMaxAnalysisGridPoints) + "]");
+  }
 }
 
 // M of `gains` on the grid of `a` (midpoint rule or DFT grid).

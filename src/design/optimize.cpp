@@ -168,12 +168,17 @@ bool OptimizeOptions::IsValid(std::string* error) const {
                 ": a light budget applies to analog or binary gains only (numerical frames "
                 "always gather L slots of light)");
   }
-  if (restarts < 0) return fail("restarts = " + std::to_string(restarts) + ": must be >= 0");
-  if (max_iterations < 1) {
-    return fail("max_iterations = " + std::to_string(max_iterations) + ": must be >= 1");
+  if (restarts < 0 || restarts > kMaxRestarts) {
+    return fail("restarts = " + std::to_string(restarts) + ": must lie in [0, " +
+                std::to_string(kMaxRestarts) + "]");
   }
-  if (grid_points < 16) {
-    return fail("grid_points = " + std::to_string(grid_points) + ": must be >= 16");
+  if (max_iterations < 1 || max_iterations > kMaxIterations) {
+    return fail("max_iterations = " + std::to_string(max_iterations) + ": must lie in [1, " +
+                std::to_string(kMaxIterations) + "]");
+  }
+  if (grid_points < 16 || grid_points > kMaxObjectiveGridPoints) {
+    return fail("grid_points = " + std::to_string(grid_points) + ": must lie in [16, " +
+                std::to_string(kMaxObjectiveGridPoints) + "]");
   }
   return true;
 }

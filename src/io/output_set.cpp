@@ -1,14 +1,40 @@
+// A run's outputs published as one set (README, "Guarantees").
+//
+// 1. Stage: every file is written and fsync'ed into a new hidden directory
+//    inside the output directory, ".fssim-stage-*", which holds an flock for
+//    as long as its run lives and a marker file naming it as fssim's.
+// 2. Commit: a manifest (".fssim-commit": the inode and name of every new
+//    file) is renamed into the staging directory, which is then fsync'ed.
+// 3. Publish, under an flock on the output directory itself: each new file
+//    takes its name with renameat2(RENAME_EXCHANGE), which moves the old file
+//    into the staging directory, or RENAME_NOREPLACE where there was none.
+//    A failure half way exchanges back what was published: the old set is
+//    whole again. Then the directory is fsync'ed and the staging directory,
+//    holding the old files, removed.
+// Before publishing, the same lock held, every staging directory of a run
+// that is gone (its flock free) is dealt with: committed ones are published
+// (or rolled back if that fails), the others removed. Which files are new is
+// told by the manifest's inode numbers, so these steps can be redone at any
+// point a run was killed.
 #include "fss/io/output_set.h"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstdio>
 #include <cstring>
+#include <sstream>
 #include <system_error>
 #include <utility>
 
 #include "fss/core/error.h"
+#include "fss/io/safe_write.h"
 
 namespace fss {
 
@@ -16,11 +42,41 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A staged file and where it goes.
-struct Staged {
-  fs::path temporary;
-  fs::path target;
+constexpr char kStagePrefix[] = ".fssim-stage-";
+constexpr char kMarkerName[] = ".fssim-staging";
+constexpr char kMarkerText[] = "staging directory of an fssim run: removed by the next run\n";
+constexpr char kCommitName[] = ".fssim-commit";
+constexpr char kCommitTemporary[] = ".fssim-commit.tmp";
+
+// A file descriptor closed on destruction.
+class Fd {
+ public:
+  explicit Fd(int fd = -1) : fd_(fd) {}
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  Fd(Fd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  Fd& operator=(Fd&& other) noexcept {
+    std::swap(fd_, other.fd_);
+    return *this;
+  }
+  ~Fd() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
 };
+
+// A new file and its inode, as the manifest records them; inode 0: an
+// output of another run the new set does not have, removed when it is
+// published.
+struct Entry {
+  std::string name;
+  ino_t inode = 0;
+};
+
+std::string error_text(int error) { return std::strerror(error); }
 
 // Writes all of `bytes` to `fd`; 0 or the errno of the failure.
 int write_all(int fd, const std::string& bytes) {
@@ -36,57 +92,258 @@ int write_all(int fd, const std::string& bytes) {
   return 0;
 }
 
-// Creates a new file next to `target`, under a name no other file has
-// (O_EXCL: nothing existing is ever replaced or removed), writes `bytes` into
-// it and returns its path. On failure, removes it and throws a runtime fss::Error.
-fs::path stage(const fs::path& target, const std::string& bytes) {
-  const fs::path dir = target.parent_path();
-  const std::string prefix =
-      std::string(".") + target.filename().string() + ".fssim-" + std::to_string(::getpid()) + "-";
-  for (int attempt = 0;; ++attempt) {
-    fs::path temporary = dir / (prefix + std::to_string(attempt) + ".tmp");
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) {
-      if (errno == EEXIST && attempt < 100) continue;
-      throw_runtime_error("cannot write output '" + target.string() +
-                          "': cannot create a file in '" + dir.string() +
-                          "': " + std::strerror(errno));
+// flock that retries on a signal; 0 or the errno.
+int lock_fd(int fd, int operation) {
+  while (::flock(fd, operation) != 0) {
+    if (errno != EINTR) return errno;
+  }
+  return 0;
+}
+
+// Creates `name` in `dir_fd` (O_EXCL), writes `bytes`, fsyncs it; returns its
+// inode. Throws a runtime fss::Error naming `shown` on failure.
+ino_t write_new_file(int dir_fd, const std::string& name, const std::string& bytes,
+                     const std::string& shown) {
+  Fd fd(::openat(dir_fd, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666));
+  if (fd.get() < 0)
+    throw_runtime_error("cannot write output '" + shown + "': " + error_text(errno));
+  int error = write_all(fd.get(), bytes);
+  if (error == 0 && ::fsync(fd.get()) != 0) error = errno;
+  struct stat st {};
+  if (error == 0 && ::fstat(fd.get(), &st) != 0) error = errno;
+  if (error != 0) throw_runtime_error("cannot write output '" + shown + "': " + error_text(error));
+  return st.st_ino;
+}
+
+// The inode of `name` in `dir_fd` (not following a symbolic link), 0 if none.
+ino_t inode_of(int dir_fd, const std::string& name) {
+  struct stat st {};
+  if (::fstatat(dir_fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return 0;
+  return st.st_ino;
+}
+
+bool is_directory_at(int dir_fd, const std::string& name) {
+  struct stat st {};
+  return ::fstatat(dir_fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(st.st_mode);
+}
+
+// Moves `name` from `from_fd` to `to_fd`: exchanged with the file already
+// there, or moved where there is none. 0 or the errno.
+int exchange_or_move(int from_fd, int to_fd, const std::string& name) {
+  const char* n = name.c_str();
+  if (::renameat2(from_fd, n, to_fd, n, RENAME_EXCHANGE) == 0) return 0;
+  if (errno != ENOENT) return errno;
+  return ::renameat2(from_fd, n, to_fd, n, RENAME_NOREPLACE) == 0 ? 0 : errno;
+}
+
+// Publishes every file of `manifest` still in the staging directory. Throws
+// a runtime fss::Error naming the file that could not be published.
+void publish_forward(int stage_fd, int out_fd, const std::vector<Entry>& manifest,
+                     const fs::path& outdir) {
+  for (const Entry& entry : manifest) {
+    int error = 0;
+    if (entry.inode == 0) {
+      // Stale: moved out of the way, into the staging directory (never a
+      // directory: that is not an output).
+      if (inode_of(out_fd, entry.name) == 0 || inode_of(stage_fd, entry.name) != 0) continue;
+      if (is_directory_at(out_fd, entry.name)) continue;
+      if (::renameat2(out_fd, entry.name.c_str(), stage_fd, entry.name.c_str(), RENAME_NOREPLACE) !=
+          0) {
+        error = errno;
+      }
+    } else if (inode_of(stage_fd, entry.name) == entry.inode) {
+      error = exchange_or_move(stage_fd, out_fd, entry.name);
     }
-    int error = write_all(fd, bytes);
-    if (::close(fd) != 0 && error == 0) error = errno;
     if (error != 0) {
-      ::unlink(temporary.c_str());
-      throw_runtime_error("cannot write output '" + target.string() + "': " + std::strerror(error));
-    }
-    return temporary;
-  }
-}
-
-// Renames every staged file into place, in order; on a failure, removes the
-// temporary files not yet moved and throws.
-void rename_all(const std::vector<Staged>& staged) {
-  std::error_code ec;
-  for (std::size_t i = 0; i < staged.size(); ++i) {
-    fs::rename(staged[i].temporary, staged[i].target, ec);
-    if (ec) {
-      const std::string message = "cannot move '" + staged[i].temporary.string() + "' to '" +
-                                  staged[i].target.string() + "': " + ec.message();
-      for (std::size_t j = i; j < staged.size(); ++j) fs::remove(staged[j].temporary, ec);
-      throw_runtime_error(message);
+      throw_runtime_error("cannot replace '" + (outdir / entry.name).string() +
+                          "': " + error_text(error));
     }
   }
 }
 
-void create_output_directory(const fs::path& outdir) {
+// Undoes publish_forward: every published new file goes back to the staging
+// directory, the old one it replaced (if any) back into place. Whether every
+// file could be put back.
+bool publish_backward(int stage_fd, int out_fd, const std::vector<Entry>& manifest) {
+  bool ok = true;
+  for (auto it = manifest.rbegin(); it != manifest.rend(); ++it) {
+    const char* name = it->name.c_str();
+    if (it->inode == 0) {
+      if (inode_of(stage_fd, it->name) == 0 || inode_of(out_fd, it->name) != 0) continue;
+      if (::renameat2(stage_fd, name, out_fd, name, RENAME_NOREPLACE) != 0) ok = false;
+    } else if (inode_of(out_fd, it->name) == it->inode) {
+      if (exchange_or_move(out_fd, stage_fd, it->name) != 0) ok = false;
+    }
+  }
+  return ok;
+}
+
+// Removes every entry of the staging directory `stage_name` (files only: it
+// holds nothing else), then the directory itself.
+void remove_stage(int out_fd, int stage_fd, const std::string& stage_name) {
+  DIR* dir = ::fdopendir(::dup(stage_fd));
+  if (dir != nullptr) {
+    std::vector<std::string> names;
+    while (const dirent* entry = ::readdir(dir)) {
+      const std::string name = entry->d_name;
+      if (name != "." && name != "..") names.push_back(name);
+    }
+    ::closedir(dir);
+    // The commit first: a removal killed half way must not be published by
+    // recover(). The marker last: until it goes, the directory is known as ours.
+    ::unlinkat(stage_fd, kCommitName, 0);
+    for (const std::string& name : names) {
+      if (name != kMarkerName) ::unlinkat(stage_fd, name.c_str(), 0);
+    }
+    ::unlinkat(stage_fd, kMarkerName, 0);
+  }
+  ::unlinkat(out_fd, stage_name.c_str(), AT_REMOVEDIR);
+}
+
+// The manifest as written to .fssim-commit: "INODE NAME" lines.
+std::string format_manifest(const std::vector<Entry>& manifest) {
+  std::string text;
+  for (const Entry& entry : manifest) {
+    text += std::to_string(entry.inode) + " " + entry.name + "\n";
+  }
+  return text;
+}
+
+// The manifest of the staging directory `stage_fd`; empty if it was never
+// committed (or the commit cannot be read).
+std::vector<Entry> read_manifest(int stage_fd) {
+  Fd fd(::openat(stage_fd, kCommitName, O_RDONLY | O_CLOEXEC | O_NOFOLLOW));
+  if (fd.get() < 0) return {};
+  std::string text;
+  char buffer[4096];
+  for (ssize_t got; (got = ::read(fd.get(), buffer, sizeof buffer)) > 0;) text.append(buffer, got);
+  std::vector<Entry> manifest;
+  std::istringstream lines(text);
+  Entry entry;
+  while (lines >> entry.inode >> entry.name) manifest.push_back(entry);
+  return manifest;
+}
+
+// Whether `stage_name` in `out_fd` is a staging directory of fssim's, owned
+// by this user and left by a run that is gone; if so, its open, locked
+// descriptor. One without its marker (killed as it was created or removed)
+// is removed if empty.
+Fd open_abandoned_stage(int out_fd, const std::string& stage_name) {
+  Fd fd(::openat(out_fd, stage_name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
+  struct stat st {};
+  if (fd.get() < 0 || ::fstat(fd.get(), &st) != 0 || st.st_uid != ::geteuid()) return Fd();
+  if (lock_fd(fd.get(), LOCK_EX | LOCK_NB) != 0) return Fd();  // its run is alive
+  Fd marker(::openat(fd.get(), kMarkerName, O_RDONLY | O_NOFOLLOW | O_CLOEXEC));
+  if (marker.get() < 0) {
+    ::unlinkat(out_fd, stage_name.c_str(), AT_REMOVEDIR);
+    return Fd();
+  }
+  char text[sizeof kMarkerText] = {};
+  const ssize_t got = ::read(marker.get(), text, sizeof text - 1);
+  if (got != static_cast<ssize_t>(sizeof kMarkerText - 1) || std::strcmp(text, kMarkerText) != 0) {
+    return Fd();
+  }
+  return fd;
+}
+
+// Completes or removes what killed runs left in the output directory: a
+// committed set is published (rolled back if it cannot be), anything else
+// staged is removed. Called with the output directory locked.
+void recover(int out_fd, const fs::path& outdir) {
+  std::vector<std::string> stages;
+  if (DIR* dir = ::fdopendir(::dup(out_fd)); dir != nullptr) {
+    while (const dirent* entry = ::readdir(dir)) {
+      const std::string name = entry->d_name;
+      if (name.rfind(kStagePrefix, 0) == 0) stages.push_back(name);
+    }
+    ::closedir(dir);
+  }
+  for (const std::string& name : stages) {
+    const Fd stage = open_abandoned_stage(out_fd, name);
+    if (stage.get() < 0) continue;
+    const std::vector<Entry> manifest = read_manifest(stage.get());
+    try {
+      publish_forward(stage.get(), out_fd, manifest, outdir);
+    } catch (const Error&) {
+      if (!publish_backward(stage.get(), out_fd, manifest)) continue;  // left for later
+    }
+    ::fsync(out_fd);
+    remove_stage(out_fd, stage.get(), name);
+  }
+}
+
+// A staging directory of this run, locked while it lives.
+struct Stage {
+  Fd fd;
+  std::string name;
+  std::vector<Entry> manifest;
+};
+
+// Creates and locks this run's staging directory, the output directory
+// locked meanwhile: recover() never finds it unlocked.
+Stage create_stage(int out_fd, const fs::path& outdir) {
+  static int counter = 0;
+  const auto now = std::chrono::steady_clock::now().time_since_epoch().count();
+  const auto fail = [&](int error) {
+    ::flock(out_fd, LOCK_UN);
+    throw_runtime_error("cannot write into output directory '" + outdir.string() +
+                        "': " + error_text(error));
+  };
+  if (const int error = lock_fd(out_fd, LOCK_EX); error != 0) fail(error);
+  for (int attempt = 0;; ++attempt) {
+    const std::string name = kStagePrefix + std::to_string(::getpid()) + "-" + std::to_string(now) +
+                             "-" + std::to_string(counter++);
+    if (::mkdirat(out_fd, name.c_str(), 0700) != 0) {
+      if (errno == EEXIST && attempt < 100) continue;
+      fail(errno);
+    }
+    Stage stage{Fd(::openat(out_fd, name.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)), name, {}};
+    if (stage.fd.get() < 0 || lock_fd(stage.fd.get(), LOCK_EX) != 0) {
+      const int error = errno;
+      ::unlinkat(out_fd, name.c_str(), AT_REMOVEDIR);
+      fail(error);
+    }
+    ::flock(out_fd, LOCK_UN);
+    return stage;
+  }
+}
+
+// Writes every file and the manifest into the staging directory, fsync'ed.
+void stage_and_commit(Stage& stage, const fs::path& outdir, const std::vector<OutputFile>& files,
+                      const std::vector<std::string>& stale_names) {
+  write_new_file(stage.fd.get(), kMarkerName, kMarkerText, (outdir / kMarkerName).string());
+  for (const OutputFile& file : files) {
+    const ino_t inode =
+        write_new_file(stage.fd.get(), file.name, file.bytes, (outdir / file.name).string());
+    stage.manifest.push_back({file.name, inode});
+  }
+  for (const std::string& name : stale_names) {
+    const bool in_set = std::any_of(files.begin(), files.end(),
+                                    [&](const OutputFile& file) { return file.name == name; });
+    if (!in_set) stage.manifest.push_back({name, 0});
+  }
+  write_new_file(stage.fd.get(), kCommitTemporary, format_manifest(stage.manifest),
+                 (outdir / kCommitName).string());
+  if (::renameat(stage.fd.get(), kCommitTemporary, stage.fd.get(), kCommitName) != 0 ||
+      ::fsync(stage.fd.get()) != 0) {
+    throw_runtime_error("cannot write into output directory '" + outdir.string() +
+                        "': " + error_text(errno));
+  }
+}
+
+// Creates `outdir` if missing; whether it did.
+bool create_output_directory(const fs::path& outdir) {
   std::error_code ec;
   if (fs::exists(outdir, ec) && !fs::is_directory(outdir, ec)) {
     throw_runtime_error("output directory '" + outdir.string() + "' exists and is not a directory");
   }
-  fs::create_directories(outdir, ec);
+  if (fs::is_directory(outdir, ec)) return false;
+  const bool created = fs::create_directories(outdir, ec);
   if (ec) {
     throw_runtime_error("cannot create output directory '" + outdir.string() +
                         "': " + ec.message());
   }
+  return created;
 }
 
 // Throws if writing `target` would replace one of `protected_inputs` or a
@@ -99,49 +356,87 @@ void check_target(const fs::path& target, const std::vector<std::string>& protec
                           target.string() + "': choose another --outdir");
     }
   }
-  if (fs::is_directory(target, ec)) {
+  if (fs::is_directory(fs::symlink_status(target, ec))) {
     throw_runtime_error("cannot write output '" + target.string() + "': it is a directory");
   }
 }
 
-// Stages every file of `files`; on a failure, removes what was staged and
-// rethrows.
-std::vector<Staged> stage_all(const fs::path& outdir, const std::vector<OutputFile>& files) {
-  std::vector<Staged> staged;
-  staged.reserve(files.size());
+void check_targets(const fs::path& outdir, const std::vector<OutputFile>& files,
+                   const std::vector<std::string>& protected_inputs) {
+  for (const OutputFile& file : files) check_target(outdir / file.name, protected_inputs);
+}
+
+// Publishes the committed `stage` into `out_fd`, which the caller has
+// locked. On a failure, puts the old set back and throws; `*half_published`
+// tells when even that failed (the staging directory must then stay for the
+// next run's recover()).
+void publish(Stage& stage, int out_fd, const fs::path& outdir, bool* half_published) {
   try {
-    for (const OutputFile& file : files) {
-      fs::path target = outdir / file.name;
-      fs::path temporary = stage(target, file.bytes);
-      staged.push_back({std::move(temporary), std::move(target)});
+    publish_forward(stage.fd.get(), out_fd, stage.manifest, outdir);
+  } catch (const Error& e) {
+    if (!publish_backward(stage.fd.get(), out_fd, stage.manifest)) {
+      *half_published = true;
+      throw_runtime_error(std::string(e.what()) +
+                          "; some old outputs could not be put back: the next run into '" +
+                          outdir.string() + "' completes the new set");
     }
-  } catch (...) {
-    std::error_code ec;
-    for (const Staged& file : staged) fs::remove(file.temporary, ec);
     throw;
   }
-  return staged;
+  if (::fsync(out_fd) != 0) {
+    throw_runtime_error("cannot write into output directory '" + outdir.string() +
+                        "': " + error_text(errno));
+  }
+}
+
+// Stages, commits and publishes `files`; the output directory is open as
+// `out_fd`. A failure before publishing removes what was staged.
+void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>& files,
+               const std::vector<std::string>& protected_inputs,
+               const std::vector<std::string>& stale_names) {
+  Stage stage = create_stage(out_fd, outdir);
+  bool half_published = false;
+  try {
+    stage_and_commit(stage, outdir, files, stale_names);
+    if (const int error = lock_fd(out_fd, LOCK_EX); error != 0) {
+      throw_runtime_error("cannot lock output directory '" + outdir.string() +
+                          "': " + error_text(error));
+    }
+    recover(out_fd, outdir);
+    check_targets(outdir, files, protected_inputs);
+    publish(stage, out_fd, outdir, &half_published);
+  } catch (...) {
+    // Left in place only when half published and not put back: recover()
+    // of the next run completes it.
+    if (!half_published) remove_stage(out_fd, stage.fd.get(), stage.name);
+    throw;
+  }
+  remove_stage(out_fd, stage.fd.get(), stage.name);
 }
 
 }  // namespace
 
 void write_output_set(const fs::path& outdir, const std::vector<OutputFile>& files,
-                      const std::vector<std::string>& protected_inputs) {
+                      const std::vector<std::string>& protected_inputs,
+                      const std::vector<std::string>& stale_names) {
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
-  create_output_directory(outdir);
-  for (const OutputFile& file : files) check_target(outdir / file.name, protected_inputs);
-  // Stage every file, then rename them into place: a failure before the
-  // renames leaves the directory as it was.
-  rename_all(stage_all(outdir, files));
+  check_targets(outdir, files, protected_inputs);
+  const bool created = create_output_directory(outdir);
+  try {
+    const Fd out(::open(outdir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (out.get() < 0) {
+      throw_runtime_error("cannot open output directory '" + outdir.string() +
+                          "': " + error_text(errno));
+    }
+    write_set(out.get(), outdir, files, protected_inputs, stale_names);
+  } catch (...) {
+    // A failed run leaves no new directory (rmdir only removes it empty).
+    if (created) ::rmdir(outdir.c_str());
+    throw;
+  }
 }
 
 void write_file_atomically(const fs::path& path, const std::string& bytes) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    throw_runtime_error("cannot write '" + path.string() + "': it is a directory");
-  }
-  const fs::path target = path.has_parent_path() ? path : "./" / path;
-  rename_all({{stage(target, bytes), target}});
+  write_file_safely(path, bytes);
 }
 
 }  // namespace fss

@@ -48,7 +48,9 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
   const std::vector<OutputFile> made = make_files(files, sources);
   std::vector<std::string> inputs = options.other_inputs;
   inputs.insert(inputs.begin(), input_path);
-  write_output_set(outdir, made, inputs);
+  std::vector<std::string> every_name;  // a file of the old set this run does not write goes
+  for (const RunFile& file : run_files()) every_name.emplace_back(file.name);
+  write_output_set(outdir, made, inputs, every_name);
 }
 
 }  // namespace

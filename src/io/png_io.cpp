@@ -263,6 +263,23 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   }
 }
 
+std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::uint8_t head[33] = {};
+  if (!file.read(reinterpret_cast<char*>(head), sizeof head)) return std::nullopt;
+  if (png_sig_cmp(head, 0, 8) != 0 || std::memcmp(head + 12, "IHDR", 4) != 0) return std::nullopt;
+  const auto be32 = [&](int at) {
+    return (std::uint32_t{head[at]} << 24) | (std::uint32_t{head[at + 1]} << 16) |
+           (std::uint32_t{head[at + 2]} << 8) | std::uint32_t{head[at + 3]};
+  };
+  const std::uint32_t width = be32(16);
+  const std::uint32_t height = be32(20);
+  if (width == 0 || height == 0 || width > 0x7fffffffU || height > 0x7fffffffU) return std::nullopt;
+  const int colour_type = head[25];
+  return PngHeaderSize{static_cast<int>(width), static_cast<int>(height),
+                       (colour_type == 2 || colour_type == 6) ? 3 : 1};
+}
+
 Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
   const std::string name = path.string();
   std::error_code ec;

@@ -90,6 +90,11 @@ ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
     } else {
       std::size_t end = i;
       while (end < text.size() && !is_separator(text[end]) && text[end] != '#') ++end;
+      if (code.gains.size() == static_cast<std::size_t>(kMaxCodeLength)) {
+        throw_runtime_error("code file '" + origin + "' line " + std::to_string(line) +
+                            ": more than " + std::to_string(kMaxCodeLength) +
+                            " gains (the longest code fssim analyses)");
+      }
       code.gains.push_back(parse_gain(text.substr(i, end - i),
                                       "code file '" + origin + "' line " + std::to_string(line)));
       i = end;

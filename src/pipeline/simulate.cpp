@@ -67,6 +67,11 @@ bool SimulationOptions::IsValid(std::string* error) const {
 
 void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
   if (code.gains.empty()) throw_usage_error("code '" + code.name + "' has no gains");
+  if (code.gains.size() > static_cast<std::size_t>(kMaxCodeLength)) {
+    throw_usage_error("code '" + code.name + "' has " + std::to_string(code.gains.size()) +
+                      " gains, more than " + std::to_string(kMaxCodeLength) +
+                      " (the longest code fssim analyses)");
+  }
   if (gain_max_abs(code.gains) == 0.0) {
     throw_usage_error("code '" + code.name +
                       "' has only zero gains: its transfer function is 0 and nothing is observed");

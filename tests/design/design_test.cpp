@@ -352,7 +352,31 @@ TEST(Analysis, RejectsWhatTheSimulatorRejects) {
   EXPECT_TRUE(throws_error([&] { analyze_code(raskar, 1.0, 1.0, -1.0, numerical); },
                            ErrorKind::kUsage, {"snr -1", "> 0"}));
   EXPECT_TRUE(throws_error([&] { analyze_code(raskar, 1.0, 1.0, 100.0, numerical, -1); },
-                           ErrorKind::kUsage, {"grid -1", ">= 0"}));
+                           ErrorKind::kUsage, {"grid -1", "[0, 65536]"}));
+  EXPECT_TRUE(throws_error([&] { analyze_code(raskar, 1.0, 1.0, 100.0, numerical, 1 << 20); },
+                           ErrorKind::kUsage, {"grid 1048576"}));
+  const ShutterCode too_long{"long", std::vector<double>(kMaxCodeLength + 1, 0.5)};
+  EXPECT_TRUE(throws_error([&] { analyze_code(too_long, 1.0, 1.0, 100.0, numerical); },
+                           ErrorKind::kUsage, {"1025 gains", "1024"}));
+}
+
+TEST(Optimize, EffortIsBounded) {
+  OptimizeOptions options;
+  options.velocity_px_per_slot = 1.0;
+  std::string error;
+  options.restarts = kMaxRestarts + 1;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("restarts"), std::string::npos) << error;
+  options.restarts = 1;
+  options.max_iterations = kMaxIterations + 1;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("max_iterations"), std::string::npos) << error;
+  options.max_iterations = 10;
+  options.grid_points = kMaxObjectiveGridPoints + 1;
+  EXPECT_FALSE(options.IsValid(&error));
+  options.grid_points = 2048;
+  options.length = kMaxCodeLength + 1;
+  EXPECT_FALSE(options.IsValid(&error));
 }
 
 TEST(Analysis, BandMeanConvergesToTheDftMean) {

@@ -23,6 +23,9 @@ namespace fss {
 // when no DFT grid is given (|K| is even for real gains, so the half band
 // suffices; this is an 8192-node midpoint rule on [-pi, pi]).
 inline constexpr int kBandGridPoints = 4096;
+// Largest DFT grid analyze_code evaluates M on (each point is a sum over the
+// L gains).
+inline constexpr int kMaxAnalysisGridPoints = 1 << 16;
 
 // Mean of 1 / |K(xi)|^2 over xi in [-pi, pi] by the midpoint rule with
 // `grid_points` nodes on [0, pi]; infinite if K vanishes at a node.

@@ -13,9 +13,8 @@
 
 namespace fss {
 
-// Longest code generate_code accepts (the sinc and MIP integrals cost O(L)
-// each).
-inline constexpr int kMaxGeneratedCodeLength = 10000;
+// Longest code generate_code accepts: the longest fssim analyses.
+inline constexpr int kMaxGeneratedCodeLength = kMaxCodeLength;
 
 enum class CodeFamily { kSinc, kMip, kRandom, kSnapshot, kAccumulation };
 std::string to_string(CodeFamily family);

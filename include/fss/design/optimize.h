@@ -14,7 +14,12 @@
 namespace fss {
 
 // Longest code optimize_code accepts (the band basis holds 2 G L doubles).
-inline constexpr int kMaxOptimizedCodeLength = 4096;
+inline constexpr int kMaxOptimizedCodeLength = kMaxCodeLength;
+// Bounds of the search's effort: restarts and iterations per start, and the
+// objective's grid (each start costs about iterations x grid x L).
+inline constexpr int kMaxRestarts = 10000;
+inline constexpr int kMaxIterations = 100000;
+inline constexpr int kMaxObjectiveGridPoints = 1 << 16;
 
 // Q M of a code of fixed length on a midpoint band grid, with its gradient.
 // K is linear in alpha, K(xi_j) = sum_k alpha_k E_jk with

@@ -15,18 +15,26 @@ struct OutputFile {
   std::string bytes;
 };
 
-// Writes `files` into `outdir` (created if missing). Refuses, before writing
-// anything, to write into a path that is not a directory, to replace a
-// directory, or to replace any of `protected_inputs` (spelled any way).
-// Each file is first written under a new hidden name in `outdir` and renamed
-// into place, in order, only once all are complete. Throws a runtime
-// fss::Error on failure (a usage one for an empty `outdir`), after removing
-// whatever it staged: existing files are never touched then.
+// Writes `files` into `outdir` (created if missing) as one set: after a
+// failure, a signal (SIGKILL included) or a concurrent run, `outdir` holds
+// the old files or the new ones, never some of each (a run killed while
+// publishing, a window of milliseconds, is completed by the next run into
+// `outdir`: README, "Guarantees"). Other files in `outdir` are never touched.
+// Refuses, before writing anything, to write into a path that is not a
+// directory, to replace a directory, or to replace any of `protected_inputs`
+// (compared as files: device and inode). Runs into one directory publish one
+// after the other (an flock on `outdir`). Throws a runtime fss::Error on
+// failure (a usage one for an empty `outdir`), with the old set in place and
+// a directory it created removed. `stale_names` are names of files other
+// runs write (with other options) that this set does not have: those in
+// `outdir` belong to the old set and go with it when the new one is published.
 void write_output_set(const std::filesystem::path& outdir, const std::vector<OutputFile>& files,
-                      const std::vector<std::string>& protected_inputs);
+                      const std::vector<std::string>& protected_inputs,
+                      const std::vector<std::string>& stale_names = {});
 
 // Writes `bytes` to `path` through a temporary file in the same directory
-// renamed into place, so `path` is either untouched or complete. Throws a
+// renamed into place, so `path` is either untouched or complete: the same as
+// write_file_safely (safe_write.h) without inputs to protect. Throws a
 // runtime fss::Error naming the file on failure.
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes);
 

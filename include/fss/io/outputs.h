@@ -67,7 +67,9 @@ std::vector<std::string> output_file_names(const OutputOptions& options = {});
 // observed.png is the report's observed image, which it must then keep.
 // Refuses, before writing anything, to replace `input_path` or any of
 // `options.other_inputs` (such as the code file) or to write into a path
-// that is not a directory (write_output_set). Throws a runtime fss::Error on
+// that is not a directory (write_output_set). The files are published as one
+// set: a file of run_files() this run does not write (sheet.png of an
+// earlier --sheet run) goes with the old set. Throws a runtime fss::Error on
 // failure (a usage one for an empty `outdir`), after removing whatever it
 // staged: existing files are never touched then.
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,

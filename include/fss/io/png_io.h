@@ -70,6 +70,17 @@ enum class PngDepth { k8, k16 };
 std::string to_string(PngDepth depth);  // "8", "16"
 std::optional<PngDepth> png_depth_from_string(std::string_view text);
 
+// The size the header (IHDR) of a PNG file declares, read from its first 33
+// bytes without decoding: channels as read_png gives them (1 for gray, 3 for
+// colour; a palette counts 1, the least it may give). Nothing when the file
+// does not start with a PNG signature and an IHDR: read_png then says why.
+struct PngHeaderSize {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+};
+std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& path);
+
 // Encodes an 8-bit gray (1 channel) or RGB (3 channels) PNG; each value
 // becomes png8_sample(value).
 std::vector<std::uint8_t> encode_png8(const Image& image,

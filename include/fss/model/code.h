@@ -34,6 +34,12 @@ ShutterCode parse_code_text(std::string_view text, const std::string& origin);
 std::vector<std::string> builtin_code_names();
 std::optional<ShutterCode> builtin_code(std::string_view name);
 
+// Longest code fssim works with. The analysis of a code (its |K| scanned on
+// 64 L points of [0, pi], each a sum over the L gains) costs O(L^2): 1024
+// gains take about half a second, and a longer code is refused before any
+// work (parse_code_text, check_code_for_mode, generate and optimize).
+inline constexpr int kMaxCodeLength = 1024;
+
 // Largest code file load_code reads (a code of any usable length is far smaller).
 inline constexpr std::size_t kMaxCodeFileBytes = std::size_t{16} << 20;
 

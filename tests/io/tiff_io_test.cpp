@@ -56,8 +56,10 @@ void put_sample(const TiffSpec& spec, double value, std::uint8_t* at) {
   if (spec.format == SAMPLEFORMAT_IEEEFP && spec.bits == 32) {
     const auto v = static_cast<float>(value);
     std::memcpy(at, &v, 4);
-  } else if (spec.format == SAMPLEFORMAT_IEEEFP) {
+  } else if (spec.format == SAMPLEFORMAT_IEEEFP && spec.bits == 64) {
     std::memcpy(at, &value, 8);
+  } else if (spec.format == SAMPLEFORMAT_IEEEFP) {  // 16-bit float: refused, any bits serve
+    std::memset(at, 0, spec.bits / 8);
   } else if (spec.bits == 32) {
     const auto v = static_cast<std::uint32_t>(value);
     std::memcpy(at, &v, 4);

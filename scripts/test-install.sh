@@ -146,7 +146,7 @@ check_man() {
     'fssim spectra' 'fssim code generate' 'fssim code analyze' 'fssim code optimize' 'fssim sweep'; do
     grep -q "$section" <<<"$text" || { echo "man page: no '$section'"; return 1; }
   done
-  echo "$text" | head -n 5
+  head -n 5 <<<"$text"  # not echo | head: under pipefail, SIGPIPE would fail the check
 }
 
 # The installed page's .TH line: the project's version, and the date of the

@@ -106,10 +106,10 @@ export SLURM_CONF="$work/slurm.conf"
 slurmctld -f "$SLURM_CONF"
 slurmd -f "$SLURM_CONF"
 for _ in $(seq 100); do
-  sinfo -h -o %T 2>/dev/null | grep -qE '^(idle|mixed)' && break
+  sinfo -h -o %T 2>/dev/null | grep -E '^(idle|mixed)' >/dev/null && break
   sleep 0.2
 done
-sinfo -h -o %T | grep -qE '^(idle|mixed)' || { echo "slurm_cluster_test: the node never became idle" >&2; sinfo >&2; exit 1; }
+sinfo -h -o %T | grep -E '^(idle|mixed)' >/dev/null || { echo "slurm_cluster_test: the node never became idle" >&2; sinfo >&2; exit 1; }
 ready_time=$(date +%s.%N)
 
 # The campaign: tiny images, a short code, noise-free and a few noisy trials.

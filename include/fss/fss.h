@@ -56,6 +56,7 @@
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
 #include "fss/model/noise.h"
+#include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/metrics.h"

@@ -1,0 +1,63 @@
+// The sensor beyond photon noise (docs/method.md §10): read noise, dark
+// current, full well and an ADC. Every part is off by default, so a default
+// SensorModel observes exactly what the paper's photon-noise model does.
+//
+// Units: a gray level g seen through one unit time slot gives lambda2 * g
+// photo-electrons, lambda2 = snr^2 / 100 (noise.h). A readout is one frame
+// (numerical mode: L readouts, one per slot, each of exposure dt) or the one
+// exposure of the analog mode (exposure L dt: the shutter does not stop the
+// dark current). A readout's charge is
+//   photo-electrons + dark electrons (Poisson, mean d * exposure),
+// clipped at the full well F, plus read noise N(0, sigma_r^2); the ADC rounds
+// it to counts in [0, 2^b - 1] (a negative readout gives 0) and converts back
+// to electrons (counts * G); the dark mean d * exposure is subtracted
+// (dark-frame correction) and the result divided by lambda2 to gray levels.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+
+#include "fss/model/code.h"
+
+namespace fss {
+
+struct SensorModel {
+  double read_noise_electrons = 0.0;             // sigma_r, RMS per readout, >= 0
+  double dark_current_electrons_per_slot = 0.0;  // d, mean electrons per unit slot, >= 0
+  // Charge capacity of a pixel per readout; empty: no full well.
+  std::optional<double> full_well_electrons;
+  int adc_bits = 0;                           // 0: no ADC; otherwise in [1, 32]
+  double adc_gain_electrons_per_count = 1.0;  // G, > 0; used only with an ADC
+
+  // True when any part is on (the observation then differs from the
+  // photon-noise model's).
+  bool enabled() const;
+  // True when the observation is linear in the charge: no full well and no
+  // ADC (the ADC's rounding is then counted as G^2 / 12 of variance, and the
+  // prediction is approximate where readouts come near 0 or 2^b - 1).
+  bool linear() const;
+
+  // False, with a message naming the field, its value and the rule, when a
+  // field is out of range ("read_noise_electrons = -1: must be finite and >= 0").
+  bool IsValid(std::string* error) const;
+};
+
+// Exposure of one readout in unit slots: dt (numerical, one frame) or
+// gains.size() * dt (analog, the whole exposure).
+double readout_exposure_slots(std::size_t code_length, double dt, ShutterMode mode);
+
+// Variance, in electrons^2, that one readout of `exposure_slots` adds beyond
+// its photo-electrons: sigma_r^2 + d * exposure + (ADC: G^2 / 12).
+double readout_variance_electrons2(const SensorModel& sensor, double exposure_slots);
+
+// Variance, in gray levels^2, of the observation of a constant landscape at
+// level 100 through `gains` (before division by K(0)):
+//   numerical: sum_k alpha_k^2 (100 dt lambda2 + v_r) / lambda2^2
+//   analog:    (100 dt sum_k alpha_k lambda2 + v_r) / lambda2^2
+// with v_r = readout_variance_electrons2 of that mode's readout. With a
+// default sensor this is 100 Q (100 / snr^2), Q = noise_gain (prediction.h).
+double level100_observation_variance(std::span<const double> gains, double dt, ShutterMode mode,
+                                     double snr, const SensorModel& sensor);
+
+}  // namespace fss

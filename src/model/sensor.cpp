@@ -1,0 +1,77 @@
+#include "fss/model/sensor.h"
+
+#include <cmath>
+
+#include "fss/core/error.h"
+
+namespace fss {
+
+namespace {
+// True when `value` is finite and >= 0.
+bool nonnegative_finite(double value) { return std::isfinite(value) && value >= 0.0; }
+
+bool fail(std::string* error, const std::string& field, double value, const std::string& rule) {
+  if (error != nullptr) *error = field + " = " + format_number(value, 17) + ": " + rule;
+  return false;
+}
+}  // namespace
+
+bool SensorModel::enabled() const {
+  return read_noise_electrons != 0.0 || dark_current_electrons_per_slot != 0.0 ||
+         full_well_electrons.has_value() || adc_bits != 0;
+}
+
+bool SensorModel::linear() const { return !full_well_electrons.has_value() && adc_bits == 0; }
+
+bool SensorModel::IsValid(std::string* error) const {
+  if (!nonnegative_finite(read_noise_electrons)) {
+    return fail(error, "read_noise_electrons", read_noise_electrons, "must be finite and >= 0");
+  }
+  if (!nonnegative_finite(dark_current_electrons_per_slot)) {
+    return fail(error, "dark_current_electrons_per_slot", dark_current_electrons_per_slot,
+                "must be finite and >= 0");
+  }
+  if (full_well_electrons && !(std::isfinite(*full_well_electrons) && *full_well_electrons > 0.0)) {
+    return fail(error, "full_well_electrons", *full_well_electrons, "must be finite and > 0");
+  }
+  if (adc_bits < 0 || adc_bits > 32) {
+    return fail(error, "adc_bits", adc_bits, "must lie in [1, 32] (or 0 for no ADC)");
+  }
+  if (!(std::isfinite(adc_gain_electrons_per_count) && adc_gain_electrons_per_count > 0.0)) {
+    return fail(error, "adc_gain_electrons_per_count", adc_gain_electrons_per_count,
+                "must be finite and > 0");
+  }
+  return true;
+}
+
+double readout_exposure_slots(std::size_t code_length, double dt, ShutterMode mode) {
+  return mode == ShutterMode::kAnalog ? static_cast<double>(code_length) * dt : dt;
+}
+
+double readout_variance_electrons2(const SensorModel& sensor, double exposure_slots) {
+  const double read = sensor.read_noise_electrons * sensor.read_noise_electrons;
+  const double dark = sensor.dark_current_electrons_per_slot * exposure_slots;
+  const double gain = sensor.adc_gain_electrons_per_count;
+  const double quantization = sensor.adc_bits != 0 ? gain * gain / 12.0 : 0.0;
+  return read + dark + quantization;
+}
+
+// numerical: sum_k alpha_k^2 (100 dt lambda2 + v_r) / lambda2^2
+// analog:    (100 dt sum_k alpha_k lambda2 + v_r) / lambda2^2
+double level100_observation_variance(std::span<const double> gains, double dt, ShutterMode mode,
+                                     double snr, const SensorModel& sensor) {
+  const double lambda2 = snr * snr / 100.0;
+  const double readout =
+      readout_variance_electrons2(sensor, readout_exposure_slots(gains.size(), dt, mode));
+  double electrons2 = 0.0;
+  if (mode == ShutterMode::kAnalog) {
+    double sum = 0.0;
+    for (const double alpha : gains) sum += alpha;
+    electrons2 = 100.0 * dt * sum * lambda2 + readout;
+  } else {
+    for (const double alpha : gains) electrons2 += alpha * alpha * (100.0 * dt * lambda2 + readout);
+  }
+  return electrons2 / (lambda2 * lambda2);
+}
+
+}  // namespace fss

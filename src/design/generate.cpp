@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/enum_names.h"
 #include "design/numerics.h"
 #include "fss/core/error.h"
 
@@ -17,6 +18,13 @@ namespace {
 // Sub-intervals of the generation integrals: the integrands oscillate at most
 // L / 2 times over the band; 16384 Simpson steps put their error below 1e-9.
 constexpr int kDesignIntegralIntervals = 16384;
+
+constexpr detail::EnumNames<CodeFamily, 5> kCodeFamilyNames{
+    {{CodeFamily::kSinc, "sinc"},
+     {CodeFamily::kMip, "mip"},
+     {CodeFamily::kRandom, "random"},
+     {CodeFamily::kSnapshot, "snapshot"},
+     {CodeFamily::kAccumulation, "accumulation"}}};
 
 void check_design_arguments(const char* family, int length, double velocity, double dt) {
   if (length < 1) {
@@ -41,28 +49,10 @@ std::vector<double> normalized_to_unit_max(std::vector<double> gains) {
 
 }  // namespace
 
-std::string to_string(CodeFamily family) {
-  switch (family) {
-    case CodeFamily::kSinc:
-      return "sinc";
-    case CodeFamily::kMip:
-      return "mip";
-    case CodeFamily::kRandom:
-      return "random";
-    case CodeFamily::kSnapshot:
-      return "snapshot";
-    case CodeFamily::kAccumulation:
-      return "accumulation";
-  }
-  return "sinc";
-}
+std::string to_string(CodeFamily family) { return detail::enum_name(kCodeFamilyNames, family); }
 
 std::optional<CodeFamily> code_family_from_string(std::string_view text) {
-  for (const CodeFamily family : {CodeFamily::kSinc, CodeFamily::kMip, CodeFamily::kRandom,
-                                  CodeFamily::kSnapshot, CodeFamily::kAccumulation}) {
-    if (text == to_string(family)) return family;
-  }
-  return std::nullopt;
+  return detail::enum_from_name(kCodeFamilyNames, text);
 }
 
 bool design_band_is_valid(double velocity, double dt) {

@@ -145,21 +145,19 @@ void print_progress(const fss::CampaignProgress& p) {
 }  // namespace
 
 CampaignCommand::CampaignCommand(CLI::App& parent)
-    : Command(*parent.add_subcommand(
-          "campaign",
-          "run images x codes x settings into a directory of tidy results (results.csv, "
-          "results.jsonl), resumably and in shards; see docs/campaign.md")) {
-  CLI::App& campaign = app();
-  campaign.require_subcommand(0, 1);
+    : Command(parent, "campaign",
+              "run images x codes x settings into a directory of tidy results (results.csv, "
+              "results.jsonl), resumably and in shards; see docs/campaign.md") {
+  app().require_subcommand(0, 1);
   AddSpecOptions();
-  merge_ = campaign.add_subcommand(
+  merge_ = app().add_subcommand(
       "merge", "merge the directories of the shards 1/N .. N/N of one campaign into DIR");
   merge_->add_option("-o,--output", merge_output_, "directory of the merged results")
       ->required()
       ->check(not_empty());
   merge_->add_option("parts", parts_, "the shards' directories")->required();
   merge_->add_flag("--figures", merge_figures_, "also draw the figures into DIR/figures");
-  check_ = campaign.add_subcommand(
+  check_ = app().add_subcommand(
       "check", "compare RESULTS.csv with EXPECTED.csv; exit 1 on a deviation or a missing row");
   check_->add_option("results", results_, "results.csv of a campaign")->required();
   check_->add_option("expected", expected_, "expected values, columns named as results.csv's")

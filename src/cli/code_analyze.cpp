@@ -80,11 +80,10 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
 }  // namespace
 
 CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code)
-    : Command(
-          *code.add_subcommand("analyze",
-                               "figures of merit of a code without simulating an image: sums, min "
-                               "|K|, M, SNR at level 100 (the stationary, image-independent "
-                               "figure of merit) and its ratio to the snapshot's")) {
+    : Command(code, "analyze",
+              "figures of merit of a code without simulating an image: sums, min "
+              "|K|, M, SNR at level 100 (the stationary, image-independent "
+              "figure of merit) and its ratio to the snapshot's") {
   CLI::App& analyze = app();
   analyze
       .add_option("CODE", code_,

@@ -37,10 +37,9 @@ std::string generate_header(const fss::GenerateOptions& o) {
 }  // namespace
 
 CodeGenerateCommand::CodeGenerateCommand(CLI::App& code)
-    : Command(
-          *code.add_subcommand("generate",
-                               "write a code: sinc, mip (the paper's constructions for |v| dt), "
-                               "random, snapshot or accumulation")) {
+    : Command(code, "generate",
+              "write a code: sinc, mip (the paper's constructions for |v| dt), "
+              "random, snapshot or accumulation") {
   CLI::App& generate = app();
   generate.add_option("FAMILY", family_, std::string("code family: ") + kFamilies)
       ->required()

@@ -70,9 +70,8 @@ void print_paper_comparison(const fss::OptimizeOptions& options, const std::stri
 }  // namespace
 
 CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code)
-    : Command(*code.add_subcommand(
-          "optimize",
-          "search the code of length L that maximizes the SNR at level 100 at a velocity")) {
+    : Command(code, "optimize",
+              "search the code of length L that maximizes the SNR at level 100 at a velocity") {
   CLI::App& optimize = app();
   fss::OptimizeOptions& o = options_;
   optimize.add_option("-L,--length", o.length, "number of gains L")->required()->check(at_least(1));

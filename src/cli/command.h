@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <string>
 
 namespace fssim {
 
@@ -22,6 +23,9 @@ class Command {
   // options a derived class binds write into it, so the command must outlive
   // the parse.
   explicit Command(CLI::App& app) : app_(&app) {}
+  // Adds the command to `parent` as its subcommand `name`.
+  Command(CLI::App& parent, const std::string& name, const std::string& description)
+      : Command(*parent.add_subcommand(name, description)) {}
   CLI::App& app() const { return *app_; }
 
  private:

@@ -10,10 +10,9 @@
 namespace fssim {
 
 SpectraCommand::SpectraCommand(CLI::App& parent)
-    : Command(
-          *parent.add_subcommand("spectra",
-                                 "plot |K| of several codes on one picture (no simulation): fssim "
-                                 "spectra --output FILE CODE...")) {
+    : Command(parent, "spectra",
+              "plot |K| of several codes on one picture (no simulation): fssim "
+              "spectra --output FILE CODE...") {
   CLI::App& spectra = app();
   spectra.add_option("codes", codes_, "built-in code names or code files (1 to 8)")->required();
   spectra.add_option("-o,--output", output_, "PNG file to write (-: standard output)")->required();

@@ -146,10 +146,10 @@ void check_snr_values(const std::vector<double>& snrs, const std::string& text) 
 }  // namespace
 
 SweepCommand::SweepCommand(CLI::App& parent)
-    : Command(*parent.add_subcommand(
-          "sweep",
+    : Command(
+          parent, "sweep",
           "simulate over a range of velocities and/or snr values and write one CSV row per setting "
-          "(measured and predicted RMSE)")) {
+          "(measured and predicted RMSE)") {
   CLI::App& sweep = app();
   sweep.add_option("-i,--input", input_, "input PNG or TIFF image")->required();
   flags_.AddCode(sweep);

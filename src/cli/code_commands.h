@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 #include "fss/design/analyze.h"
@@ -12,6 +13,25 @@
 #include "fss/design/optimize.h"
 
 namespace fssim {
+
+// The sensor options of `code analyze` and `code optimize` (docs/method.md
+// §10): --read-noise, --dark-current, --adc-bits, --adc-gain, and --full-well,
+// which is refused (the figure of merit is linear in the charge).
+class SensorFlags {
+ public:
+  void Add(CLI::App* app);
+  // The sensor asked for; a usage error naming the option when a value is
+  // out of range (SensorModel::IsValid), --adc-gain comes without
+  // --adc-bits, or --full-well is given.
+  fss::SensorModel Model(const std::string& command) const;
+
+ private:
+  double read_noise_ = 0.0;
+  double dark_current_ = 0.0;
+  int adc_bits_ = 0;
+  std::optional<double> adc_gain_;
+  std::optional<double> full_well_;
+};
 
 // `code generate FAMILY --length L ...`: writes a generated code.
 class CodeGenerateCommand {
@@ -42,6 +62,7 @@ class CodeAnalyzeCommand {
   double snr_ = 100.0;
   std::string mode_ = "numerical";
   int grid_ = 0;
+  SensorFlags sensor_;
   std::string json_;
 };
 
@@ -58,6 +79,7 @@ class CodeOptimizeCommand {
   CLI::App* app_ = nullptr;
   fss::OptimizeOptions options_;
   std::string mode_ = "numerical";
+  SensorFlags sensor_;
   std::string output_;
 };
 

@@ -22,7 +22,7 @@
 # Usage: scripts/read_noise_study.sh
 # Writes results/read_noise_study.csv and, when gnuplot is installed
 # (scripts/install-deps.sh installs it), docs/read_noise_study.png; prints
-# where the analog optimum overtakes the numerical one at each light level.
+# the read noise from which an analog code found beats the numerical optimum.
 # Needs a built fssim (FSSIM=path to override, default build/fssim) and jq.
 # About 2 minutes of one core's time.
 set -euo pipefail
@@ -92,19 +92,22 @@ mkdir -p results
 mv "$tmp_csv" "$csv"
 echo "read_noise_study: wrote $csv"
 
-# Where the analog optimum overtakes the numerical one (linear interpolation
-# of the difference between grid values), and where the analog raskar code
-# overtakes the numerical one.
-awk -F, 'NR > 1 {
-  d = $8 - $7
-  if (!($1 in done) && d > 0) {
-    if ($2 == 0) printf "snr %s: the analog optimum beats the numerical one from 0 e- on\n", $1
-    else printf "snr %s: the analog optimum overtakes the numerical one at %.2f e- (SNR %.3f)\n", $1, $2 - d / (d - last[$1]), $7
-    done[$1] = 1
-  }
-  last[$1] = d
-  if ($2 == 20 && !($1 in done)) printf "snr %s: the numerical optimum stays ahead up to 20 e- (%.3f against %.3f)\n", $1, $7, $8
-}' "$csv"
+# Where an analog code overtakes the numerical optimum. With read noise
+# alone (dt = 1), c = sigma_r^2 / snr^2 and both noise figures are linear in
+# c: numerical (1 + c) N (N = Q M of the numerical optimum), analog
+# (Q + c) M, so an analog code with M < N overtakes at
+# c = (Q M - N) / (N - M). The smallest over the analog codes found:
+for snr in $light_levels; do
+  n=$("$fssim" code analyze "$work/numerical_${snr}_0.txt" --json - | jq -r '.analysis.noise_figure')
+  for code in "$work/analog_${snr}_"*.txt; do
+    "$fssim" code analyze "$code" --mode analog --json - | jq -r '[.analysis.q, .analysis.m] | @tsv'
+  done | awk -v n="$n" -v snr="$snr" '
+    $2 < n { c = ($1 * $2 - n) / (n - $2); if (!found || c < best) { best = c; q = $1 } found = 1 }
+    END {
+      if (!found) { printf "snr %s: no analog code found overtakes the numerical optimum\n", snr; exit }
+      printf "snr %s: the best analog code found (%.2f slots of light) overtakes the numerical optimum from %.2f e- on (read noise / snr = %.4f)\n", snr, q, snr * sqrt(best), sqrt(best)
+    }'
+done
 
 if command -v gnuplot >/dev/null; then
   tmp_png="$work/study.png"

@@ -112,22 +112,22 @@ done
 if command -v gnuplot >/dev/null; then
   tmp_png="$work/study.png"
   gnuplot <<EOF
-set terminal pngcairo size 1100,460 font "DejaVu Sans,10"
+set terminal pngcairo size 1100,520 font "DejaVu Sans,10"
 set output "$tmp_png"
 set datafile separator ","
 set multiplot layout 1,2 title "SNR at level 100 against read noise (L = 52, v = 1, dt = 1)"
 set xlabel "read noise (e- RMS per readout)"
 set ylabel "SNR at level 100"
 set grid
-set key bottom left
+set key outside bottom center horizontal maxrows 2 width -2
 do for [s in "100 20"] {
   set title sprintf("snr %s (%d photo-electrons per gray level per slot)", s, int(s) * int(s) / 100)
   plot "$csv" using (\$1 == int(s) ? \$2 : NaN):3 with lines lw 2 lc rgb "black" title "snapshot (both modes)", \
        "" using (\$1 == int(s) ? \$2 : NaN):7 with lines lw 2 lc rgb "#1f77b4" title "numerical optimum", \
        "" using (\$1 == int(s) ? \$2 : NaN):8 with lines lw 2 lc rgb "#d62728" title "analog optimum", \
-       "" using (\$1 == int(s) ? \$2 : NaN):6 with lines dt 2 lc rgb "#2ca02c" title "sinc (numerical)", \
-       "" using (\$1 == int(s) ? \$2 : NaN):4 with lines dt 3 lc rgb "#1f77b4" title "raskar (numerical)", \
-       "" using (\$1 == int(s) ? \$2 : NaN):5 with lines dt 3 lc rgb "#d62728" title "raskar (analog)"
+       "" using (\$1 == int(s) ? \$2 : NaN):6 with lines lw 2 dt 2 lc rgb "#2ca02c" title "sinc (numerical)", \
+       "" using (\$1 == int(s) ? \$2 : NaN):4 with lines lw 2 dt 3 lc rgb "#1f77b4" title "raskar (numerical)", \
+       "" using (\$1 == int(s) ? \$2 : NaN):5 with lines lw 2 dt 3 lc rgb "#d62728" title "raskar (analog)"
 }
 unset multiplot
 EOF

@@ -17,6 +17,7 @@ packages=(
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
   slurmctld slurmd slurm-client munge  # the campaign's single-node Slurm cluster test (label slurm)
   parallel  # the README's GNU parallel recipe for campaign shards
+  gnuplot-nox  # the plot of scripts/read_noise_study.sh (docs/read_noise_study.png)
 )
 for argument in "$@"; do
   case "$argument" in

@@ -15,10 +15,13 @@ _fssim_options() {
     spectra) echo "-h --help -o --output -v --velocity --dt --linear --width --height --title" ;;
     code) echo "-h --help" ;;
     generate) echo "-h --help -L --length -v --velocity --dt --seed --analog -o --output" ;;
-    analyze) echo "-h --help -v --velocity --dt --snr -m --mode --grid --json" ;;
+    analyze)
+      echo "-h --help -v --velocity --dt --snr -m --mode --grid --read-noise --dark-current
+            --adc-bits --adc-gain --full-well --json" ;;
     optimize)
       echo "-h --help -L --length -v --velocity --dt --snr -m --mode --binary --min-light
-            --restarts --iterations --seed -o --output" ;;
+            --restarts --iterations --seed --read-noise --dark-current --adc-bits --adc-gain
+            --full-well -o --output" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
             --noise --rmse-margin --threads --max-memory -o --output --plot" ;;

@@ -23,6 +23,24 @@ nlohmann::json finite_or_null(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
+// The sensor's part of the JSON, present only when a sensor option is on (a
+// default run writes the photon-noise JSON unchanged).
+void add_sensor_json(const fss::CodeAnalysis& a, nlohmann::json* j) {
+  if (!a.sensor.enabled()) return;
+  nlohmann::json sensor = {
+      {"read_noise_electrons", a.sensor.read_noise_electrons},
+      {"dark_current_electrons_per_slot", a.sensor.dark_current_electrons_per_slot},
+      {"adc_bits", a.sensor.adc_bits}};
+  if (a.sensor.adc_bits != 0) {
+    sensor["adc_gain_electrons_per_count"] = a.sensor.adc_gain_electrons_per_count;
+  }
+  (*j)["parameters"]["sensor"] = sensor;
+  (*j)["analysis"]["readouts"] = a.readouts;
+  (*j)["analysis"]["readout_variance_electrons2"] = a.readout_variance_electrons2;
+  (*j)["analysis"]["effective_q"] = a.effective_q;
+  (*j)["analysis"]["effective_noise_figure"] = finite_or_null(a.effective_noise_figure);
+}
+
 nlohmann::json analysis_json(const fss::ShutterCode& code, const fss::CodeAnalysis& a) {
   nlohmann::json j;
   j["code"] = {{"name", code.name}, {"length", a.length}, {"gains", code.gains}};
@@ -46,6 +64,7 @@ nlohmann::json analysis_json(const fss::ShutterCode& code, const fss::CodeAnalys
                    {"snapshot_snr_level100", a.snapshot_snr_level100},
                    {"ratio_to_snapshot", a.ratio_to_snapshot},
                    {"snr_level100_bound", finite_or_null(a.snr_level100_bound)}};
+  add_sensor_json(a, &j);
   return j;
 }
 
@@ -54,12 +73,20 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
   std::printf("Code: %s (L = %d)\n", code.name.c_str(), a.length);
   std::printf("Setting: %s mode, velocity %g, dt %g, snr %g\n", mode.c_str(), a.velocity, a.dt,
               a.snr);
+  if (a.sensor.enabled()) {
+    std::printf("Sensor: %s (%g photo-electrons per gray level per slot)\n",
+                fss::describe_design_sensor(a.sensor).c_str(), a.snr * a.snr / 100.0);
+  }
   std::printf("Sum of gains: %f\n", a.sum);
   std::printf("Sum of squares: %f\n", a.square_sum);
   std::printf("Normalized L1 norm: %f\n", a.normalized_l1);
   std::printf("Min |K| on the band: %g at xi = %f\n", a.min_abs, a.min_abs_xi);
   std::printf("Invertible: %s\n", a.invertible ? "yes" : "no (K vanishes on the band)");
   std::printf("Q: %f\n", a.q);
+  if (a.sensor.enabled()) {
+    std::printf("Readouts: %f, each adding %g e-^2\n", a.readouts, a.readout_variance_electrons2);
+    std::printf("Effective Q (photon noise and readouts): %f\n", a.effective_q);
+  }
   if (std::isfinite(a.m)) {
     std::printf("M (mean of 1/|K|^2, %s): %f\n", grid_description(a.grid).c_str(), a.m);
   } else {
@@ -74,6 +101,27 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
     std::printf("Bound on the SNR at level 100 (any code, any length): %f\n", a.snr_level100_bound);
   } else {
     std::printf("Bound on the SNR at level 100 (any code, any length): none at v = 0\n");
+  }
+}
+
+// With an ADC, a warning when the mean level-100 readout passes the top of its
+// range (the figure of merit counts only the rounding, not the clipping).
+void warn_adc_range(const fss::CodeAnalysis& a) {
+  if (a.sensor.adc_bits == 0) return;
+  const double lambda2 = a.snr * a.snr / 100.0;
+  const double exposure =
+      fss::readout_exposure_slots(static_cast<std::size_t>(a.length), a.dt, a.mode);
+  // A frame sees one slot of light, the analog exposure sum alpha slots.
+  const double light = a.mode == fss::ShutterMode::kNumerical ? a.dt : a.dt * a.sum;
+  const double charge =
+      100.0 * light * lambda2 + a.sensor.dark_current_electrons_per_slot * exposure;
+  const double top =
+      (std::ldexp(1.0, a.sensor.adc_bits) - 1.0) * a.sensor.adc_gain_electrons_per_count;
+  if (charge > top) {
+    std::fprintf(stderr,
+                 "fssim: warning: a level-100 readout of %g e- passes the ADC's top of %g e-: the "
+                 "figure of merit counts its rounding, not its clipping\n",
+                 charge, top);
   }
 }
 
@@ -108,6 +156,7 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code)
                       "-node midpoint rule; N <= " + std::to_string(fss::kMaxAnalysisGridPoints))
       ->check(integer_in(0, fss::kMaxAnalysisGridPoints))
       ->capture_default_str();
+  sensor_.Add(&analyze);
   analyze.add_option("--json", json_,
                      "also write the analysis as JSON to this file (-: standard output, "
                      "instead of the text)");
@@ -117,7 +166,9 @@ int CodeAnalyzeCommand::Run() const {
   const fss::ShutterCode code = fss::load_code(code_);
   const fss::ShutterMode mode = *fss::shutter_mode_from_string(mode_);
   // The code is checked as the simulator checks it (fss::check_code_for_mode).
-  const fss::CodeAnalysis a = fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_);
+  const fss::SensorModel sensor = sensor_.Model("code analyze");
+  const fss::CodeAnalysis a = fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_, sensor);
+  warn_adc_range(a);
   if (!json_.empty()) write_output(json_, analysis_json(code, a).dump(2) + "\n", {code_});
   if (!is_stdout(json_)) print_analysis(code, a, mode_);  // else stdout is the JSON
   return kExitSuccess;

@@ -1,6 +1,8 @@
 #include "code_commands.h"
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "cli_common.h"
 #include "fss/core/error.h"
@@ -17,7 +19,60 @@ CLI::App& add_code_command(CLI::App& app) {
   return *code;
 }
 
+// SensorModel::IsValid's field names as the options that set them.
+std::string option_message(const std::string& message) {
+  static const std::pair<const char*, const char*> kOptions[] = {
+      {"read_noise_electrons = ", "--read-noise "},
+      {"dark_current_electrons_per_slot = ", "--dark-current "},
+      {"adc_bits = ", "--adc-bits "},
+      {"adc_gain_electrons_per_count = ", "--adc-gain "},
+  };
+  for (const auto& [field, option] : kOptions) {
+    if (message.rfind(field, 0) == 0) return option + message.substr(std::string(field).size());
+  }
+  return message;
+}
+
 }  // namespace
+
+void SensorFlags::Add(CLI::App* app) {
+  app->add_option("--read-noise", read_noise_,
+                  "read noise, electrons RMS per readout (numerical: every frame, weighted by "
+                  "its gain squared; analog: one readout); 0: none")
+      ->capture_default_str();
+  app->add_option("--dark-current", dark_current_,
+                  "dark current, electrons per unit slot (a frame's readout has dt, the analog "
+                  "exposure L dt); its mean is subtracted, its noise stays; 0: none")
+      ->capture_default_str();
+  app->add_option("--adc-bits", adc_bits_,
+                  "ADC resolution in bits, 1 to 32 (its rounding counts G^2 / 12 per readout); "
+                  "0: no ADC")
+      ->capture_default_str();
+  app->add_option("--adc-gain", adc_gain_, "ADC gain G, electrons per count (with --adc-bits)");
+  app->add_option("--full-well", full_well_,
+                  "refused here: the figure of merit is linear in the charge (simulate the "
+                  "camera to see saturation)");
+}
+
+fss::SensorModel SensorFlags::Model(const std::string& command) const {
+  if (full_well_) {
+    fss::throw_usage_error("--full-well " + format_number(*full_well_) + ": " + command +
+                           " computes a figure of merit linear in the charge; a full well "
+                           "clips it (simulate the camera to see saturation)");
+  }
+  if (adc_gain_ && adc_bits_ == 0) {
+    fss::throw_usage_error("--adc-gain " + format_number(*adc_gain_) +
+                           ": an ADC gain needs --adc-bits");
+  }
+  fss::SensorModel sensor;
+  sensor.read_noise_electrons = read_noise_;
+  sensor.dark_current_electrons_per_slot = dark_current_;
+  sensor.adc_bits = adc_bits_;
+  if (adc_gain_) sensor.adc_gain_electrons_per_count = *adc_gain_;
+  std::string error;
+  if (!sensor.IsValid(&error)) fss::throw_usage_error(option_message(error));
+  return sensor;
+}
 
 void check_design_band(double velocity, double dt, const std::string& what) {
   if (!fss::design_band_is_valid(velocity, dt)) {

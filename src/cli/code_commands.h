@@ -4,6 +4,8 @@
 // them under `code` and runs the one selected.
 #pragma once
 
+#include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 #include "command.h"
@@ -12,6 +14,25 @@
 #include "fss/design/optimize.h"
 
 namespace fssim {
+
+// The sensor options of `code analyze` and `code optimize` (docs/method.md
+// §10): --read-noise, --dark-current, --adc-bits, --adc-gain, and --full-well,
+// which is refused (the figure of merit is linear in the charge).
+class SensorFlags {
+ public:
+  void Add(CLI::App* app);
+  // The sensor asked for; a usage error naming the option when a value is
+  // out of range (SensorModel::IsValid), --adc-gain comes without
+  // --adc-bits, or --full-well is given.
+  fss::SensorModel Model(const std::string& command) const;
+
+ private:
+  double read_noise_ = 0.0;
+  double dark_current_ = 0.0;
+  int adc_bits_ = 0;
+  std::optional<double> adc_gain_;
+  std::optional<double> full_well_;
+};
 
 // `code generate FAMILY --length L ...`: writes a generated code.
 class CodeGenerateCommand : public Command {
@@ -38,6 +59,7 @@ class CodeAnalyzeCommand : public Command {
   double snr_ = 100.0;
   std::string mode_ = "numerical";
   int grid_ = 0;
+  SensorFlags sensor_;
   std::string json_;
 };
 
@@ -52,6 +74,7 @@ class CodeOptimizeCommand : public Command {
 
   fss::OptimizeOptions options_;
   std::string mode_ = "numerical";
+  SensorFlags sensor_;
   std::string output_;
 };
 

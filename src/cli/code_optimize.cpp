@@ -54,8 +54,9 @@ void print_paper_comparison(const fss::OptimizeOptions& options, const std::stri
       skipped += (skipped.empty() ? "" : ", ") + name;
       continue;
     }
-    const fss::CodeAnalysis paper = fss::analyze_code(paper_code, options.velocity_px_per_slot,
-                                                      options.dt, options.snr, options.mode);
+    const fss::CodeAnalysis paper =
+        fss::analyze_code(paper_code, options.velocity_px_per_slot, options.dt, options.snr,
+                          options.mode, 0, options.sensor);
     if (paper.invertible) {
       std::printf("  %-13s SNR at level 100 %9.4f  (optimized / paper: %.4f)\n", name.c_str(),
                   paper.snr_level100, ours.snr_level100 / paper.snr_level100);
@@ -79,7 +80,11 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code)
       ->required()
       ->check(finite());
   optimize.add_option("--dt", o.dt, "time slot length, > 0")->check(scale())->capture_default_str();
-  optimize.add_option("--snr", o.snr, "snr of the reported SNR at level 100 (scales it only)")
+  optimize
+      .add_option("--snr", o.snr,
+                  "SNR of a level-100 landscape seen through one slot: scales the reported SNR "
+                  "only, unless a sensor option adds readout noise (which counts against "
+                  "snr^2 / 100 photo-electrons per gray level)")
       ->check(scale())
       ->capture_default_str();
   optimize.add_option("-m,--mode", mode_, "numerical (any real gains) or analog (gains in [0, 1])")
@@ -106,6 +111,7 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code)
   optimize.add_option("--seed", o.seed, "seed of the random starts")
       ->check(seed_value())
       ->capture_default_str();
+  sensor_.Add(&optimize);
   optimize.add_option("-o,--output", output_,
                       "code file to write the optimum to (-: standard output, without the "
                       "report)");
@@ -120,6 +126,9 @@ void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
          << format_number(options.dt) << ": SNR at level 100 " << format_number(a.snr_level100)
          << " at snr " << format_number(options.snr) << " (snapshot "
          << format_number(a.snapshot_snr_level100) << ")\n";
+  if (options.sensor.enabled()) {
+    header << "# sensor: " << fss::describe_design_sensor(options.sensor) << "\n";
+  }
   const fss::ShutterCode code{"optimized", result.gains};
   write_output(output_, header.str() + fss::format_code_txt(code));
 }
@@ -127,6 +136,7 @@ void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
 int CodeOptimizeCommand::Run() const {
   fss::OptimizeOptions options = options_;
   options.mode = *fss::shutter_mode_from_string(mode_);
+  options.sensor = sensor_.Model("code optimize");
   check_options(options);
   const fss::OptimizationResult result = fss::optimize_code(options);
   if (!output_.empty()) WriteCode(options, result);

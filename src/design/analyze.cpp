@@ -1,6 +1,7 @@
 #include "fss/design/analyze.h"
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "design/numerics.h"
@@ -54,7 +55,63 @@ void describe_gains(const std::vector<double>& g, CodeAnalysis* a) {
   a->invertible = kernel.invertible;
 }
 
+// Q_eff of `gains` (see analyze.h): V snr^2 / 10^4 with V the variance of the
+// level-100 observation (model/sensor.h), so that snr_level100(Q_eff, M, snr)
+// = 100 / sqrt(V M); the photon noise's Q itself for a default sensor (to the
+// bit, as before sensors existed).
+double effective_noise_gain(std::span<const double> gains, double dt, ShutterMode mode, double snr,
+                            const SensorModel& sensor) {
+  if (!sensor.enabled()) return noise_gain(gains, dt, mode);
+  return level100_observation_variance(gains, dt, mode, snr, sensor) * snr * snr / 1.0e4;
+}
+
+// The sensor's figures of `a` (its gains `g`): readouts, v_r, Q_eff, Q_eff M.
+void describe_sensor(std::span<const double> g, CodeAnalysis* a) {
+  a->readouts = a->mode == ShutterMode::kNumerical ? a->square_sum : 1.0;
+  a->readout_variance_electrons2 =
+      readout_variance_electrons2(a->sensor, readout_exposure_slots(g.size(), a->dt, a->mode));
+  a->effective_q = effective_noise_gain(g, a->dt, a->mode, a->snr, a->sensor);
+  a->effective_noise_figure = a->effective_q * a->m;
+}
+
 }  // namespace
+
+double readout_noise_slots(const SensorModel& sensor, std::size_t length, double dt,
+                           ShutterMode mode, double snr) {
+  const double lambda2 = snr * snr / 100.0;
+  // c = v_r / (100 lambda2)
+  return readout_variance_electrons2(sensor, readout_exposure_slots(length, dt, mode)) /
+         (100.0 * lambda2);
+}
+
+void check_design_sensor(const SensorModel& sensor) {
+  std::string error;
+  if (!sensor.IsValid(&error)) throw_usage_error(error);
+  if (sensor.full_well_electrons) {
+    throw_usage_error("full_well_electrons = " + format_number(*sensor.full_well_electrons) +
+                      ": the figure of merit of a code is linear in the charge and has no full "
+                      "well (simulate the camera to see saturation)");
+  }
+}
+
+std::string describe_design_sensor(const SensorModel& sensor) {
+  std::string text;
+  auto add = [&text](const std::string& part) { text += (text.empty() ? "" : ", ") + part; };
+  if (sensor.read_noise_electrons != 0.0) {
+    add("read noise " + format_number(sensor.read_noise_electrons) + " e- RMS per readout");
+  }
+  if (sensor.dark_current_electrons_per_slot != 0.0) {
+    add("dark current " + format_number(sensor.dark_current_electrons_per_slot) + " e- per slot");
+  }
+  if (sensor.full_well_electrons) {
+    add("full well " + format_number(*sensor.full_well_electrons) + " e-");
+  }
+  if (sensor.adc_bits != 0) {
+    add("ADC " + std::to_string(sensor.adc_bits) + " bits at " +
+        format_number(sensor.adc_gain_electrons_per_count) + " e- per count");
+  }
+  return text.empty() ? "photon noise only" : text;
+}
 
 double band_mean_inverse_power(std::span<const double> gains, double velocity, double dt,
                                int grid_points) {
@@ -95,9 +152,10 @@ double noise_figure_lower_bound(double velocity, double dt) {
 }
 
 CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
-                          ShutterMode mode, int grid) {
+                          ShutterMode mode, int grid, const SensorModel& sensor) {
   check_code_for_mode(code, mode);
   check_analysis_setting(velocity, dt, snr, grid);
+  check_design_sensor(sensor);
   const std::vector<double>& g = code.gains;
   CodeAnalysis a;
   a.length = static_cast<int>(g.size());
@@ -106,6 +164,7 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
   a.dt = dt;
   a.snr = snr;
   a.grid = grid;
+  a.sensor = sensor;
   describe_gains(g, &a);
 
   a.q = noise_gain(g, dt, mode);
@@ -113,12 +172,23 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
   // finite M, whatever the grid happens to sample.
   a.m = a.invertible ? mean_inverse_on_grid(g, a) : kInfinity;
   a.noise_figure = a.q * a.m;
-  a.snr_level100 = snr_level100(a.q, a.m, snr);
-  const std::vector<double> snapshot = {1.0};
-  a.snapshot_snr_level100 = snr_level100(dt, mean_inverse_on_grid(snapshot, a), snr);
+  describe_sensor(g, &a);
+  a.snr_level100 = snr_level100(a.effective_q, a.m, snr);
+  // The snapshot's M does not depend on its length; its readouts do (the
+  // analog exposure is L dt whatever the gains).
+  std::vector<double> snapshot(g.size(), 0.0);
+  snapshot[0] = 1.0;
+  const double snapshot_q = effective_noise_gain(snapshot, dt, mode, snr, sensor);
+  a.snapshot_snr_level100 =
+      snr_level100(snapshot_q, mean_inverse_on_grid(std::vector<double>{1.0}, a), snr);
   a.ratio_to_snapshot =
       a.snapshot_snr_level100 > 0.0 ? a.snr_level100 / a.snapshot_snr_level100 : 0.0;
-  const double bound = noise_figure_lower_bound(velocity, dt);
+  // Numerical: Q_eff M = (1 + c / dt) Q M >= (1 + c / dt) B. Analog: Q_eff M >= Q M >= B.
+  const double readout_factor =
+      mode == ShutterMode::kNumerical
+          ? 1.0 + readout_noise_slots(sensor, g.size(), dt, mode, snr) / dt
+          : 1.0;
+  const double bound = noise_figure_lower_bound(velocity, dt) * readout_factor;
   a.snr_level100_bound = bound == 0.0 ? kInfinity : snr / std::sqrt(bound);
   return a;
 }

@@ -12,9 +12,11 @@ constexpr double kRelativeGain = 1e-12;
 
 class BinarySearch {
  public:
-  BinarySearch(int length, double velocity, double dt, int grid, int min_ones)
+  BinarySearch(int length, double velocity, double dt, int grid, int min_ones,
+               const BinaryCost& cost)
       : length_(length),
         dt_(dt),
+        cost_(cost),
         grid_(grid),
         min_ones_(min_ones),
         g_(static_cast<std::size_t>(grid)),
@@ -42,6 +44,7 @@ class BinarySearch {
 
   int length_;
   double dt_;
+  BinaryCost cost_;
   int grid_;
   int min_ones_;
   std::size_t g_;
@@ -60,8 +63,10 @@ void BinarySearch::AddRow(int k, double sign) {
   }
 }
 
-// Q M after adding sign_a E_a + sign_b E_b to K (b = -1: no second row), for a
-// code of `count` ones: Q = dt count, M = mean of 1 / |K|^2.
+// Q_eff M after adding sign_a E_a + sign_b E_b to K (b = -1: no second row),
+// for a code of `count` ones: M = mean of 1 / |K|^2 and Q_eff = dt count
+// without readout noise; with it (dt + c) count (numerical) or dt count + c
+// (analog).
 double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int count) const {
   if (count == 0 || count < min_ones_) return kInfinity;
   const double* ar = basis_re_.data() + a * g_;
@@ -77,7 +82,9 @@ double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int 
     if (!(power > 0.0)) return kInfinity;
     sum += 1.0 / power;
   }
-  return dt_ * count * sum / grid_;
+  const double q =
+      cost_.numerical ? (dt_ + cost_.readout_slots) * count : dt_ * count + cost_.readout_slots;
+  return q * sum / grid_;
 }
 
 void BinarySearch::BestFlip(Move* best) {
@@ -141,8 +148,8 @@ LocalResult BinarySearch::Run(std::vector<double> x, int max_moves) {
 }  // namespace
 
 LocalResult minimize_binary(int length, double velocity, double dt, int grid, int min_ones,
-                            std::vector<double> x, int max_moves) {
-  BinarySearch search(length, velocity, dt, grid, min_ones);
+                            std::vector<double> x, int max_moves, const BinaryCost& cost) {
+  BinarySearch search(length, velocity, dt, grid, min_ones, cost);
   return search.Run(std::move(x), max_moves);
 }
 

@@ -45,14 +45,22 @@ struct Feasible {
 LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double> x,
                                 const Feasible& feasible, int max_iterations);
 
+// The readouts of a binary code: c (readout_noise_slots, design/analyze.h)
+// per unit of gain squared (numerical: every 1 is a read frame) or once
+// (analog).
+struct BinaryCost {
+  bool numerical = false;
+  double readout_slots = 0.0;  // c; 0: photon noise only
+};
+
 // Steepest-descent local search on binary codes of at least `min_ones` ones,
 // from `x`, for at most `max_moves` moves. A move flips one gain or, when no
 // flip helps, swaps a 1 with a 0 (which keeps the light, so the search can
 // move along a light budget); the move that lowers Q M the most is made, until
 // none lowers it. K is updated incrementally (K +/- E_k), so one pass over the
 // neighbours costs G operations per neighbour. Q = dt * (number of ones) in
-// both modes.
+// both modes; Q_eff adds the readouts of `cost`.
 LocalResult minimize_binary(int length, double velocity, double dt, int grid, int min_ones,
-                            std::vector<double> x, int max_moves);
+                            std::vector<double> x, int max_moves, const BinaryCost& cost = {});
 
 }  // namespace fss::design_detail

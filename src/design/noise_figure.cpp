@@ -26,8 +26,13 @@ void design_detail::make_band_basis(int length, double velocity, double dt, int 
   }
 }
 
-NoiseFigure::NoiseFigure(int length, double velocity, double dt, ShutterMode mode, int grid_points)
-    : length_(length), grid_(grid_points), dt_(dt), mode_(mode) {
+NoiseFigure::NoiseFigure(int length, double velocity, double dt, ShutterMode mode, int grid_points,
+                         double readout_slots)
+    : length_(length), grid_(grid_points), dt_(dt), readout_slots_(readout_slots), mode_(mode) {
+  if (!(std::isfinite(readout_slots) && readout_slots >= 0.0)) {
+    throw_usage_error("NoiseFigure: readout_slots " + format_number(readout_slots) +
+                      " must be finite and >= 0");
+  }
   if (length < 1) throw_usage_error("NoiseFigure: length " + std::to_string(length) + " < 1");
   if (grid_points < 1) {
     throw_usage_error("NoiseFigure: grid_points " + std::to_string(grid_points) + " < 1");
@@ -53,10 +58,12 @@ double NoiseFigure::Evaluate(std::span<const double> gains, std::span<double> gr
       im[j] += alpha * ei[j];
     }
   }
-  // Q = dt sum alpha^2 (numerical) or dt sum alpha (analog).
+  // Q_eff = (dt + c) sum alpha^2 (numerical) or dt sum alpha + c (analog);
+  // with c = 0 this is Q to the bit.
+  const bool numerical = mode_ == ShutterMode::kNumerical;
   double q = 0.0;
-  for (const double alpha : gains) q += mode_ == ShutterMode::kNumerical ? alpha * alpha : alpha;
-  q *= dt_;
+  for (const double alpha : gains) q += numerical ? alpha * alpha : alpha;
+  q = numerical ? q * (dt_ + readout_slots_) : q * dt_ + readout_slots_;
   if (!(q > 0.0)) return kInfinity;
 
   // M = mean of 1 / |K_j|^2; K_j becomes K_j / |K_j|^4 for the gradient.
@@ -73,14 +80,14 @@ double NoiseFigure::Evaluate(std::span<const double> gains, std::span<double> gr
   const double value = q * m;
   if (!std::isfinite(value)) return kInfinity;
   if (gradient.empty()) return value;
-  // d(Q M) / d alpha_k = Q dM / d alpha_k + M dQ / d alpha_k.
+  // d(Q_eff M) / d alpha_k = Q_eff dM / d alpha_k + M dQ_eff / d alpha_k.
   for (int k = 0; k < length_; ++k) {
     const double* er = basis_re_.data() + k * grid;
     const double* ei = basis_im_.data() + k * grid;
     double dot = 0.0;
     for (std::size_t j = 0; j < grid; ++j) dot += re[j] * er[j] + im[j] * ei[j];
     const double dm = -2.0 * dot / grid_;
-    const double dq = mode_ == ShutterMode::kNumerical ? 2.0 * dt_ * gains[k] : dt_;
+    const double dq = numerical ? 2.0 * (dt_ + readout_slots_) * gains[k] : dt_;
     gradient[k] = q * dm + m * dq;
   }
   return value;

@@ -105,17 +105,20 @@ void search_from_starts(const OptimizeOptions& options, const SearchSetting& set
                         const std::vector<std::vector<double>>& starts,
                         OptimizationResult* result) {
   const double v = options.velocity_px_per_slot;
+  const double c = readout_noise_slots(options.sensor, static_cast<std::size_t>(options.length),
+                                       options.dt, options.mode, options.snr);
+  const design_detail::BinaryCost cost{options.mode == ShutterMode::kNumerical, c};
   std::optional<NoiseFigure> objective;
   if (!options.binary)
-    objective.emplace(options.length, v, options.dt, options.mode, options.grid_points);
+    objective.emplace(options.length, v, options.dt, options.mode, options.grid_points, c);
   double best = kInfinity;
   for (std::size_t s = 0; s < starts.size(); ++s) {
     const LocalResult local =
-        options.binary
-            ? design_detail::minimize_binary(options.length, v, options.dt, options.grid_points,
-                                             setting.min_ones, starts[s], options.max_iterations)
-            : design_detail::minimize_continuous(*objective, starts[s], setting.feasible,
-                                                 options.max_iterations);
+        options.binary ? design_detail::minimize_binary(options.length, v, options.dt,
+                                                        options.grid_points, setting.min_ones,
+                                                        starts[s], options.max_iterations, cost)
+                       : design_detail::minimize_continuous(*objective, starts[s], setting.feasible,
+                                                            options.max_iterations);
     result->iterations += local.iterations;
     result->evaluations += local.evaluations;
     if (local.value < best) {
@@ -153,6 +156,12 @@ bool OptimizeOptions::IsValid(std::string* error) const {
   if (!(std::isfinite(snr) && snr > 0.0)) {
     return fail("snr = " + format_number(snr) + ": must be finite and > 0");
   }
+  std::string sensor_error;
+  if (!sensor.IsValid(&sensor_error)) return fail("sensor." + sensor_error);
+  if (sensor.full_well_electrons) {
+    return fail("sensor.full_well_electrons = " + format_number(*sensor.full_well_electrons) +
+                ": the figure of merit of a code is linear in the charge and has no full well");
+  }
   if (!(std::isfinite(min_light_slots) && min_light_slots >= 0.0 && min_light_slots <= length)) {
     return fail("min_light_slots = " + format_number(min_light_slots) +
                 ": must lie in [0, length = " + std::to_string(length) + "]");
@@ -189,10 +198,11 @@ OptimizationResult optimize_code(const OptimizeOptions& options) {
   search_from_starts(options, setting, starts, &result);
   if (result.gains.empty()) result.gains = snapshot_code(options.length);  // every start failed
   normalize_result(options, setting.numerical, result.gains);
+  // Binary gains are admissible in both modes; their Q is the same in both,
+  // their readouts are not.
   result.analysis =
       analyze_code(ShutterCode{"optimized", result.gains}, options.velocity_px_per_slot, options.dt,
-                   options.snr, options.binary ? ShutterMode::kAnalog : options.mode);
-  result.analysis.mode = options.mode;
+                   options.snr, options.mode, 0, options.sensor);
   return result;
 }
 
@@ -207,6 +217,11 @@ std::string OptimizationResult::FullReport() const {
   if (options.min_light_slots > 0.0) {
     std::snprintf(line, sizeof line, ", light >= %g slots", options.min_light_slots);
     out << line;
+  }
+  if (options.sensor.enabled()) {
+    out << "\nSensor: " << describe_design_sensor(options.sensor) << "; snr "
+        << format_number(options.snr) << " (" << format_number(options.snr * options.snr / 100.0)
+        << " photo-electrons per gray level per slot)";
   }
   std::snprintf(line, sizeof line,
                 "\nSearch: %d starts (seed %llu, best from start %d), %d iterations, %d "

@@ -20,6 +20,7 @@
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
+#include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/prediction.h"
 #include "fss/pipeline/simulate.h"
@@ -638,6 +639,254 @@ TEST(Optimize, OptionsNameTheFieldAndRule) {
     EXPECT_NE(error.find(c.expected), std::string::npos) << error;
     EXPECT_TRUE(throws_error([&] { optimize_code(options); }, ErrorKind::kUsage, {c.expected}));
   }
+}
+
+// ---------------------------------------------------------------------------
+// The figure of merit with a sensor (docs/method.md §10): readouts counted.
+
+SensorModel read_noise(double electrons) {
+  SensorModel sensor;
+  sensor.read_noise_electrons = electrons;
+  return sensor;
+}
+
+CodeAnalysis analyze_with(const std::string& name, ShutterMode mode, double snr,
+                          const SensorModel& sensor, int grid = 0) {
+  return analyze_code(paper_code(name), 1.0, 1.0, snr, mode, grid, sensor);
+}
+
+TEST(SensorFigure, DefaultSensorChangesNoBit) {
+  for (const std::string& name : {"snapshot", "raskar", "random", "mip", "sinc"}) {
+    for (const int grid : {0, 712}) {
+      const CodeAnalysis a =
+          analyze_code(paper_code(name), 0.9, 1.3, 37.0, ShutterMode::kNumerical, grid);
+      const CodeAnalysis b =
+          analyze_code(paper_code(name), 0.9, 1.3, 37.0, ShutterMode::kNumerical, grid, {});
+      EXPECT_EQ(a.snr_level100, b.snr_level100) << name;
+      EXPECT_EQ(a.effective_q, a.q) << name;
+      EXPECT_EQ(a.effective_noise_figure, a.noise_figure) << name;
+      EXPECT_EQ(a.readout_variance_electrons2, 0.0);
+      // The paper's figure of merit, to the bit.
+      EXPECT_EQ(a.snr_level100, snr_level100(a.q, a.m, 37.0)) << name;
+    }
+  }
+}
+
+TEST(SensorFigure, IsTheLevel100ObservationVarianceTimesM) {
+  SensorModel sensor;
+  sensor.read_noise_electrons = 7.0;
+  sensor.dark_current_electrons_per_slot = 0.3;
+  sensor.adc_bits = 12;
+  sensor.adc_gain_electrons_per_count = 2.0;
+  const double snr = 30.0, lambda2 = snr * snr / 100.0;
+  for (const ShutterMode mode : {ShutterMode::kNumerical, ShutterMode::kAnalog}) {
+    for (const std::string& name : {"snapshot", "raskar"}) {
+      const CodeAnalysis a = analyze_with(name, mode, snr, sensor);
+      const std::vector<double> g = paper(name);
+      // SNR_100 = 100 / sqrt(V M), V from model/sensor.h.
+      const double v = level100_observation_variance(g, 1.0, mode, snr, sensor);
+      EXPECT_NEAR(a.snr_level100, 100.0 / std::sqrt(v * a.m), 1e-12 * a.snr_level100);
+      // v_r = sigma_r^2 + d * exposure + G^2 / 12, exposure dt or L dt.
+      const double exposure = mode == ShutterMode::kAnalog ? 52.0 : 1.0;
+      EXPECT_DOUBLE_EQ(a.readout_variance_electrons2, 49.0 + 0.3 * exposure + 4.0 / 12.0);
+      // Q_eff = Q + R v_r / (100 lambda2), R = sum alpha^2 or 1.
+      const double readouts = mode == ShutterMode::kAnalog ? 1.0 : gain_square_sum(g);
+      EXPECT_DOUBLE_EQ(a.readouts, readouts);
+      EXPECT_NEAR(a.effective_q, a.q + readouts * a.readout_variance_electrons2 / (100.0 * lambda2),
+                  1e-12 * a.effective_q);
+      EXPECT_NEAR(a.effective_noise_figure, a.effective_q * a.m, 1e-12 * a.effective_q * a.m);
+      EXPECT_EQ(a.noise_figure, a.q * a.m);  // the photon part is still reported
+    }
+  }
+}
+
+TEST(SensorFigure, SnrFallsWithReadNoiseFasterInTheNumericalMode) {
+  // Raskar's binary code is admissible in both modes and has the same SNR in
+  // both without read noise; the numerical mode reads 26 weighted frames, the
+  // analog mode one exposure.
+  const double snr = 20.0;
+  double previous_numerical = INFINITY, previous_analog = INFINITY;
+  const double numerical0 = analyze_with("raskar", ShutterMode::kNumerical, snr, {}).snr_level100;
+  const double analog0 = analyze_with("raskar", ShutterMode::kAnalog, snr, {}).snr_level100;
+  EXPECT_DOUBLE_EQ(numerical0, analog0);
+  for (int r = 1; r <= 20; ++r) {
+    const double numerical =
+        analyze_with("raskar", ShutterMode::kNumerical, snr, read_noise(r)).snr_level100;
+    const double analog =
+        analyze_with("raskar", ShutterMode::kAnalog, snr, read_noise(r)).snr_level100;
+    EXPECT_LT(numerical, previous_numerical) << r;
+    EXPECT_LT(analog, previous_analog) << r;
+    EXPECT_LT(numerical / numerical0, analog / analog0) << r;
+    // Numerical: every code's SNR falls by 1 / sqrt(1 + c / dt), c = sigma_r^2 / snr^2.
+    EXPECT_NEAR(numerical / numerical0, 1.0 / std::sqrt(1.0 + r * r / (snr * snr)), 1e-12) << r;
+    previous_numerical = numerical;
+    previous_analog = analog;
+  }
+}
+
+TEST(SensorFigure, NumericalRankingDoesNotChangeAnalogSnapshotIsTheNumericalOne) {
+  const SensorModel sensor = read_noise(12.0);
+  for (const std::string& name : {"raskar", "random", "mip", "sinc"}) {
+    const CodeAnalysis a0 = analyze_with(name, ShutterMode::kNumerical, 20.0, {});
+    const CodeAnalysis a = analyze_with(name, ShutterMode::kNumerical, 20.0, sensor);
+    EXPECT_NEAR(a.ratio_to_snapshot, a0.ratio_to_snapshot, 1e-12) << name;
+  }
+  // Read noise alone: one readout of the snapshot in both modes.
+  EXPECT_DOUBLE_EQ(analyze_with("snapshot", ShutterMode::kNumerical, 20.0, sensor).snr_level100,
+                   analyze_with("snapshot", ShutterMode::kAnalog, 20.0, sensor).snr_level100);
+  // Dark current: the analog snapshot gathers L dt of it, the frame dt.
+  SensorModel dark;
+  dark.dark_current_electrons_per_slot = 2.0;
+  EXPECT_LT(analyze_with("snapshot", ShutterMode::kAnalog, 20.0, dark).snr_level100,
+            analyze_with("snapshot", ShutterMode::kNumerical, 20.0, dark).snr_level100);
+  // The snapshot of the analysis pays the same readouts as the code's mode.
+  const CodeAnalysis raskar = analyze_with("raskar", ShutterMode::kAnalog, 20.0, dark);
+  EXPECT_DOUBLE_EQ(raskar.snapshot_snr_level100,
+                   analyze_with("snapshot", ShutterMode::kAnalog, 20.0, dark).snr_level100);
+}
+
+TEST(SensorFigure, MonotoneInEverySensorTerm) {
+  for (const ShutterMode mode : {ShutterMode::kNumerical, ShutterMode::kAnalog}) {
+    const double base = analyze_with("raskar", mode, 20.0, {}).snr_level100;
+    SensorModel dark;
+    dark.dark_current_electrons_per_slot = 1.0;
+    SensorModel darker = dark;
+    darker.dark_current_electrons_per_slot = 3.0;
+    SensorModel adc;
+    adc.adc_bits = 16;
+    adc.adc_gain_electrons_per_count = 4.0;
+    SensorModel coarser = adc;
+    coarser.adc_gain_electrons_per_count = 8.0;
+    const double d1 = analyze_with("raskar", mode, 20.0, dark).snr_level100;
+    EXPECT_LT(d1, base);
+    EXPECT_LT(analyze_with("raskar", mode, 20.0, darker).snr_level100, d1);
+    const double g4 = analyze_with("raskar", mode, 20.0, adc).snr_level100;
+    EXPECT_LT(g4, base);
+    EXPECT_LT(analyze_with("raskar", mode, 20.0, coarser).snr_level100, g4);
+    // More light (a larger snr) makes the same read noise matter less.
+    const SensorModel r = read_noise(10.0);
+    EXPECT_GT(analyze_with("raskar", mode, 40.0, r).snr_level100 / 40.0,
+              analyze_with("raskar", mode, 20.0, r).snr_level100 / 20.0);
+  }
+}
+
+TEST(SensorFigure, BoundHoldsAndScalesInTheNumericalMode) {
+  const double snr = 20.0, r = 15.0, c = r * r / (snr * snr);
+  const CodeAnalysis n0 = analyze_with("sinc", ShutterMode::kNumerical, snr, {});
+  const CodeAnalysis n = analyze_with("sinc", ShutterMode::kNumerical, snr, read_noise(r));
+  EXPECT_NEAR(n.snr_level100_bound, n0.snr_level100_bound / std::sqrt(1.0 + c), 1e-9);
+  EXPECT_LE(n.snr_level100, n.snr_level100_bound);
+  // Analog: the photon-noise bound is still a bound.
+  const CodeAnalysis a = analyze_with("raskar", ShutterMode::kAnalog, snr, read_noise(r));
+  EXPECT_DOUBLE_EQ(a.snr_level100_bound, n0.snr_level100_bound);
+  EXPECT_LE(a.snr_level100, a.snr_level100_bound);
+  EXPECT_DOUBLE_EQ(readout_noise_slots(read_noise(r), 52, 1.0, ShutterMode::kNumerical, snr), c);
+}
+
+TEST(SensorFigure, ObjectiveMatchesTheAnalysisAndItsGradient) {
+  const double c = 0.7;
+  for (const ShutterMode mode : {ShutterMode::kNumerical, ShutterMode::kAnalog}) {
+    const NoiseFigure objective(17, 0.9, 1.0, mode, 512, c);
+    std::vector<double> gains = generate_random_code(17, 3, true);
+    for (double& g : gains) g = 0.2 + 0.6 * g;
+    std::vector<double> gradient(17);
+    const double value = objective.Evaluate(gains, gradient);
+    const double q = noise_gain(gains, 1.0, mode);
+    const double q_eff = mode == ShutterMode::kNumerical ? q * (1.0 + c) : q + c;  // dt = 1
+    EXPECT_NEAR(value, q_eff * band_mean_inverse_power(gains, 0.9, 1.0, 512), 1e-12 * value);
+    for (int k = 0; k < 17; ++k) {
+      const double h = 1e-6;
+      std::vector<double> plus = gains, minus = gains;
+      plus[k] += h;
+      minus[k] -= h;
+      const double numeric = (objective.Evaluate(plus) - objective.Evaluate(minus)) / (2.0 * h);
+      EXPECT_NEAR(gradient[k], numeric, 1e-6 * (std::abs(numeric) + value)) << k;
+    }
+  }
+  EXPECT_TRUE(throws_error([] { NoiseFigure(4, 1.0, 1.0, ShutterMode::kAnalog, 64, -1.0); },
+                           ErrorKind::kUsage, {"readout_slots"}));
+}
+
+TEST(SensorFigure, RefusesAFullWellAndAnInvalidSensor) {
+  SensorModel well;
+  well.full_well_electrons = 1000.0;
+  EXPECT_TRUE(throws_error([&] { analyze_with("raskar", ShutterMode::kAnalog, 20.0, well); },
+                           ErrorKind::kUsage, {"full_well_electrons = 1000", "linear"}));
+  EXPECT_TRUE(
+      throws_error([&] { analyze_with("raskar", ShutterMode::kAnalog, 20.0, read_noise(-1.0)); },
+                   ErrorKind::kUsage, {"read_noise_electrons = -1"}));
+  OptimizeOptions options;
+  options.sensor = well;
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("sensor.full_well_electrons = 1000"), std::string::npos) << error;
+  options.sensor = SensorModel{};
+  options.sensor.adc_bits = 40;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("sensor.adc_bits = 40"), std::string::npos) << error;
+}
+
+TEST(SensorOptimize, NumericalOptimumDoesNotChangeWithReadNoise) {
+  // Q_eff = (1 + c / dt) Q for every numerical code: the same optimum.
+  OptimizeOptions options;
+  options.snr = 20.0;
+  options.restarts = 4;
+  const OptimizationResult r0 = optimize_code(options);
+  options.sensor = read_noise(20.0);
+  const OptimizationResult r = optimize_code(options);
+  EXPECT_LT(max_abs_difference(r.gains, r0.gains), 1e-4);
+  const double c = 1.0;  // 20^2 / 20^2
+  EXPECT_NEAR(r.analysis.snr_level100, r0.analysis.snr_level100 / std::sqrt(1.0 + c),
+              1e-8 * r.analysis.snr_level100);
+  EXPECT_LE(r.analysis.snr_level100, r.analysis.snr_level100_bound * (1.0 + 1e-6));
+}
+
+TEST(SensorOptimize, AnalogOptimumUnderReadNoiseBeatsTheNoiselessOneAndOpensMore) {
+  // Without read noise the analog optimum at v = 1 is the snapshot; with 20
+  // e- at 4 photo-electrons per gray level the one readout is better spread
+  // over more light.
+  OptimizeOptions options;
+  options.mode = ShutterMode::kAnalog;
+  options.snr = 20.0;
+  const OptimizationResult r0 = optimize_code(options);
+  options.sensor = read_noise(20.0);
+  const OptimizationResult r = optimize_code(options);
+  const double old_under_noise =
+      analyze_code(code_of(r0.gains), 1.0, 1.0, 20.0, ShutterMode::kAnalog, 0, options.sensor)
+          .snr_level100;
+  EXPECT_GT(r.analysis.snr_level100, 1.02 * old_under_noise);
+  EXPECT_GT(gain_sum(r.gains), 2.0 * gain_sum(r0.gains));
+  for (const double g : r.gains) {
+    EXPECT_GE(g, 0.0);
+    EXPECT_LE(g, 1.0);
+  }
+  // And it beats the numerical optimum there, which reads every weighted frame.
+  OptimizeOptions numerical;
+  numerical.snr = 20.0;
+  numerical.restarts = 4;
+  numerical.sensor = options.sensor;
+  EXPECT_GT(r.analysis.snr_level100, optimize_code(numerical).analysis.snr_level100);
+}
+
+TEST(SensorOptimize, BinaryCountsTheReadoutsOfItsMode) {
+  OptimizeOptions options;
+  options.binary = true;
+  options.mode = ShutterMode::kAnalog;
+  options.snr = 20.0;
+  options.restarts = 8;
+  const OptimizationResult r0 = optimize_code(options);
+  options.sensor = read_noise(20.0);
+  const OptimizationResult analog = optimize_code(options);
+  EXPECT_GT(gain_sum(analog.gains), gain_sum(r0.gains));
+  EXPECT_GT(analog.analysis.snr_level100,
+            analyze_code(code_of(r0.gains), 1.0, 1.0, 20.0, ShutterMode::kAnalog, 0, options.sensor)
+                .snr_level100);
+  // The reported analysis is of the options' mode.
+  options.mode = ShutterMode::kNumerical;
+  const OptimizationResult numerical = optimize_code(options);
+  EXPECT_EQ(numerical.analysis.mode, ShutterMode::kNumerical);
+  EXPECT_DOUBLE_EQ(numerical.analysis.readouts, gain_sum(numerical.gains));
+  EXPECT_DOUBLE_EQ(analog.analysis.readouts, 1.0);
 }
 
 }  // namespace

@@ -11,11 +11,29 @@
 // snr, and the ratio of two codes' SNR_100 does not depend on snr at all.
 // Scaling a numerical code by c leaves Q M unchanged (Q ~ c^2, M ~ 1 / c^2);
 // scaling an analog code by c divides Q M by c.
+//
+// With a sensor (model/sensor.h, docs/method.md §10) every readout adds
+// v_r = sigma_r^2 + d * exposure (+ G^2 / 12 with an ADC) electrons^2 to the
+// level-100 observation: the numerical mode reads sum alpha_k^2 weighted
+// frames, the analog mode one exposure. In slots of level-100 light this is
+//   Q_eff = Q + R c,  c = v_r / (100 lambda2),  lambda2 = snr^2 / 100,
+// with R = sum alpha_k^2 (numerical) or 1 (analog), and
+//   SNR_100 = snr / sqrt(Q_eff M).
+// A frame of gain 0 contributes nothing (its readout is weighted by 0). In
+// the numerical mode Q_eff = (1 + c / dt) Q: the sensor lowers every
+// numerical code's SNR_100 by the same factor and changes neither their
+// ranking nor the numerical optimum. In the analog mode the one readout
+// favours codes that let in more light. snr now matters in absolute terms:
+// the readout noise counts against lambda2 photo-electrons per gray level.
+// A full well is not linear and has no place in this figure of merit.
 #pragma once
 
+#include <cstddef>
 #include <span>
+#include <string>
 
 #include "fss/model/code.h"
+#include "fss/model/sensor.h"
 
 namespace fss {
 
@@ -41,13 +59,31 @@ double band_mean_inverse_power(std::span<const double> gains, double velocity, d
 // |v| dt >= 2, where every code has K = 0 on the band; 0 for v = 0.
 double noise_figure_lower_bound(double velocity, double dt);
 
+// c = v_r / (100 lambda2): the variance one readout of this mode adds to the
+// level-100 observation, in slots of level-100 light (0 for a default
+// sensor). v_r = readout_variance_electrons2 at the mode's exposure
+// (readout_exposure_slots: dt per frame, L dt for the analog exposure).
+double readout_noise_slots(const SensorModel& sensor, std::size_t length, double dt,
+                           ShutterMode mode, double snr);
+
+// Usage error unless the sensor is valid (SensorModel::IsValid) and linear in
+// the charge as far as the figure of merit goes: no full well. An ADC is
+// counted by its rounding variance G^2 / 12 per readout.
+void check_design_sensor(const SensorModel& sensor);
+
+// The parts of `sensor` that are on, in words ("read noise 5 e- RMS per
+// readout, dark current 0.5 e- per slot, ADC 12 bits at 2 e- per count");
+// "photon noise only" for a default sensor.
+std::string describe_design_sensor(const SensorModel& sensor);
+
 struct CodeAnalysis {
   int length = 0;
   ShutterMode mode = ShutterMode::kNumerical;
   double velocity = 1.0;
   double dt = 1.0;
   double snr = 100.0;
-  int grid = 0;  // 0: midpoint rule with kBandGridPoints nodes; N > 0: the N-point DFT grid
+  int grid = 0;        // 0: midpoint rule with kBandGridPoints nodes; N > 0: the N-point DFT grid
+  SensorModel sensor;  // default: photon noise only (the paper)
 
   double sum = 0.0;            // sum alpha_k
   double square_sum = 0.0;     // sum alpha_k^2
@@ -57,21 +93,32 @@ struct CodeAnalysis {
   double min_abs_xi = 0.0;     // where (the non-negative one of a +/- pair)
   bool invertible = false;
 
-  double q = 0.0;                      // Q
-  double m = 0.0;                      // M on the grid; infinite when not invertible
-  double noise_figure = 0.0;           // Q M
-  double snr_level100 = 0.0;           // snr / sqrt(Q M); 0 when not invertible
-  double snapshot_snr_level100 = 0.0;  // the snapshot (1, 0, ...) at the same v, dt, grid
+  double q = 0.0;             // Q (photon noise)
+  double m = 0.0;             // M on the grid; infinite when not invertible
+  double noise_figure = 0.0;  // Q M (photon noise)
+  // The sensor's part: readouts R (sum alpha_k^2 or 1), v_r per readout in
+  // electrons^2, Q_eff = Q + R v_r / (100 lambda2) and Q_eff M; for a
+  // default sensor v_r = 0 and Q_eff = Q exactly.
+  double readouts = 0.0;
+  double readout_variance_electrons2 = 0.0;
+  double effective_q = 0.0;
+  double effective_noise_figure = 0.0;
+  double snr_level100 = 0.0;           // snr / sqrt(Q_eff M); 0 when not invertible
+  double snapshot_snr_level100 = 0.0;  // the snapshot (1, 0, ..., 0) of length L, same setting
   double ratio_to_snapshot = 0.0;      // snr_level100 / snapshot_snr_level100
-  double snr_level100_bound = 0.0;     // snr / sqrt(noise_figure_lower_bound(v, dt))
+  // snr / sqrt(B (1 + c / dt)) with B = noise_figure_lower_bound(v, dt) in the
+  // numerical mode (every numerical code has Q_eff M = (1 + c / dt) Q M); in
+  // the analog mode snr / sqrt(B), still a bound (Q_eff M >= Q M >= B).
+  double snr_level100_bound = 0.0;
 };
 
 // Analyses `code` at the given velocity, slot, snr and mode; `grid` as in
 // CodeAnalysis (pass the simulator's mirror width 2 Wa to get exactly its M).
 // Throws a usage fss::Error naming the code when the mode cannot use it (as
 // fss::check_code_for_mode: no gains, only zero gains, analog gains outside
-// [0, 1]), and for a non-finite velocity, dt <= 0, snr <= 0 or grid < 0.
+// [0, 1]), and for a non-finite velocity, dt <= 0, snr <= 0, grid < 0 or a
+// sensor check_design_sensor refuses.
 CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
-                          ShutterMode mode, int grid = 0);
+                          ShutterMode mode, int grid = 0, const SensorModel& sensor = {});
 
 }  // namespace fss

@@ -10,6 +10,7 @@
 
 #include "fss/design/analyze.h"
 #include "fss/model/code.h"
+#include "fss/model/sensor.h"
 
 namespace fss {
 
@@ -21,27 +22,31 @@ inline constexpr int kMaxRestarts = 10000;
 inline constexpr int kMaxIterations = 100000;
 inline constexpr int kMaxObjectiveGridPoints = 1 << 16;
 
-// Q M of a code of fixed length on a midpoint band grid, with its gradient.
+// Q_eff M of a code of fixed length on a midpoint band grid, with its
+// gradient; Q_eff = Q + R c with the readout noise c in slots of level-100
+// light (readout_noise_slots, design/analyze.h; 0: photon noise only, Q_eff
+// = Q): numerical Q_eff = (dt + c) sum alpha_k^2, analog dt sum alpha_k + c.
 // K is linear in alpha, K(xi_j) = sum_k alpha_k E_jk with
 // E_jk = dt sinc_h(theta_j) exp(-i theta_j (k + 1/2)), so
 //   dM / d alpha_k = -(2 / G) sum_j Re(conj(K_j) E_jk) / |K_j|^4,
-//   dQ / d alpha_k = 2 dt alpha_k (numerical) or dt (analog).
+//   dQ_eff / d alpha_k = 2 (dt + c) alpha_k (numerical) or dt (analog).
 class NoiseFigure {
  public:
   NoiseFigure(int length, double velocity, double dt, ShutterMode mode,
-              int grid_points = kBandGridPoints);
+              int grid_points = kBandGridPoints, double readout_slots = 0.0);
 
   int length() const { return length_; }
 
-  // Q M of `gains` (length() values); +infinity when K vanishes at a node or
-  // Q <= 0. When `gradient` is not empty (length() values) it receives
-  // d(Q M) / d alpha (left unspecified for an infinite value).
+  // Q_eff M of `gains` (length() values); +infinity when K vanishes at a
+  // node or Q_eff <= 0. When `gradient` is not empty (length() values) it
+  // receives d(Q_eff M) / d alpha (left unspecified for an infinite value).
   double Evaluate(std::span<const double> gains, std::span<double> gradient = {}) const;
 
  private:
   int length_;
   int grid_;
   double dt_;
+  double readout_slots_;  // c
   ShutterMode mode_;
   std::vector<double> basis_re_;  // E_jk, row k holds the grid_ nodes j
   std::vector<double> basis_im_;
@@ -51,8 +56,14 @@ struct OptimizeOptions {
   int length = 52;                    // 1 <= L <= kMaxOptimizedCodeLength
   double velocity_px_per_slot = 1.0;  // 0 < |v| dt < 2
   double dt = 1.0;                    // > 0
-  double snr = 100.0;                 // > 0; scales the reported SNR only
+  // > 0; photo-electrons per gray level per slot lambda2 = snr^2 / 100. It
+  // scales the reported SNR only, unless the sensor adds readout noise, which
+  // counts against lambda2.
+  double snr = 100.0;
   ShutterMode mode = ShutterMode::kNumerical;
+  // Read noise, dark current and ADC of the figure of merit (design/analyze.h;
+  // default: photon noise only). No full well (check_design_sensor).
+  SensorModel sensor;
   // Gains in {0, 1} (Agrawal-Raskar's search space); then Q is the same in
   // both modes.
   bool binary = false;
@@ -88,7 +99,8 @@ struct OptimizationResult {
   std::string FullReport() const;
 };
 
-// Minimizes Q M, i.e. maximizes SNR_100, under the constraints of the mode:
+// Minimizes Q_eff M, i.e. maximizes SNR_100 (with the sensor's readouts),
+// under the constraints of the mode:
 // any real gains (numerical), gains in [0, 1] (analog), gains in {0, 1}
 // (binary), and sum alpha >= min_light_slots. Continuous gains: projected
 // L-BFGS on log(Q M) from each start. Binary gains: steepest-descent local

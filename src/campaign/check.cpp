@@ -6,6 +6,7 @@
 #include <map>
 
 #include "campaign/campaign_text.h"
+#include "core/text_util.h"
 #include "fss/campaign/results.h"
 #include "fss/core/error.h"
 
@@ -269,28 +270,7 @@ CheckReport CheckCampaignResults(const std::string& results_csv, const std::stri
 
 namespace {
 
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
+std::string xml_escape(const std::string& text) { return detail::escape_markup(text, false); }
 
 }  // namespace
 

@@ -15,6 +15,7 @@
 #include "campaign/campaign_text.h"
 #include "fss/campaign/sha256.h"
 #include "fss/core/error.h"
+#include "fss/core/number_text.h"
 #include "fss/model/noise.h"
 #include "fss/pipeline/option_rules.h"
 
@@ -23,18 +24,6 @@ namespace fss {
 namespace {
 
 using Json = nlohmann::json;
-
-// A finite number filling all of `text`, or NaN.
-double parse_number(std::string_view text) {
-  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
-  double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
-      !std::isfinite(value)) {
-    return std::nan("");
-  }
-  return value;
-}
 
 // 12 significant digits: start + i step without its rounding noise.
 double tidy(double value) {
@@ -55,12 +44,12 @@ void append_range(std::string_view item, const std::string& field, ValueList& li
   if (second == std::string_view::npos || item.find(':', second + 1) != std::string_view::npos) {
     refuse_item(field, item, "a range has three parts, start:stop:step or start:stop:xFACTOR");
   }
-  const double start = parse_number(item.substr(0, first));
-  const double stop = parse_number(item.substr(first + 1, second - first - 1));
+  const double start = parse_finite_number(item.substr(0, first));
+  const double stop = parse_finite_number(item.substr(first + 1, second - first - 1));
   std::string_view step_text = item.substr(second + 1);
   const bool geometric = !step_text.empty() && (step_text[0] == 'x' || step_text[0] == 'X');
   if (geometric) step_text.remove_prefix(1);
-  const double step = parse_number(step_text);
+  const double step = parse_finite_number(step_text);
   if (std::isnan(start) || std::isnan(stop) || std::isnan(step)) {
     refuse_item(field, item, "start, stop and step must be finite numbers");
   }
@@ -96,7 +85,7 @@ ValueList parse_value_list(std::string_view text, const std::string& field) {
     if (item.find(':') != std::string_view::npos) {
       append_range(item, field, list);
     } else {
-      const double value = parse_number(item);
+      const double value = parse_finite_number(item);
       if (std::isnan(value)) {
         refuse_item(field, item, "expected a finite number, start:stop:step or start:stop:xF");
       }

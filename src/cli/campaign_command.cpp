@@ -144,21 +144,20 @@ void print_progress(const fss::CampaignProgress& p) {
 
 }  // namespace
 
-CampaignCommand::CampaignCommand(CLI::App& app) {
-  campaign_ = app.add_subcommand(
-      "campaign",
-      "run images x codes x settings into a directory of tidy results (results.csv, "
-      "results.jsonl), resumably and in shards; see docs/campaign.md");
-  campaign_->require_subcommand(0, 1);
+CampaignCommand::CampaignCommand(CLI::App& parent)
+    : Command(parent, "campaign",
+              "run images x codes x settings into a directory of tidy results (results.csv, "
+              "results.jsonl), resumably and in shards; see docs/campaign.md") {
+  app().require_subcommand(0, 1);
   AddSpecOptions();
-  merge_ = campaign_->add_subcommand(
+  merge_ = app().add_subcommand(
       "merge", "merge the directories of the shards 1/N .. N/N of one campaign into DIR");
   merge_->add_option("-o,--output", merge_output_, "directory of the merged results")
       ->required()
       ->check(not_empty());
   merge_->add_option("parts", parts_, "the shards' directories")->required();
   merge_->add_flag("--figures", merge_figures_, "also draw the figures into DIR/figures");
-  check_ = campaign_->add_subcommand(
+  check_ = app().add_subcommand(
       "check", "compare RESULTS.csv with EXPECTED.csv; exit 1 on a deviation or a missing row");
   check_->add_option("results", results_, "results.csv of a campaign")->required();
   check_->add_option("expected", expected_, "expected values, columns named as results.csv's")
@@ -176,7 +175,7 @@ CampaignCommand::CampaignCommand(CLI::App& app) {
 }
 
 void CampaignCommand::AddSpecOptions() {
-  CLI::App& c = *campaign_;
+  CLI::App& c = app();
   c.add_option("-f,--file", file_, "campaign file (JSON); options given override its fields");
   c.add_option("-i,--input", inputs_, "input PNG images: files, directories, globs");
   c.add_option("-c,--code", codes_, "codes: built-in names or code files");
@@ -207,12 +206,10 @@ void CampaignCommand::AddSpecOptions() {
   c.add_flag("!--no-progress", progress_, "no progress line, even on a terminal");
 }
 
-bool CampaignCommand::parsed() const { return campaign_->parsed(); }
-
 int CampaignCommand::Run() const {
   return run_reporting_errors([this] {
     if (merge_->parsed() || check_->parsed()) {
-      if (const std::string option = first_given_option(*campaign_); !option.empty()) {
+      if (const std::string option = first_given_option(app()); !option.empty()) {
         fss::throw_usage_error(option + " is an option of 'campaign', not of 'campaign " +
                                (merge_->parsed() ? "merge" : "check") + "'");
       }
@@ -237,7 +234,7 @@ fss::CampaignSpec CampaignCommand::Spec() const {
     apply_file(j, spec, noise);
   }
   // Without a file every option counts; with one, only those given.
-  const auto use = [this](const char* name) { return file_.empty() || campaign_->count(name) > 0; };
+  const auto use = [this](const char* name) { return file_.empty() || app().count(name) > 0; };
   if (use("--input")) spec.inputs = inputs_;
   if (use("--code")) spec.codes = codes_;
   if (use("--mode") && !modes_.empty()) spec.modes = parse_modes(modes_);

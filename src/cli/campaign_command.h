@@ -3,19 +3,19 @@
 // check` of results against expectations.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
+#include "command.h"
 #include "fss/campaign/spec.h"
 
 namespace fssim {
 
-class CampaignCommand {
+class CampaignCommand : public Command {
  public:
-  explicit CampaignCommand(CLI::App& app);
-  bool parsed() const;
-  int Run() const;
+  // Adds `campaign`, with `merge` and `check` under it, to `parent`.
+  explicit CampaignCommand(CLI::App& parent);
+  int Run() const override;
 
  private:
   void AddSpecOptions();
@@ -26,7 +26,6 @@ class CampaignCommand {
   void DrawFigures(const fss::ResolvedCampaign& campaign,
                    const std::vector<std::vector<std::string>>& rows, const std::string& dir) const;
 
-  CLI::App* campaign_ = nullptr;
   CLI::App* merge_ = nullptr;
   CLI::App* check_ = nullptr;
 

@@ -18,69 +18,70 @@
 
 namespace fssim {
 
-CLI::Validator finite() {
+namespace {
+
+// A validator of a number: "value TEXT PROBLEM", PROBLEM being what
+// `problem` says of the value ("" when it is acceptable). A text that is not
+// a number is judged as NaN, which every rule here refuses.
+CLI::Validator number_validator(const std::function<std::string(double)>& problem,
+                                const std::string& description, const std::string& name) {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [problem](std::string& text) -> std::string {
         double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-          return "value " + text + " is not a finite number";
+        if (!CLI::detail::lexical_cast(text, value)) value = std::nan("");
+        const std::string why = problem(value);
+        return why.empty() ? why : "value " + text + " " + why;
+      },
+      description, name);
+}
+
+// A validator of an integer in [minimum, maximum]: "value TEXT must be RULE".
+CLI::Validator integer_validator(long long minimum, long long maximum, const std::string& rule,
+                                 const std::string& description) {
+  return CLI::Validator(
+      [minimum, maximum, rule](std::string& text) -> std::string {
+        long long value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || value < minimum || value > maximum) {
+          return "value " + text + " must be " + rule;
         }
         return {};
       },
-      "FINITE", "finite");
+      description);
+}
+
+}  // namespace
+
+CLI::Validator finite() {
+  return number_validator(
+      [](double value) { return std::isfinite(value) ? "" : "is not a finite number"; }, "FINITE",
+      "finite");
 }
 
 CLI::Validator positive() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0)) {
-          return "value " + text + " must be > 0";
-        }
-        return {};
-      },
-      "POSITIVE", "positive");
+  return number_validator([](double value) { return value > 0.0 ? "" : "must be > 0"; }, "POSITIVE",
+                          "positive");
 }
 
 CLI::Validator scale() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) {
-          return "value " + text + " is not a finite number";
-        }
-        if (!fss::scale_is_positive(value)) return "value " + text + " must be > 0";
-        if (const std::string rule = fss::scale_rule(value); !rule.empty()) {
-          return "value " + text + " is out of range: it " + rule;
-        }
-        return {};
+  return number_validator(
+      [](double value) -> std::string {
+        if (!std::isfinite(value)) return "is not a finite number";
+        if (!fss::scale_is_positive(value)) return "must be > 0";
+        const std::string rule = fss::scale_rule(value);
+        return rule.empty() ? rule : "is out of range: it " + rule;
       },
       "POSITIVE", "positive");
 }
 
 CLI::Validator at_least(long long minimum) {
-  return CLI::Validator(
-      [minimum](std::string& text) -> std::string {
-        long long value = 0;
-        if (!CLI::detail::lexical_cast(text, value) || value < minimum) {
-          return "value " + text + " must be an integer >= " + std::to_string(minimum);
-        }
-        return {};
-      },
-      ">=" + std::to_string(minimum));
+  return integer_validator(minimum, std::numeric_limits<long long>::max(),
+                           "an integer >= " + std::to_string(minimum),
+                           ">=" + std::to_string(minimum));
 }
 
 CLI::Validator integer_in(long long minimum, long long maximum) {
-  return CLI::Validator(
-      [minimum, maximum](std::string& text) -> std::string {
-        long long value = 0;
-        if (!CLI::detail::lexical_cast(text, value) || value < minimum || value > maximum) {
-          return "value " + text + " must be an integer in [" + std::to_string(minimum) + ", " +
-                 std::to_string(maximum) + "]";
-        }
-        return {};
-      },
-      "[" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+  const std::string interval = "[" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
+  return integer_validator(minimum, maximum, "an integer in " + interval, interval);
 }
 
 CLI::Validator seed_value() {

@@ -39,6 +39,14 @@ CLI::Validator seed_value();
 // A path that is not empty.
 CLI::Validator not_empty();
 
+// Adds option `name` to `app`, bound to `value` and checked by `validator`,
+// its default shown in --help.
+template <typename T>
+CLI::Option* add_checked_option(CLI::App& app, const std::string& name, T& value,
+                                const std::string& description, const CLI::Validator& validator) {
+  return app.add_option(name, value, description)->check(validator)->capture_default_str();
+}
+
 // "fssim code analyze --help": the help command of the deepest subcommand
 // selected on the command line, for error messages.
 std::string help_hint(const CLI::App& app);

@@ -79,35 +79,38 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
 
 }  // namespace
 
-CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code) {
-  app_ = code.add_subcommand("analyze",
-                             "figures of merit of a code without simulating an image: sums, min "
-                             "|K|, M, SNR at level 100 (the stationary, image-independent "
-                             "figure of merit) and its ratio to the snapshot's");
-  app_->add_option("CODE", code_,
-                   "a built-in code (snapshot, accumulation, raskar, random, mip, sinc) or a "
-                   "code file")
+CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code)
+    : Command(code, "analyze",
+              "figures of merit of a code without simulating an image: sums, min "
+              "|K|, M, SNR at level 100 (the stationary, image-independent "
+              "figure of merit) and its ratio to the snapshot's") {
+  CLI::App& analyze = app();
+  analyze
+      .add_option("CODE", code_,
+                  "a built-in code (snapshot, accumulation, raskar, random, mip, sinc) or a "
+                  "code file")
       ->required();
-  app_->add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
+  analyze.add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
       ->check(finite())
       ->capture_default_str();
-  app_->add_option("--dt", dt_, "time slot length, > 0")->check(scale())->capture_default_str();
-  app_->add_option("--snr", snr_, "SNR of a level-100 landscape seen through one slot")
+  analyze.add_option("--dt", dt_, "time slot length, > 0")->check(scale())->capture_default_str();
+  analyze.add_option("--snr", snr_, "SNR of a level-100 landscape seen through one slot")
       ->check(scale())
       ->capture_default_str();
-  app_->add_option("-m,--mode", mode_, "numerical or analog (Q and admissible gains)")
+  analyze.add_option("-m,--mode", mode_, "numerical or analog (Q and admissible gains)")
       ->check(CLI::IsMember({"numerical", "analog"}))
       ->capture_default_str();
-  app_->add_option("--grid", grid_,
-                   "M on the N-point DFT grid (the simulator uses N = 2 (W - B): the SNR at "
-                   "level 100 is then the simulator's stationary figure of merit); 0: an " +
-                       std::to_string(2 * fss::kBandGridPoints) +
-                       "-node midpoint rule; N <= " + std::to_string(fss::kMaxAnalysisGridPoints))
+  analyze
+      .add_option("--grid", grid_,
+                  "M on the N-point DFT grid (the simulator uses N = 2 (W - B): the SNR at "
+                  "level 100 is then the simulator's stationary figure of merit); 0: an " +
+                      std::to_string(2 * fss::kBandGridPoints) +
+                      "-node midpoint rule; N <= " + std::to_string(fss::kMaxAnalysisGridPoints))
       ->check(integer_in(0, fss::kMaxAnalysisGridPoints))
       ->capture_default_str();
-  app_->add_option("--json", json_,
-                   "also write the analysis as JSON to this file (-: standard output, "
-                   "instead of the text)");
+  analyze.add_option("--json", json_,
+                     "also write the analysis as JSON to this file (-: standard output, "
+                     "instead of the text)");
 }
 
 int CodeAnalyzeCommand::Run() const {

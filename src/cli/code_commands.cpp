@@ -28,10 +28,8 @@ void check_design_band(double velocity, double dt, const std::string& what) {
   }
 }
 
-CodeCommands::CodeCommands(CLI::App& app)
-    : code_(&add_code_command(app)), generate_(*code_), analyze_(*code_), optimize_(*code_) {}
-
-bool CodeCommands::parsed() const { return code_->parsed(); }
+CodeCommands::CodeCommands(CLI::App& parent)
+    : Command(add_code_command(parent)), generate_(app()), analyze_(app()), optimize_(app()) {}
 
 int CodeCommands::Run() const {
   return run_reporting_errors([this] {

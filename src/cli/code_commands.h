@@ -4,9 +4,9 @@
 // them under `code` and runs the one selected.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 
+#include "command.h"
 #include "fss/design/analyze.h"
 #include "fss/design/generate.h"
 #include "fss/design/optimize.h"
@@ -14,28 +14,24 @@
 namespace fssim {
 
 // `code generate FAMILY --length L ...`: writes a generated code.
-class CodeGenerateCommand {
+class CodeGenerateCommand : public Command {
  public:
   explicit CodeGenerateCommand(CLI::App& code);
-  bool parsed() const { return app_->parsed(); }
-  int Run() const;
+  int Run() const override;
 
  private:
-  CLI::App* app_ = nullptr;
   std::string family_;
   fss::GenerateOptions options_;
   std::string output_;
 };
 
 // `code analyze CODE ...`: the figures of merit of a code.
-class CodeAnalyzeCommand {
+class CodeAnalyzeCommand : public Command {
  public:
   explicit CodeAnalyzeCommand(CLI::App& code);
-  bool parsed() const { return app_->parsed(); }
-  int Run() const;
+  int Run() const override;
 
  private:
-  CLI::App* app_ = nullptr;
   std::string code_;
   double velocity_ = 1.0;
   double dt_ = 1.0;
@@ -46,36 +42,27 @@ class CodeAnalyzeCommand {
 };
 
 // `code optimize --length L --velocity V ...`: the best code of a length.
-class CodeOptimizeCommand {
+class CodeOptimizeCommand : public Command {
  public:
   explicit CodeOptimizeCommand(CLI::App& code);
-  bool parsed() const { return app_->parsed(); }
-  int Run() const;
+  int Run() const override;
 
  private:
   void WriteCode(const fss::OptimizeOptions& options, const fss::OptimizationResult& result) const;
 
-  CLI::App* app_ = nullptr;
   fss::OptimizeOptions options_;
   std::string mode_ = "numerical";
   std::string output_;
 };
 
-class CodeCommands {
+class CodeCommands : public Command {
  public:
-  // Adds the `code` subcommand, with its three subcommands, to `app`. The
-  // object must outlive the parse: the options write into it.
-  explicit CodeCommands(CLI::App& app);
-  CodeCommands(const CodeCommands&) = delete;
-  CodeCommands& operator=(const CodeCommands&) = delete;
-
-  // True when the command line selected `code`.
-  bool parsed() const;
-  // Runs the selected command after a successful parse; returns the exit status.
-  int Run() const;
+  // Adds the `code` subcommand, with its three subcommands, to `parent`.
+  explicit CodeCommands(CLI::App& parent);
+  // Runs the subcommand selected.
+  int Run() const override;
 
  private:
-  CLI::App* code_ = nullptr;
   CodeGenerateCommand generate_;
   CodeAnalyzeCommand analyze_;
   CodeOptimizeCommand optimize_;

@@ -36,29 +36,32 @@ std::string generate_header(const fss::GenerateOptions& o) {
 
 }  // namespace
 
-CodeGenerateCommand::CodeGenerateCommand(CLI::App& code) {
-  app_ = code.add_subcommand("generate",
-                             "write a code: sinc, mip (the paper's constructions for |v| dt), "
-                             "random, snapshot or accumulation");
-  app_->add_option("FAMILY", family_, std::string("code family: ") + kFamilies)
+CodeGenerateCommand::CodeGenerateCommand(CLI::App& code)
+    : Command(code, "generate",
+              "write a code: sinc, mip (the paper's constructions for |v| dt), "
+              "random, snapshot or accumulation") {
+  CLI::App& generate = app();
+  generate.add_option("FAMILY", family_, std::string("code family: ") + kFamilies)
       ->required()
       ->check(CLI::IsMember({"sinc", "mip", "random", "snapshot", "accumulation"}));
-  app_->add_option("-L,--length", options_.length, "number of gains L")
+  generate.add_option("-L,--length", options_.length, "number of gains L")
       ->required()
       ->check(at_least(1));
-  app_->add_option("-v,--velocity", options_.velocity_px_per_slot,
-                   "sinc, mip: velocity the code is designed for (pixels per slot)")
+  generate
+      .add_option("-v,--velocity", options_.velocity_px_per_slot,
+                  "sinc, mip: velocity the code is designed for (pixels per slot)")
       ->check(finite())
       ->capture_default_str();
-  app_->add_option("--dt", options_.dt, "sinc, mip: time slot length, > 0")
+  generate.add_option("--dt", options_.dt, "sinc, mip: time slot length, > 0")
       ->check(scale())
       ->capture_default_str();
-  app_->add_option("--seed", options_.seed, "random: seed of the gains")
+  generate.add_option("--seed", options_.seed, "random: seed of the gains")
       ->check(seed_value())
       ->capture_default_str();
-  app_->add_flag("--analog", options_.analog,
-                 "random: gains on [0, 1) (analog) instead of [-1, 1)");
-  app_->add_option("-o,--output", output_, "code file to write (default, or -: standard output)");
+  generate.add_flag("--analog", options_.analog,
+                    "random: gains on [0, 1) (analog) instead of [-1, 1)");
+  generate.add_option("-o,--output", output_,
+                      "code file to write (default, or -: standard output)");
 }
 
 int CodeGenerateCommand::Run() const {

@@ -69,42 +69,46 @@ void print_paper_comparison(const fss::OptimizeOptions& options, const std::stri
 
 }  // namespace
 
-CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code) {
-  app_ = code.add_subcommand(
-      "optimize", "search the code of length L that maximizes the SNR at level 100 at a velocity");
+CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code)
+    : Command(code, "optimize",
+              "search the code of length L that maximizes the SNR at level 100 at a velocity") {
+  CLI::App& optimize = app();
   fss::OptimizeOptions& o = options_;
-  app_->add_option("-L,--length", o.length, "number of gains L")->required()->check(at_least(1));
-  app_->add_option("-v,--velocity", o.velocity_px_per_slot, "velocity in pixels per slot")
+  optimize.add_option("-L,--length", o.length, "number of gains L")->required()->check(at_least(1));
+  optimize.add_option("-v,--velocity", o.velocity_px_per_slot, "velocity in pixels per slot")
       ->required()
       ->check(finite());
-  app_->add_option("--dt", o.dt, "time slot length, > 0")->check(scale())->capture_default_str();
-  app_->add_option("--snr", o.snr, "snr of the reported SNR at level 100 (scales it only)")
+  optimize.add_option("--dt", o.dt, "time slot length, > 0")->check(scale())->capture_default_str();
+  optimize.add_option("--snr", o.snr, "snr of the reported SNR at level 100 (scales it only)")
       ->check(scale())
       ->capture_default_str();
-  app_->add_option("-m,--mode", mode_, "numerical (any real gains) or analog (gains in [0, 1])")
+  optimize.add_option("-m,--mode", mode_, "numerical (any real gains) or analog (gains in [0, 1])")
       ->check(CLI::IsMember({"numerical", "analog"}))
       ->capture_default_str();
-  app_->add_flag("--binary", o.binary, "gains in {0, 1} (the Agrawal-Raskar search space)");
-  app_->add_option("--min-light", o.min_light_slots,
-                   "light budget for analog or binary codes: sum of gains >= this (slots)")
+  optimize.add_flag("--binary", o.binary, "gains in {0, 1} (the Agrawal-Raskar search space)");
+  optimize
+      .add_option("--min-light", o.min_light_slots,
+                  "light budget for analog or binary codes: sum of gains >= this (slots)")
       ->check(finite())
       ->capture_default_str();
-  app_->add_option(
+  optimize
+      .add_option(
           "--restarts", o.restarts,
           "random starting codes (seeded by --seed), at most " + std::to_string(fss::kMaxRestarts))
       ->check(integer_in(0, fss::kMaxRestarts))
       ->capture_default_str();
-  app_->add_option("--iterations", o.max_iterations,
-                   "per start: quasi-Newton iterations, or moves of the binary search; at most " +
-                       std::to_string(fss::kMaxIterations))
+  optimize
+      .add_option("--iterations", o.max_iterations,
+                  "per start: quasi-Newton iterations, or moves of the binary search; at most " +
+                      std::to_string(fss::kMaxIterations))
       ->check(integer_in(1, fss::kMaxIterations))
       ->capture_default_str();
-  app_->add_option("--seed", o.seed, "seed of the random starts")
+  optimize.add_option("--seed", o.seed, "seed of the random starts")
       ->check(seed_value())
       ->capture_default_str();
-  app_->add_option("-o,--output", output_,
-                   "code file to write the optimum to (-: standard output, without the "
-                   "report)");
+  optimize.add_option("-o,--output", output_,
+                      "code file to write the optimum to (-: standard output, without the "
+                      "report)");
 }
 
 void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,

@@ -1,34 +1,18 @@
 #include "range.h"
 
-#include <charconv>
 #include <cmath>
 #include <string_view>
 
 #include "fss/core/error.h"
+#include "fss/core/number_text.h"
 
 namespace fssim {
-
-namespace {
-
-// A finite number filling all of `text`, or NaN.
-double parse_number(std::string_view text) {
-  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
-  double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
-      !std::isfinite(value)) {
-    return std::nan("");
-  }
-  return value;
-}
-
-}  // namespace
 
 std::vector<double> parse_range(const std::string& text, const std::string& option) {
   const std::string where = option + " '" + text + "'";
   const auto first = text.find(':');
   if (first == std::string::npos) {
-    const double value = parse_number(text);
+    const double value = fss::parse_finite_number(text);
     if (std::isnan(value)) {
       fss::throw_usage_error(where + ": expected a finite number or start:stop:step");
     }
@@ -39,9 +23,9 @@ std::vector<double> parse_range(const std::string& text, const std::string& opti
     fss::throw_usage_error(where + ": a range has three parts, start:stop:step");
   }
   const std::string_view view(text);
-  const double start = parse_number(view.substr(0, first));
-  const double stop = parse_number(view.substr(first + 1, second - first - 1));
-  const double step = parse_number(view.substr(second + 1));
+  const double start = fss::parse_finite_number(view.substr(0, first));
+  const double stop = fss::parse_finite_number(view.substr(first + 1, second - first - 1));
+  const double step = fss::parse_finite_number(view.substr(second + 1));
   if (std::isnan(start) || std::isnan(stop) || std::isnan(step)) {
     fss::throw_usage_error(where + ": start, stop and step must be finite numbers");
   }

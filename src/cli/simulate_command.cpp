@@ -156,7 +156,7 @@ int flush_results() {
 
 }  // namespace
 
-SimulateCommand::SimulateCommand(CLI::App& app) {
+SimulateCommand::SimulateCommand(CLI::App& app) : Command(app) {
   // Required unless a subcommand runs instead (checked in Run).
   input_option_ = app.add_option("-i,--input", input_,
                                  "input image: PNG (8/16-bit gray, RGB, palette) or TIFF (8/16-bit "

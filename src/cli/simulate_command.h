@@ -3,25 +3,21 @@
 // measured and predicted errors.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 #include "cli_common.h"
+#include "command.h"
 #include "fss/io/outputs.h"
 #include "simulation_flags.h"
 
 namespace fssim {
 
-class SimulateCommand {
+class SimulateCommand : public Command {
  public:
-  // Adds the command's options to `app` itself (not as a subcommand); the
-  // object must outlive the parse.
+  // Adds the command's options to `app` itself (not as a subcommand).
   explicit SimulateCommand(CLI::App& app);
-  SimulateCommand(const SimulateCommand&) = delete;
-  SimulateCommand& operator=(const SimulateCommand&) = delete;
-
-  // Runs after a parse that selected no subcommand; returns the exit status.
-  int Run() const;
+  // Runs after a parse that selected no subcommand.
+  int Run() const override;
 
  private:
   int Simulate(ErrorContext* context) const;

@@ -64,17 +64,14 @@ void SimulationFlags::AddCode(CLI::App& app) {
 }
 
 void SimulationFlags::AddMode(CLI::App& app) {
-  app.add_option("-m,--mode", mode_,
-                 "numerical (burst of frames, any real gains) or analog (gains in [0,1])")
-      ->check(CLI::IsMember({"numerical", "analog"}))
-      ->capture_default_str();
+  add_checked_option(app, "-m,--mode", mode_,
+                     "numerical (burst of frames, any real gains) or analog (gains in [0,1])",
+                     CLI::IsMember({"numerical", "analog"}));
 }
 
 void SimulationFlags::AddVelocity(CLI::App& app) {
-  app.add_option("-v,--velocity", options_.velocity_px_per_slot,
-                 "velocity in pixels per time slot, signed (direction along rows)")
-      ->check(finite())
-      ->capture_default_str();
+  add_checked_option(app, "-v,--velocity", options_.velocity_px_per_slot,
+                     "velocity in pixels per time slot, signed (direction along rows)", finite());
 }
 
 void SimulationFlags::AddRestoreVelocity(CLI::App& app) {
@@ -86,31 +83,25 @@ void SimulationFlags::AddRestoreVelocity(CLI::App& app) {
 }
 
 void SimulationFlags::AddDt(CLI::App& app) {
-  app.add_option("--dt", options_.dt, "time slot length, > 0 (1e-100 to 1e100)")
-      ->check(scale())
-      ->capture_default_str();
+  add_checked_option(app, "--dt", options_.dt, "time slot length, > 0 (1e-100 to 1e100)", scale());
 }
 
 void SimulationFlags::AddSnr(CLI::App& app) {
-  app.add_option("--snr", options_.snr,
-                 "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)")
-      ->check(scale())
-      ->capture_default_str();
+  add_checked_option(app, "--snr", options_.snr,
+                     "SNR of a level-100 landscape seen through one slot, > 0 (1e-100 to 1e100)",
+                     scale());
 }
 
 void SimulationFlags::AddSeed(CLI::App& app) {
-  app.add_option("--seed", options_.seed, "seed of the photon noise")
-      ->check(seed_value())
-      ->capture_default_str();
+  add_checked_option(app, "--seed", options_.seed, "seed of the photon noise", seed_value());
 }
 
 void SimulationFlags::AddNoise(CLI::App& app) {
-  app.add_option("--noise", noise_,
-                 "poisson (every frame drawn), aggregated (numerical mode: each pixel's frames "
-                 "above 50 photons drawn as one normal of the same mean and variance, much "
-                 "faster), or none for a noise-free run of the same pipeline")
-      ->check(CLI::IsMember({"poisson", "aggregated", "none"}))
-      ->capture_default_str();
+  add_checked_option(app, "--noise", noise_,
+                     "poisson (every frame drawn), aggregated (numerical mode: each pixel's frames "
+                     "above 50 photons drawn as one normal of the same mean and variance, much "
+                     "faster), or none for a noise-free run of the same pipeline",
+                     CLI::IsMember({"poisson", "aggregated", "none"}));
 }
 
 void SimulationFlags::AddRmseMargin(CLI::App& app) {
@@ -121,17 +112,15 @@ void SimulationFlags::AddRmseMargin(CLI::App& app) {
 }
 
 void SimulationFlags::AddTrials(CLI::App& app) {
-  app.add_option("--trials", options_.trials,
-                 "independent noise realizations (seeds seed, seed+1, ...)")
-      ->check(integer_in(1, kMaxInt))
-      ->capture_default_str();
+  add_checked_option(app, "--trials", options_.trials,
+                     "independent noise realizations (seeds seed, seed+1, ...)",
+                     integer_in(1, kMaxInt));
 }
 
 void SimulationFlags::AddThreads(CLI::App& app) {
-  app.add_option("--threads", options_.threads,
-                 "worker threads, 0 = all cores (results do not depend on it)")
-      ->check(integer_in(0, kMaxInt))
-      ->capture_default_str();
+  add_checked_option(app, "--threads", options_.threads,
+                     "worker threads, 0 = all cores (results do not depend on it)",
+                     integer_in(0, kMaxInt));
 }
 
 void SimulationFlags::AddMaxMemory(CLI::App& app) {

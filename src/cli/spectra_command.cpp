@@ -9,28 +9,26 @@
 
 namespace fssim {
 
-SpectraCommand::SpectraCommand(CLI::App& app) {
-  spectra_ = app.add_subcommand("spectra",
-                                "plot |K| of several codes on one picture (no simulation): fssim "
-                                "spectra --output FILE CODE...");
-  spectra_->add_option("codes", codes_, "built-in code names or code files (1 to 8)")->required();
-  spectra_->add_option("-o,--output", output_, "PNG file to write (-: standard output)")
-      ->required();
-  spectra_->add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
+SpectraCommand::SpectraCommand(CLI::App& parent)
+    : Command(parent, "spectra",
+              "plot |K| of several codes on one picture (no simulation): fssim "
+              "spectra --output FILE CODE...") {
+  CLI::App& spectra = app();
+  spectra.add_option("codes", codes_, "built-in code names or code files (1 to 8)")->required();
+  spectra.add_option("-o,--output", output_, "PNG file to write (-: standard output)")->required();
+  spectra.add_option("-v,--velocity", velocity_, "velocity in pixels per time slot")
       ->check(finite())
       ->capture_default_str();
-  spectra_->add_option("--dt", dt_, "time slot length, > 0")->check(scale())->capture_default_str();
-  spectra_->add_flag("--linear", linear_, "linear |K| axis (default: logarithmic)");
-  spectra_->add_option("--width", plot_.width, "plot width in pixels")
+  spectra.add_option("--dt", dt_, "time slot length, > 0")->check(scale())->capture_default_str();
+  spectra.add_flag("--linear", linear_, "linear |K| axis (default: logarithmic)");
+  spectra.add_option("--width", plot_.width, "plot width in pixels")
       ->check(CLI::Range(fss::kPlotMinSide, fss::kPlotMaxSide))
       ->capture_default_str();
-  spectra_->add_option("--height", plot_.height, "plot height in pixels")
+  spectra.add_option("--height", plot_.height, "plot height in pixels")
       ->check(CLI::Range(fss::kPlotMinSide, fss::kPlotMaxSide))
       ->capture_default_str();
-  spectra_->add_option("--title", plot_.title, "plot title (default: made from the data)");
+  spectra.add_option("--title", plot_.title, "plot title (default: made from the data)");
 }
-
-bool SpectraCommand::parsed() const { return spectra_->parsed(); }
 
 int SpectraCommand::Run() const {
   return run_reporting_errors([this] { return Plot(); });

@@ -2,29 +2,23 @@
 // simulation.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
+#include "command.h"
 #include "fss/io/plot.h"
 
 namespace fssim {
 
-class SpectraCommand {
+class SpectraCommand : public Command {
  public:
-  // Adds the `spectra` subcommand to `app`; the object must outlive the parse.
-  explicit SpectraCommand(CLI::App& app);
-  SpectraCommand(const SpectraCommand&) = delete;
-  SpectraCommand& operator=(const SpectraCommand&) = delete;
-
-  bool parsed() const;
-  // Runs the command after a successful parse; returns the exit status.
-  int Run() const;
+  // Adds the `spectra` subcommand to `parent`.
+  explicit SpectraCommand(CLI::App& parent);
+  int Run() const override;
 
  private:
   int Plot() const;
 
-  CLI::App* spectra_ = nullptr;
   std::vector<std::string> codes_;
   double velocity_ = 1.0;
   double dt_ = 1.0;

@@ -145,34 +145,33 @@ void check_snr_values(const std::vector<double>& snrs, const std::string& text) 
 
 }  // namespace
 
-SweepCommand::SweepCommand(CLI::App& app) {
-  sweep_ = app.add_subcommand(
-      "sweep",
-      "simulate over a range of velocities and/or snr values and write one CSV row per setting "
-      "(measured and predicted RMSE)");
-  sweep_->add_option("-i,--input", input_, "input PNG or TIFF image")->required();
-  flags_.AddCode(*sweep_);
-  flags_.AddMode(*sweep_);
-  sweep_
-      ->add_option("-v,--velocity", velocity_,
-                   "velocity V, or a range start:stop:step (inclusive stop), pixels per slot")
+SweepCommand::SweepCommand(CLI::App& parent)
+    : Command(
+          parent, "sweep",
+          "simulate over a range of velocities and/or snr values and write one CSV row per setting "
+          "(measured and predicted RMSE)") {
+  CLI::App& sweep = app();
+  sweep.add_option("-i,--input", input_, "input PNG or TIFF image")->required();
+  flags_.AddCode(sweep);
+  flags_.AddMode(sweep);
+  sweep
+      .add_option("-v,--velocity", velocity_,
+                  "velocity V, or a range start:stop:step (inclusive stop), pixels per slot")
       ->capture_default_str();
-  sweep_->add_option("--snr", snr_, "snr S, or a range start:stop:step; values > 0")
+  sweep.add_option("--snr", snr_, "snr S, or a range start:stop:step; values > 0")
       ->capture_default_str();
-  flags_.AddDt(*sweep_);
-  flags_.AddTrials(*sweep_);
-  flags_.AddSeed(*sweep_);
-  flags_.AddNoise(*sweep_);
-  flags_.AddRmseMargin(*sweep_);
-  flags_.AddThreads(*sweep_);
-  flags_.AddMaxMemory(*sweep_);  // the simulator's memory guard, for the image and each row
-  sweep_->add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
-  sweep_->add_option("--plot", plot_,
-                     "also draw measured and predicted RMSE against the swept parameter into "
-                     "this PNG (one of --velocity, --snr must be a range)");
+  flags_.AddDt(sweep);
+  flags_.AddTrials(sweep);
+  flags_.AddSeed(sweep);
+  flags_.AddNoise(sweep);
+  flags_.AddRmseMargin(sweep);
+  flags_.AddThreads(sweep);
+  flags_.AddMaxMemory(sweep);  // the simulator's memory guard, for the image and each row
+  sweep.add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
+  sweep.add_option("--plot", plot_,
+                   "also draw measured and predicted RMSE against the swept parameter into "
+                   "this PNG (one of --velocity, --snr must be a range)");
 }
-
-bool SweepCommand::parsed() const { return sweep_->parsed(); }
 
 int SweepCommand::Run() const {
   const ErrorContext context{" (raise it with --max-memory)", ""};

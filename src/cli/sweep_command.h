@@ -2,24 +2,19 @@
 // CSV row per setting with the measured and the predicted RMSE.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
+#include "command.h"
 #include "simulation_flags.h"
 
 namespace fssim {
 
-class SweepCommand {
+class SweepCommand : public Command {
  public:
-  // Adds the `sweep` subcommand to `app`; the object must outlive the parse.
-  explicit SweepCommand(CLI::App& app);
-  SweepCommand(const SweepCommand&) = delete;
-  SweepCommand& operator=(const SweepCommand&) = delete;
-
-  bool parsed() const;
-  // Runs the sweep after a successful parse; returns the exit status.
-  int Run() const;
+  // Adds the `sweep` subcommand to `parent`.
+  explicit SweepCommand(CLI::App& parent);
+  int Run() const override;
 
  private:
   // The swept values of --velocity and --snr, checked.
@@ -32,7 +27,6 @@ class SweepCommand {
   void CheckPaths() const;
   int Sweep() const;
 
-  CLI::App* sweep_ = nullptr;
   SimulationFlags flags_;
   std::string input_;
   std::string velocity_ = "1";

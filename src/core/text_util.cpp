@@ -64,4 +64,31 @@ std::string_view base_name(std::string_view text) {
   return text.substr(slash + 1);
 }
 
+std::string escape_markup(std::string_view text, bool apostrophe) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        if (c == '\'' && apostrophe) {
+          out += "&#39;";
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out;
+}
+
 }  // namespace fss::detail

@@ -14,4 +14,8 @@ std::string sanitize_utf8(std::string_view text);
 // it has no '/'.
 std::string_view base_name(std::string_view text);
 
+// `text` for the text or a quoted attribute of an HTML or XML document: & < >
+// and " as entities, and ' as &#39; when `apostrophe` is true.
+std::string escape_markup(std::string_view text, bool apostrophe);
+
 }  // namespace fss::detail

@@ -4,11 +4,15 @@
 #include <cmath>
 #include <random>
 
+#include "core/enum_names.h"
 #include "design/numerics.h"
+#include "design/option_checks.h"
 #include "fss/core/error.h"
 
 namespace fss {
 
+using design_detail::code_length_and_dt_are_valid;
+using design_detail::invalid;
 using design_detail::inverse_sinc_h;
 using design_detail::simpson;
 
@@ -17,6 +21,13 @@ namespace {
 // Sub-intervals of the generation integrals: the integrands oscillate at most
 // L / 2 times over the band; 16384 Simpson steps put their error below 1e-9.
 constexpr int kDesignIntegralIntervals = 16384;
+
+constexpr detail::EnumNames<CodeFamily, 5> kCodeFamilyNames{
+    {{CodeFamily::kSinc, "sinc"},
+     {CodeFamily::kMip, "mip"},
+     {CodeFamily::kRandom, "random"},
+     {CodeFamily::kSnapshot, "snapshot"},
+     {CodeFamily::kAccumulation, "accumulation"}}};
 
 void check_design_arguments(const char* family, int length, double velocity, double dt) {
   if (length < 1) {
@@ -39,30 +50,26 @@ std::vector<double> normalized_to_unit_max(std::vector<double> gains) {
   return gains;
 }
 
-}  // namespace
-
-std::string to_string(CodeFamily family) {
-  switch (family) {
-    case CodeFamily::kSinc:
-      return "sinc";
-    case CodeFamily::kMip:
-      return "mip";
-    case CodeFamily::kRandom:
-      return "random";
-    case CodeFamily::kSnapshot:
-      return "snapshot";
-    case CodeFamily::kAccumulation:
-      return "accumulation";
-  }
-  return "sinc";
+// A code designed on the band |theta| <= pi |v| dt: gain k is
+// coefficient(k - c, band) with c = L / 2 (integer division) and band =
+// pi |v| dt, then the gains are scaled to max |gain| = 1.
+template <typename Coefficient>
+std::vector<double> band_limited_code(const char* family, int length, double velocity, double dt,
+                                      const Coefficient& coefficient) {
+  check_design_arguments(family, length, velocity, dt);
+  const double band = M_PI * std::abs(velocity) * dt;
+  const int c = length / 2;
+  std::vector<double> gains(static_cast<std::size_t>(length));
+  for (int k = 0; k < length; ++k) gains[k] = coefficient(k - c, band);
+  return normalized_to_unit_max(std::move(gains));
 }
 
+}  // namespace
+
+std::string to_string(CodeFamily family) { return detail::enum_name(kCodeFamilyNames, family); }
+
 std::optional<CodeFamily> code_family_from_string(std::string_view text) {
-  for (const CodeFamily family : {CodeFamily::kSinc, CodeFamily::kMip, CodeFamily::kRandom,
-                                  CodeFamily::kSnapshot, CodeFamily::kAccumulation}) {
-    if (text == to_string(family)) return family;
-  }
-  return std::nullopt;
+  return detail::enum_from_name(kCodeFamilyNames, text);
 }
 
 bool design_band_is_valid(double velocity, double dt) {
@@ -71,43 +78,33 @@ bool design_band_is_valid(double velocity, double dt) {
 }
 
 std::vector<double> generate_sinc_code(int length, double velocity, double dt) {
-  check_design_arguments("sinc", length, velocity, dt);
-  const double band = M_PI * std::abs(velocity) * dt;
-  const int c = length / 2;
-  std::vector<double> gains(static_cast<std::size_t>(length));
-  for (int k = 0; k < length; ++k) {
+  return band_limited_code("sinc", length, velocity, dt, [](int offset, double band) {
     // T = 1, t0 = c + 1/2: the integrand exp(i theta (k - c)) / sinc_h(theta)
     // is even in its real part and odd in its imaginary part, so the
     // coefficient is (1 / pi) int_0^band cos(theta (k - c)) / sinc_h(theta).
-    const double shift = k - c;
-    gains[k] = simpson([&](double t) { return std::cos(t * shift) * inverse_sinc_h(t); }, 0.0, band,
-                       kDesignIntegralIntervals) /
-               M_PI;
-  }
-  return normalized_to_unit_max(std::move(gains));
+    const double shift = offset;
+    return simpson([&](double t) { return std::cos(t * shift) * inverse_sinc_h(t); }, 0.0, band,
+                   kDesignIntegralIntervals) /
+           M_PI;
+  });
 }
 
 std::vector<double> generate_mip_code(int length, double velocity, double dt) {
-  check_design_arguments("mip", length, velocity, dt);
-  const double band = M_PI * std::abs(velocity) * dt;
-  const int c = length / 2;
-  std::vector<double> gains(static_cast<std::size_t>(length));
-  for (int k = 0; k < length; ++k) {
+  return band_limited_code("mip", length, velocity, dt, [](int offset, double band) {
     // T(theta) exp(i theta m) with m = k - c + 1/2: the values at theta and
     // -theta are complex conjugates, so the real part of the coefficient is
     // (1 / pi) int_0^band sqrt(pi / theta) cos(theta m - pi / 4) / sinc_h(theta).
     // With theta = u^2 (d theta = 2 u du) the singularity cancels:
     // (2 sqrt(pi) / pi) int_0^sqrt(band) cos(u^2 m - pi / 4) / sinc_h(u^2) du.
-    const double m = k - c + 0.5;
+    const double m = offset + 0.5;
     const double integral = simpson(
         [&](double u) {
           const double theta = u * u;
           return std::cos(theta * m - M_PI / 4.0) * inverse_sinc_h(theta);
         },
         0.0, std::sqrt(band), kDesignIntegralIntervals);
-    gains[k] = 2.0 * std::sqrt(M_PI) * integral / M_PI;
-  }
-  return normalized_to_unit_max(std::move(gains));
+    return 2.0 * std::sqrt(M_PI) * integral / M_PI;
+  });
 }
 
 std::vector<double> generate_random_code(int length, std::uint64_t seed, bool analog) {
@@ -134,17 +131,8 @@ std::vector<double> accumulation_code(int length) {
 }
 
 bool GenerateOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
-  };
-  if (length < 1 || length > kMaxGeneratedCodeLength) {
-    return fail("length = " + std::to_string(length) + ": must lie in [1, " +
-                std::to_string(kMaxGeneratedCodeLength) + "]");
-  }
-  if (!(std::isfinite(dt) && dt > 0.0)) {
-    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
-  }
+  if (!code_length_and_dt_are_valid(length, kMaxGeneratedCodeLength, dt, error)) return false;
+  const auto fail = [error](const std::string& message) { return invalid(error, message); };
   if (!std::isfinite(velocity_px_per_slot)) {
     return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
                 ": must be a finite number");

@@ -8,13 +8,16 @@
 #include <sstream>
 
 #include "design/local_search.h"
+#include "design/option_checks.h"
 #include "fss/core/error.h"
 #include "fss/design/generate.h"
 #include "fss/model/noise.h"
 
 namespace fss {
 
+using design_detail::code_length_and_dt_are_valid;
 using design_detail::Feasible;
+using design_detail::invalid;
 using design_detail::kInfinity;
 using design_detail::LocalResult;
 using design_detail::uniform01;
@@ -139,17 +142,8 @@ void normalize_result(const OptimizeOptions& options, bool numerical, std::vecto
 }  // namespace
 
 bool OptimizeOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = message;
-    return false;
-  };
-  if (length < 1 || length > kMaxOptimizedCodeLength) {
-    return fail("length = " + std::to_string(length) + ": must lie in [1, " +
-                std::to_string(kMaxOptimizedCodeLength) + "]");
-  }
-  if (!(std::isfinite(dt) && dt > 0.0)) {
-    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
-  }
+  if (!code_length_and_dt_are_valid(length, kMaxOptimizedCodeLength, dt, error)) return false;
+  const auto fail = [error](const std::string& message) { return invalid(error, message); };
   if (!design_band_is_valid(velocity_px_per_slot, dt)) {
     return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
                 " with dt = " + format_number(dt) +

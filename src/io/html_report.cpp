@@ -221,29 +221,7 @@ const std::vector<ReportFigure>& report_figures() {
 }
 
 std::string html_escape(std::string_view text) {
-  std::string out;
-  for (const char c : detail::sanitize_utf8(text)) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+  return detail::escape_markup(detail::sanitize_utf8(text), true);
 }
 
 std::string html_report(const SimulationReport& r, const std::string& input_path,

@@ -1,18 +1,20 @@
 #include "fss/io/image_io.h"
 
-#include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
 #include "fss/io/tiff_io.h"
+#include "io/input_bytes.h"
 
 namespace fss {
 
 namespace {
+
+constexpr detail::EnumNames<ImageFileFormat, 2> kImageFileFormatNames{
+    {{ImageFileFormat::kPng, "PNG"}, {ImageFileFormat::kTiff, "TIFF"}}};
 
 constexpr std::uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 
@@ -31,13 +33,11 @@ int png_bit_depth(const std::uint8_t* bytes, std::size_t size) {
 }  // namespace
 
 std::string to_string(ImageFileFormat format) {
-  return format == ImageFileFormat::kTiff ? "TIFF" : "PNG";
+  return detail::enum_name(kImageFileFormatNames, format);
 }
 
 std::optional<ImageFileFormat> image_file_format_from_string(std::string_view text) {
-  if (text == "PNG") return ImageFileFormat::kPng;
-  if (text == "TIFF") return ImageFileFormat::kTiff;
-  return std::nullopt;
+  return detail::enum_from_name(kImageFileFormatNames, text);
 }
 
 Image decode_image(const std::uint8_t* bytes, std::size_t size, const std::string& name,
@@ -59,31 +59,11 @@ Image decode_image(const std::uint8_t* bytes, std::size_t size, const std::strin
 }
 
 Image read_image(const std::filesystem::path& path, std::size_t max_bytes, ImageFileInfo* info) {
-  const std::string name = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw_runtime_error("input '" + name + "' is a directory, expected a PNG or TIFF file");
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw_runtime_error("cannot open input '" + name + "': " + std::strerror(errno));
-  }
-  // The signature first, so that what is neither format is refused after 8
-  // bytes, even an endless stream such as /dev/zero.
-  std::vector<std::uint8_t> bytes(8);
-  file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  bytes.resize(static_cast<std::size_t>(file.gcount()));
-  if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
-  if (bytes.empty()) {
-    throw_runtime_error("input '" + name + "' is empty, expected a PNG or TIFF file");
-  }
-  if (has_png_signature(bytes.data(), bytes.size()) ||
-      has_tiff_signature(bytes.data(), bytes.size())) {
-    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(file),
-                 std::istreambuf_iterator<char>());
-    if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
-  }
-  return decode_image(bytes.data(), bytes.size(), name, max_bytes, info);
+  const std::vector<std::uint8_t> bytes = detail::read_input_bytes(
+      path, "a PNG or TIFF file", [](const std::uint8_t* head, std::size_t size) {
+        return has_png_signature(head, size) || has_tiff_signature(head, size);
+      });
+  return decode_image(bytes.data(), bytes.size(), path.string(), max_bytes, info);
 }
 
 }  // namespace fss

@@ -35,10 +35,13 @@
 
 #include "fss/core/error.h"
 #include "fss/io/safe_write.h"
+#include "io/write_all.h"
 
 namespace fss {
 
 namespace {
+
+using detail::write_all;
 
 namespace fs = std::filesystem;
 
@@ -77,20 +80,6 @@ struct Entry {
 };
 
 std::string error_text(int error) { return std::strerror(error); }
-
-// Writes all of `bytes` to `fd`; 0 or the errno of the failure.
-int write_all(int fd, const std::string& bytes) {
-  const char* data = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t written = ::write(fd, data, left);
-    if (written < 0 && errno == EINTR) continue;
-    if (written <= 0) return written < 0 ? errno : EIO;
-    data += written;
-    left -= static_cast<std::size_t>(written);
-  }
-  return 0;
-}
 
 // flock that retries on a signal; 0 or the errno.
 int lock_fd(int fd, int operation) {

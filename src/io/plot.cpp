@@ -574,6 +574,13 @@ std::vector<std::uint8_t> plot_spectra_overlay_png(const std::vector<ShutterCode
 
 namespace {
 
+// The title of a plot of curves: the one asked for, or "Y against X".
+std::string curves_title(const PlotOptions& options, const std::string& x_label,
+                         const std::string& y_label) {
+  return options.title.empty() ? literal(y_label) + " against " + literal(x_label)
+                               : literal(options.title);
+}
+
 void check_curves(const std::vector<double>& x, const std::vector<CurveSeries>& series) {
   if (x.empty()) throw_usage_error("a curve plot needs at least one x value");
   if (series.empty() || static_cast<int>(series.size()) > kMaxSeries) {
@@ -657,9 +664,7 @@ std::vector<std::uint8_t> plot_curves_png(const std::vector<double>& x,
     legend.push_back({ellipsize(series[i].name, 40), static_cast<PLINT>(kSeries + i),
                       series[i].dashed ? 2 : 1, 1.8});
   }
-  const std::string title = options.title.empty()
-                                ? literal(y_label) + " against " + literal(x_label)
-                                : literal(options.title);
+  const std::string title = curves_title(options, x_label, y_label);
   return render_plot(options, [&](const Canvas& canvas) {
     draw_title(canvas, title);
     canvas.viewport(kLeft, kRight, 40.0, kBottom);
@@ -803,9 +808,7 @@ std::vector<std::uint8_t> plot_error_bar_curves_png(const std::vector<double>& x
   for (std::size_t i = 0; i < series.size(); ++i) {
     legend.push_back({ellipsize(series[i].name, 40), static_cast<PLINT>(kSeries + i), 1, 1.8});
   }
-  const std::string title = options.title.empty()
-                                ? literal(y_label) + " against " + literal(x_label)
-                                : literal(options.title);
+  const std::string title = curves_title(options, x_label, y_label);
   return render_plot(options, [&](const Canvas& canvas) {
     draw_title(canvas, title);
     canvas.viewport(kLeft, kRight, 40.0, kBottom);

@@ -4,21 +4,24 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <memory>
 #include <new>
 
+#include "core/enum_names.h"
 #include "fss/core/error.h"
+#include "io/input_bytes.h"
 
 namespace fss {
 namespace {
+
+constexpr detail::EnumNames<PngDepth, 2> kPngDepthNames{
+    {{PngDepth::k8, "8"}, {PngDepth::k16, "16"}}};
 
 // libpng reports errors by longjmp. The functions that call setjmp below hold
 // no object with a destructor, and everything they touch after setjmp lives
@@ -183,13 +186,7 @@ void check_decodable(const PngHeader& header, std::size_t size, const std::strin
   const int out_channels = header.channels >= 3 ? 3 : 1;
   const std::size_t needed =
       png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
-  if (max_bytes > 0 && needed > max_bytes) {
-    throw_limit_error("input '" + name + "' is " + std::to_string(header.width) + " x " +
-                      std::to_string(header.height) + " pixels: decoding it needs " +
-                      format_bytes(static_cast<double>(needed)) +
-                      ", more than the memory limit of " +
-                      format_bytes(static_cast<double>(max_bytes)));
-  }
+  detail::check_decoding_memory(name, header.width, header.height, needed, max_bytes);
 }
 
 // The decoded rows (1 to 4 channels after the transformations, 8 or 16
@@ -281,28 +278,11 @@ std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& p
 }
 
 Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
-  const std::string name = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw_runtime_error("input '" + name + "' is a directory, expected a PNG file");
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw_runtime_error("cannot open input '" + name + "': " + std::strerror(errno));
-  }
-  // The signature first, so that what is not a PNG is refused after 8 bytes,
-  // even an endless stream such as /dev/zero.
-  std::vector<std::uint8_t> bytes(8);
-  file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  bytes.resize(static_cast<std::size_t>(file.gcount()));
-  if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
-  if (bytes.empty()) throw_runtime_error("input '" + name + "' is empty, expected a PNG file");
-  if (bytes.size() == 8 && png_sig_cmp(bytes.data(), 0, 8) == 0) {
-    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(file),
-                 std::istreambuf_iterator<char>());
-    if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
-  }
-  return decode_png(bytes.data(), bytes.size(), name, max_bytes);
+  const std::vector<std::uint8_t> bytes =
+      detail::read_input_bytes(path, "a PNG file", [](const std::uint8_t* head, std::size_t size) {
+        return size == 8 && png_sig_cmp(head, 0, 8) == 0;
+      });
+  return decode_png(bytes.data(), bytes.size(), path.string(), max_bytes);
 }
 
 std::vector<std::uint8_t> encode_png8(const Image& image, PngCompression compression) {
@@ -377,12 +357,10 @@ std::vector<std::uint8_t> encode_png16(
 
 }  // namespace
 
-std::string to_string(PngDepth depth) { return depth == PngDepth::k16 ? "16" : "8"; }
+std::string to_string(PngDepth depth) { return detail::enum_name(kPngDepthNames, depth); }
 
 std::optional<PngDepth> png_depth_from_string(std::string_view text) {
-  if (text == "8") return PngDepth::k8;
-  if (text == "16") return PngDepth::k16;
-  return std::nullopt;
+  return detail::enum_from_name(kPngDepthNames, text);
 }
 
 std::vector<std::uint8_t> encode_png8(

@@ -9,26 +9,15 @@
 #include <system_error>
 
 #include "fss/core/error.h"
+#include "io/write_all.h"
 
 namespace fss {
 
 namespace {
 
-namespace fs = std::filesystem;
+using detail::write_all;
 
-// Writes all of `bytes` to `fd`; 0 or the errno of the failure.
-int write_all(int fd, std::string_view bytes) {
-  const char* data = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t written = ::write(fd, data, left);
-    if (written < 0 && errno == EINTR) continue;
-    if (written <= 0) return written < 0 ? errno : EIO;
-    data += written;
-    left -= static_cast<std::size_t>(written);
-  }
-  return 0;
-}
+namespace fs = std::filesystem;
 
 [[noreturn]] void fail(const fs::path& path, const std::string& why) {
   throw_runtime_error("cannot write '" + path.string() + "': " + why);

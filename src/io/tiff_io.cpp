@@ -16,6 +16,7 @@
 
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
+#include "io/input_bytes.h"
 
 namespace fss {
 namespace {
@@ -311,13 +312,7 @@ void check_decodable(const TiffLayout& layout, std::size_t size, const std::stri
                         " bytes can hold: it is truncated or its header is corrupt");
   }
   const std::size_t needed = decode_bytes(layout);
-  if (max_bytes > 0 && needed > max_bytes) {
-    throw_limit_error("input '" + name + "' is " + std::to_string(layout.width) + " x " +
-                      std::to_string(layout.height) + " pixels: decoding it needs " +
-                      format_bytes(static_cast<double>(needed)) +
-                      ", more than the memory limit of " +
-                      format_bytes(static_cast<double>(max_bytes)));
-  }
+  detail::check_decoding_memory(name, layout.width, layout.height, needed, max_bytes);
 }
 
 // One sample as a gray level of image.h: 8-bit s, 16-bit s / 257, a float as is.

@@ -12,18 +12,20 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "fss/core/error.h"
 
 namespace fss {
 
-std::string to_string(ShutterMode mode) {
-  return mode == ShutterMode::kAnalog ? "analog" : "numerical";
-}
+namespace {
+constexpr detail::EnumNames<ShutterMode, 2> kShutterModeNames{
+    {{ShutterMode::kNumerical, "numerical"}, {ShutterMode::kAnalog, "analog"}}};
+}  // namespace
+
+std::string to_string(ShutterMode mode) { return detail::enum_name(kShutterModeNames, mode); }
 
 std::optional<ShutterMode> shutter_mode_from_string(std::string_view text) {
-  if (text == "numerical") return ShutterMode::kNumerical;
-  if (text == "analog") return ShutterMode::kAnalog;
-  return std::nullopt;
+  return detail::enum_from_name(kShutterModeNames, text);
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/enum_names.h"
 #include "fss/core/error.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/metrics.h"
@@ -13,23 +14,17 @@
 
 namespace fss {
 
-std::string to_string(NoiseModel noise) {
-  switch (noise) {
-    case NoiseModel::kNone:
-      return "none";
-    case NoiseModel::kAggregated:
-      return "aggregated";
-    case NoiseModel::kPoisson:
-      break;
-  }
-  return "poisson";
-}
+namespace {
+constexpr detail::EnumNames<NoiseModel, 3> kNoiseModelNames{
+    {{NoiseModel::kPoisson, "poisson"},
+     {NoiseModel::kNone, "none"},
+     {NoiseModel::kAggregated, "aggregated"}}};
+}  // namespace
+
+std::string to_string(NoiseModel noise) { return detail::enum_name(kNoiseModelNames, noise); }
 
 std::optional<NoiseModel> noise_model_from_string(std::string_view text) {
-  if (text == "poisson") return NoiseModel::kPoisson;
-  if (text == "none") return NoiseModel::kNone;
-  if (text == "aggregated") return NoiseModel::kAggregated;
-  return std::nullopt;
+  return detail::enum_from_name(kNoiseModelNames, text);
 }
 
 bool SimulationOptions::IsValid(std::string* error) const {

@@ -59,7 +59,7 @@ struct SettingRunOptions {
   // Every setting with this seed instead of its own (setting_seed): the
   // rule of fssim sweep, whose curves are smooth for it. Never set by a
   // campaign run.
-  std::optional<std::uint64_t> seed;
+  std::optional<std::uint64_t> seed = std::nullopt;
 };
 
 // The plans (fss::SimulationPlan) of the settings a run goes through, kept

@@ -70,7 +70,7 @@ double number(const fss::ResultRow& row, const char* column) {
 
 std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::ResultRow& row) {
   std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": "
-            << cell(row, "message") << "; row marked too-narrow (see --rmse-margin)\n";
+            << cell(row, "message") << "; row marked too-narrow\n";
   curves_.x.push_back(by_velocity_ ? velocity : snr);
   curves_.measured.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "campaign/journal.h"
 #include "fss/campaign/sha256.h"
@@ -226,7 +227,7 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
     }
     ResultRow row = run_setting(campaign, setting, image, run_options, &plans, trials);
     appender.append(journal::row_line(i, row, trials));
-    if (trials != nullptr) contents.trial_rows[i] = std::move(trial_rows);
+    if (trials != nullptr) contents.trial_rows[i] = std::exchange(trial_rows, {});
     contents.rows[i] = std::move(row);
     ++summary.ran;
     progress.done = static_cast<long long>(contents.rows.size());

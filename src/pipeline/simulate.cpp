@@ -204,7 +204,7 @@ bool SimulationPlan::fits(const SimulationOptions& options, int width,
 }
 
 std::size_t SimulationPlan::bytes() const {
-  const auto bins = static_cast<std::size_t>(geometry_.width / 2 + 1);
+  const std::size_t bins = static_cast<std::size_t>(geometry_.width) / 2 + 1;
   const std::size_t filters = (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins;
   return sizeof(*this) +
          sizeof(std::complex<double>) *

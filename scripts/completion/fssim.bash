@@ -24,8 +24,8 @@ _fssim_options() {
             --noise --rmse-margin --threads --max-memory -o --output --plot" ;;
     campaign)
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
-            --snr --dt --trials --seed --noise --rmse-margin --threads -o --output --shard
-            --figures --no-progress" ;;
+            --snr --dt --trials --seed --noise --rmse-margin --per-trial --threads -o --output
+            --shard --figures --no-progress" ;;
     merge) echo "-h --help -o --output --figures" ;;
     check) echo "-h --help --columns --abs --rel --k-se --junit" ;;
   esac
@@ -36,7 +36,7 @@ _fssim_options() {
 _fssim_takes_value() {
   case $1 in
     -h | --help | --version | --no-plots | --sheet | --report | --save-float | --linear | --analog | --binary) return 1 ;;
-    --figures | --no-progress) return 1 ;;
+    --figures | --no-progress | --per-trial) return 1 ;;
     -*=*) return 1 ;;
     -*) return 0 ;;
   esac

@@ -188,18 +188,19 @@ void seal(ResolvedCampaign& c) {
   }
   for (const ShutterMode m : c.modes) modes.push_back(to_string(m));
   for (const auto& r : c.restore_velocities) restore.push_back(r ? Json(*r) : Json(nullptr));
-  const Json j = {{"campaign_schema", 1},
-                  {"images", images},
-                  {"codes", codes},
-                  {"modes", modes},
-                  {"velocity", values_json(c.velocities)},
-                  {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
-                  {"snr", values_json(c.snrs)},
-                  {"dt", values_json(c.dts)},
-                  {"trials", c.trials},
-                  {"seed", c.seed},
-                  {"noise", to_string(c.noise)},
-                  {"rmse_margin", c.rmse_margin_columns}};
+  Json j = {{"campaign_schema", 1},
+            {"images", images},
+            {"codes", codes},
+            {"modes", modes},
+            {"velocity", values_json(c.velocities)},
+            {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
+            {"snr", values_json(c.snrs)},
+            {"dt", values_json(c.dts)},
+            {"trials", c.trials},
+            {"seed", c.seed},
+            {"noise", to_string(c.noise)},
+            {"rmse_margin", c.rmse_margin_columns}};
+  if (c.per_trial) j["per_trial"] = true;  // absent when off: earlier campaigns keep their hash
   c.canonical_json = j.dump();
   c.sha256 = sha256_hex(c.canonical_json);
 }
@@ -248,6 +249,7 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   c.seed = spec.seed;
   c.noise = spec.noise;
   c.rmse_margin_columns = spec.rmse_margin_columns;
+  c.per_trial = spec.per_trial;
   if (c.setting_count() > kMaxCampaignSettings) {
     throw_usage_error("the campaign has more than " + std::to_string(kMaxCampaignSettings) +
                       " settings");
@@ -283,6 +285,7 @@ ResolvedCampaign campaign_from_canonical_json(const std::string& json) {
     c.seed = j.at("seed").get<std::uint64_t>();
     c.noise = *noise_model_from_string(j.at("noise").get<std::string>());
     c.rmse_margin_columns = j.at("rmse_margin").get<int>();
+    c.per_trial = j.value("per_trial", false);
     seal(c);
     return c;
   } catch (const Error&) {

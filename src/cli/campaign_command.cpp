@@ -113,6 +113,10 @@ bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& 
   } else if (key == "noise") {
     if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
     noise = value.get<std::string>();
+  } else if (key == "per_trial") {
+    if (!value.is_boolean())
+      fss::throw_usage_error("campaign file: 'per_trial' takes true or false");
+    spec.per_trial = value.get<bool>();
   } else {
     return false;
   }
@@ -125,7 +129,7 @@ void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
     if (!apply_list(key, value, spec) && !apply_scalar(key, value, spec, noise)) {
       fss::throw_usage_error("campaign file: unknown key '" + key +
                              "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, "
-                             "seed, noise, rmse_margin)");
+                             "seed, noise, rmse_margin, per_trial)");
     }
   }
 }
@@ -197,6 +201,9 @@ void CampaignCommand::AddSpecOptions() {
       ->capture_default_str();
   c.add_option("--rmse-margin", rmse_margin_, "RMSE margin in columns (-1: 3B)")
       ->capture_default_str();
+  c.add_flag("--per-trial", per_trial_,
+             "also write one row per trial (trials.csv, trials.jsonl): its seed, RMSE, RMSE_CI "
+             "and PSNR");
   c.add_option("--threads", threads_, "threads of each simulation (0: all)")->check(at_least(0));
   c.add_option("-o,--output", output_, "campaign directory (created; rerun to resume)")
       ->check(not_empty());
@@ -246,6 +253,7 @@ fss::CampaignSpec CampaignCommand::Spec() const {
   if (use("--seed")) spec.seed = seed_;
   if (use("--noise")) noise = noise_;
   if (use("--rmse-margin")) spec.rmse_margin_columns = rmse_margin_;
+  if (use("--per-trial")) spec.per_trial = per_trial_;
   spec.noise = parse_noise(noise);
   return spec;
 }

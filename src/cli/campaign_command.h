@@ -37,6 +37,7 @@ class CampaignCommand : public Command {
   std::uint64_t seed_ = 0;
   std::string noise_ = "poisson";
   int rmse_margin_ = -1;
+  bool per_trial_ = false;
   int threads_ = 0;
   std::string output_;
   std::string shard_ = "1/1";

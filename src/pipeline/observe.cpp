@@ -19,6 +19,7 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
       snr_(params.snr),
       fft_(RowFFT::for_size(width)),
       aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical) {
+  auto filters = std::make_shared<std::vector<std::vector<Complex>>>();
   if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
       if (!(gains_[k] >= 0.0 && gains_[k] <= 1.0)) {
@@ -26,22 +27,31 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
                           " is " + std::to_string(gains_[k]));
       }
     }
-    filters_.push_back(transfer_function_bins(gains_, params.velocity, params.dt, width));
+    filters->push_back(transfer_function_bins(gains_, params.velocity, params.dt, width));
+    filters_ = std::move(filters);
     return;
   }
   const double s = params.velocity * params.dt;
   shift_ = std::nearbyint(s) == s && std::abs(s) < 1e9;
   if (shift_) {
     step_ = static_cast<long long>(s);
-    filters_.push_back(slot_transfer_function_bins(0, params.velocity, params.dt, width));
+    filters->push_back(slot_transfer_function_bins(0, params.velocity, params.dt, width));
   } else {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
-      filters_.push_back(gains_[k] == 0.0
+      filters->push_back(gains_[k] == 0.0
                              ? std::vector<Complex>()
                              : slot_transfer_function_bins(static_cast<int>(k), params.velocity,
                                                            params.dt, width));
     }
   }
+  filters_ = std::move(filters);
+}
+
+RowObserver RowObserver::with_noise(double snr, bool aggregate_noise) const {
+  RowObserver copy = *this;
+  copy.snr_ = snr;
+  copy.aggregate_ = aggregate_noise && mode_ == ShutterMode::kNumerical;
+  return copy;
 }
 
 RowObserver::Scratch::Scratch(const RowObserver& observer)
@@ -145,7 +155,7 @@ void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, 
   std::fill(out.begin(), out.end(), 0.0);
   VarianceRow var(noisy, snr_, variance, scratch.unit_variance);  // the exact prediction
   if (mode_ == ShutterMode::kAnalog) {
-    const std::span<const double> e = filtered(filters_[0], scratch);
+    const std::span<const double> e = filtered((*filters_)[0], scratch);
     if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
     } else {
@@ -186,11 +196,11 @@ template <typename PerSlot>
 void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const {
   if (!shift_) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
-      if (gains_[k] != 0.0) per_slot(k, filtered(filters_[k], scratch), SlotShift{});
+      if (gains_[k] != 0.0) per_slot(k, filtered((*filters_)[k], scratch), SlotShift{});
     }
     return;
   }
-  const std::span<const double> e0 = filtered(filters_[0], scratch);
+  const std::span<const double> e0 = filtered((*filters_)[0], scratch);
   scratch.shifted.resize(static_cast<std::size_t>(width_));
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;

@@ -44,7 +44,8 @@ double window_mean(const Image& image, int first, int end) {
 
 // sum_j W(j) S(j) / (rows * channels * window width): the noise part of
 // E[MSE] over the RMSE window (docs/method.md §6b).
-double exact_noise_power(const SimulationReport& report, double v_r, const NoiseFreeRun& run) {
+double exact_noise_power(const SimulationReport& report, const std::vector<double>& w,
+                         const NoiseFreeRun& run) {
   const std::vector<double>& s = run.crop_variance_sums;
   const int wa = report.geometry.observed_width;
   if (s.size() != static_cast<std::size_t>(wa)) {
@@ -52,8 +53,6 @@ double exact_noise_power(const SimulationReport& report, double v_r, const Noise
                       " observed-crop columns, but the noise-free run has " +
                       std::to_string(s.size()));
   }
-  const std::vector<double> w = noise_energy_weights(
-      report.geometry, report.gains, v_r, report.options.dt, report.rmse_first, report.rmse_end);
   double total = 0.0;
   for (std::size_t j = 0; j < s.size(); ++j) total += w[j] * s[j];
   const double count =
@@ -61,12 +60,13 @@ double exact_noise_power(const SimulationReport& report, double v_r, const Noise
   return total / count;
 }
 
-}  // namespace
-
-Prediction predict(const SimulationReport& report, const Image& input,
-                   const NoiseFreeRun& noise_free) {
+// The prediction, with M and W(j) from `m_amplification()` and
+// `noise_weights()` (called only when needed).
+template <typename M, typename W>
+Prediction predict_with(const SimulationReport& report, const Image& input,
+                        const NoiseFreeRun& noise_free, const M& m_amplification,
+                        const W& noise_weights) {
   const SimulationOptions& options = report.options;
-  const double v_r = options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot);
   const bool noisy = options.noise != NoiseModel::kNone;
   const double r0 = noise_free.rmse;
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -75,9 +75,7 @@ Prediction predict(const SimulationReport& report, const Image& input,
   p.window_mean = window_mean(input, report.output_first_column() + report.rmse_first,
                               report.output_first_column() + report.rmse_end);
   p.q = noise_gain(report.gains, options.dt, options.mode);
-  p.m_amplification =
-      p.finite ? mean_inverse_power(report.gains, v_r, options.dt, report.geometry.mirror_width)
-               : kInfinity;
+  p.m_amplification = p.finite ? m_amplification() : kInfinity;
   p.rmse_noise_free = r0;
   p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
   if (!p.finite) {
@@ -88,10 +86,32 @@ Prediction predict(const SimulationReport& report, const Image& input,
   p.sigma = noisy ? noise_sigma(p.window_mean, p.q, p.m_amplification, options.snr) : 0.0;
   p.rmse_stationary = std::sqrt(r0 * r0 + p.sigma * p.sigma);
   // Exact (§6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count
-  const double noise_power = noisy ? exact_noise_power(report, v_r, noise_free) : 0.0;
+  const double noise_power = noisy ? exact_noise_power(report, noise_weights(), noise_free) : 0.0;
   p.noise = std::sqrt(noise_power);
   p.rmse = std::sqrt(r0 * r0 + noise_power);
   return p;
+}
+
+}  // namespace
+
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free) {
+  const SimulationOptions& o = report.options;
+  const double v_r = o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot);
+  return predict_with(
+      report, input, noise_free,
+      [&] { return mean_inverse_power(report.gains, v_r, o.dt, report.geometry.mirror_width); },
+      [&] {
+        return noise_energy_weights(report.geometry, report.gains, v_r, o.dt, report.rmse_first,
+                                    report.rmse_end);
+      });
+}
+
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free, const SimulationPlan& plan) {
+  return predict_with(
+      report, input, noise_free, [&] { return plan.m_amplification(); },
+      [&]() -> const std::vector<double>& { return plan.noise_weights(); });
 }
 
 }  // namespace fss

@@ -30,14 +30,22 @@ ObservationParams observation_params(const SimulationOptions& options) {
 RowPipeline::RowPipeline(const Image& input, const ShutterCode& code,
                          const SimulationOptions& options, const Geometry& geometry,
                          double observed_divisor)
+    : RowPipeline(
+          input, RowObserver(input.width, code.gains, options.mode, observation_params(options)),
+          RowRestorer(geometry, code.gains,
+                      options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
+                      options.dt),
+          options, geometry, observed_divisor) {}
+
+RowPipeline::RowPipeline(const Image& input, const RowObserver& observer,
+                         const RowRestorer& restorer, const SimulationOptions& options,
+                         const Geometry& geometry, double observed_divisor)
     : input_(input),
       geometry_(geometry),
       threads_(options.threads),
       observed_divisor_(observed_divisor),
-      observer_(input.width, code.gains, options.mode, observation_params(options)),
-      restorer_(geometry, code.gains,
-                options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
-                options.dt) {
+      observer_(observer.with_noise(options.snr, options.noise == NoiseModel::kAggregated)),
+      restorer_(restorer) {
   const auto samples = static_cast<std::size_t>(input.width) * input.height * input.channels;
   if (observer_.aggregates_noise() && options.trials > 1 && samples <= kMaxPlannedSamples) {
     plans_.resize(static_cast<std::size_t>(input.channels) * input.height);

@@ -38,6 +38,10 @@ class RowPipeline {
   // unless set). Observed rows are divided by `observed_divisor`.
   RowPipeline(const Image& input, const ShutterCode& code, const SimulationOptions& options,
               const Geometry& geometry, double observed_divisor);
+  // The same with the observer and the restorer of a SimulationPlan: the
+  // observer takes the options' snr and noise model.
+  RowPipeline(const Image& input, const RowObserver& observer, const RowRestorer& restorer,
+              const SimulationOptions& options, const Geometry& geometry, double observed_divisor);
 
   // Frequencies of the deconvolution grid where K = 0, left at 0.
   int zero_bins() const { return restorer_.zero_bins(); }

@@ -197,6 +197,112 @@ TEST(Campaign, RowsCarryProvenanceAndMatchSimulate) {
   EXPECT_EQ(cell(row, "trials"), "2");
 }
 
+// The kernel cache changes nothing in the rows and computes each kernel
+// once per code and velocity: the snr values share it.
+TEST(Campaign, PlanCacheGivesTheRowsOfSimulateAlone) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const Image image = read_png(c.images[0].path);
+  SimulationPlanCache plans;
+  for (long long i = 0; i < c.setting_count(); ++i) {
+    const Setting s = setting_at(c, i);
+    EXPECT_EQ(run_setting(c, s, image, {1, 0, "v"}, &plans), run_setting(c, s, image, {1, 0, "v"}))
+        << i;
+  }
+  // 2 codes x 2 velocities, 3 snr values each; the raskar code is too wide
+  // for the crop and builds none.
+  EXPECT_EQ(plans.built(), 2);
+  EXPECT_EQ(plans.reused(), 4);
+  const CampaignRunSummary summary = RunCampaign(c, (tmp / "out").string(), {});
+  EXPECT_EQ(summary.plans_built, 2);
+  EXPECT_EQ(summary.plans_reused, 4);
+}
+
+std::vector<std::vector<std::string>> csv_rows(const fs::path& path) {
+  return parse_csv(test::read_file(path), path.string());
+}
+
+// Per-trial rows: each trial's seed and metrics; the setting's row is their
+// mean; results.csv is the same as without them.
+TEST(Campaign, PerTrialRowsAreTheTrialsOfEachSetting) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.trials = 3;
+  const ResolvedCampaign plain = resolve_campaign(spec);
+  spec.per_trial = true;
+  const ResolvedCampaign c = resolve_campaign(spec);
+  EXPECT_NE(c.sha256, plain.sha256);
+  EXPECT_EQ(plain.canonical_json.find("per_trial"), std::string::npos);
+  RunCampaign(plain, (tmp / "plain").string(), {});
+  RunCampaign(c, (tmp / "trials").string(), {});
+  EXPECT_FALSE(fs::exists(tmp / "plain" / kCampaignTrialsCsv));
+  EXPECT_EQ(test::read_file(tmp / "plain" / kCampaignResultsCsv),
+            test::read_file(tmp / "trials" / kCampaignResultsCsv));
+  const auto results = csv_rows(tmp / "trials" / kCampaignResultsCsv);
+  const auto trials = csv_rows(tmp / "trials" / kCampaignTrialsCsv);
+  ASSERT_EQ(trials.front().size(), trial_columns().size());
+  EXPECT_EQ(trials.front().back(), "psnr");
+  const auto column = [](const char* name) {
+    for (std::size_t i = 0; i < trial_columns().size(); ++i) {
+      if (std::string(trial_columns()[i].name) == name) return i;
+    }
+    return std::size_t{0};
+  };
+  std::size_t next = 1;
+  for (std::size_t r = 1; r < results.size(); ++r) {
+    const ResultRow& row = results[r];
+    if (row[campaign_column_index("status")] != kStatusOk) continue;
+    double sum = 0.0;
+    for (int t = 0; t < 3; ++t, ++next) {
+      ASSERT_LT(next, trials.size());
+      const auto& trial = trials[next];
+      EXPECT_EQ(trial[column("code")], row[campaign_column_index("code")]);
+      EXPECT_EQ(trial[column("snr")], row[campaign_column_index("snr")]);
+      EXPECT_EQ(trial[column("trial")], std::to_string(t));
+      EXPECT_EQ(trial[column("trial_seed")],
+                std::to_string(std::stoull(row[campaign_column_index("seed")]) + t));
+      sum += std::stod(trial[column("rmse")]);
+    }
+    EXPECT_EQ(std::stod(row[campaign_column_index("rmse_mean")]), sum / 3) << r;
+  }
+  EXPECT_EQ(next, trials.size());
+  EXPECT_EQ(test::lines_of(test::read_file(tmp / "trials" / kCampaignTrialsJsonl)).size(),
+            trials.size() - 1);
+}
+
+std::string trial_files_of(const fs::path& dir) {
+  return test::read_file(dir / kCampaignTrialsCsv) + test::read_file(dir / kCampaignTrialsJsonl) +
+         test::read_file(dir / kCampaignJournal);
+}
+
+TEST(Campaign, PerTrialRowsResumeAndMergeToTheBytesOfOneRun) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.per_trial = true;
+  const ResolvedCampaign c = resolve_campaign(spec);
+  RunCampaign(c, (tmp / "single").string(), {});
+  // Resume from a journal cut in the middle of a line.
+  const std::string journal = test::read_file(tmp / "single" / kCampaignJournal);
+  fs::create_directories(tmp / "cut");
+  test::write_file(tmp / "cut" / kCampaignJournal, journal.substr(0, journal.size() / 2));
+  const CampaignRunSummary resumed = RunCampaign(c, (tmp / "cut").string(), {});
+  EXPECT_GT(resumed.resumed, 0);
+  EXPECT_GT(resumed.ran, 0);
+  EXPECT_EQ(trial_files_of(tmp / "cut"), trial_files_of(tmp / "single"));
+  // Shards and merge.
+  std::vector<std::string> parts;
+  for (int i = 1; i <= 3; ++i) {
+    CampaignRunOptions options;
+    options.shard = {i, 3};
+    parts.push_back((tmp / ("part" + std::to_string(i))).string());
+    RunCampaign(c, parts.back(), options);
+  }
+  MergeCampaignParts(parts, (tmp / "merged").string());
+  EXPECT_EQ(trial_files_of(tmp / "merged"), trial_files_of(tmp / "single"));
+  EXPECT_EQ(test::read_file(tmp / "merged" / kCampaignResultsCsv),
+            test::read_file(tmp / "single" / kCampaignResultsCsv));
+}
+
 std::string results_of(const fs::path& dir) {
   return test::read_file(dir / kCampaignResultsCsv) + test::read_file(dir / kCampaignResultsJsonl) +
          test::read_file(dir / kCampaignManifest);

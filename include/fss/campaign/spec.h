@@ -48,6 +48,7 @@ struct CampaignSpec {
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
   int rmse_margin_columns = -1;  // -1: 3 B
+  bool per_trial = false;        // also one row per trial (trials.csv, trials.jsonl)
 
   // False, with a message naming the field, its value and the rule, when a
   // field is malformed on its own (values a setting cannot run with, such as
@@ -85,6 +86,7 @@ struct ResolvedCampaign {
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
   int rmse_margin_columns = -1;
+  bool per_trial = false;
 
   // Canonical JSON of everything above (one line, keys sorted, numbers in
   // shortest round-trip form) and its SHA-256: two specifications that run

@@ -4,6 +4,7 @@
 
 #include <complex>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -52,6 +53,10 @@ class RowObserver {
   };
 
   int width() const { return width_; }
+
+  // This observer with another snr and noise model: the filters (the part
+  // that costs) are shared, not computed again (SimulationPlan, simulate.h).
+  RowObserver with_noise(double snr, bool aggregate_noise) const;
 
   // Loads the row to observe into the scratch: a real row (width values),
   // transformed here, or its DFT (width / 2 + 1 bins) when already known.
@@ -103,8 +108,9 @@ class RowObserver {
   bool aggregate_ = false;  // numerical mode with aggregated noise
   bool shift_ = false;      // numerical mode with an integer v dt
   long long step_ = 0;      // v dt when shift_
-  // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
-  std::vector<std::vector<std::complex<double>>> filters_;
+  // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when
+  // alpha_k = 0); shared by the copies of with_noise.
+  std::shared_ptr<const std::vector<std::vector<std::complex<double>>>> filters_;
 };
 
 }  // namespace fss

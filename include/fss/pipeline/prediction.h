@@ -15,6 +15,7 @@
 namespace fss {
 
 struct SimulationReport;  // simulate.h
+class SimulationPlan;     // simulate.h
 
 // Q = dt sum alpha_k^2 (numerical) or dt sum alpha_k (analog): the variance
 // of the observation of a unit landscape, in units of 100 / snr^2.
@@ -61,5 +62,8 @@ struct Prediction {
 // column.
 Prediction predict(const SimulationReport& report, const Image& input,
                    const NoiseFreeRun& noise_free);
+// The same with M and W(j) from the plan the report was run with.
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free, const SimulationPlan& plan);
 
 }  // namespace fss

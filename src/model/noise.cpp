@@ -336,10 +336,41 @@ void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& 
   });
 }
 
+void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowNoiseId& id,
+                                           double gain, const SensorReadout& readout,
+                                           std::span<double> out) {
+  const std::size_t n = e.size();
+  lambda_.resize(n);
+  // lambda = max(e, 0) lambda2 + dark: photo and dark electrons, one Poisson
+  bool knuth = false;
+  for (std::size_t x = 0; x < n; ++x) {
+    lambda_[x] = std::max(e[x], 0.0) * lambda2_ + readout.dark_electrons;
+    knuth = knuth || lambda_[x] < kKnuthLimit;
+  }
+  // The charge P, drawn as accumulate() draws it, into normals_.
+  draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
+  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
+  for (std::size_t x = 0; x < n; ++x) {
+    normals_[x] = lambda_[x] < kKnuthLimit
+                      ? poisson_variate(lambda_[x], knuth_stream)
+                      : round_nonnegative(lambda_[x] + std::sqrt(lambda_[x]) * normals_[x]);
+  }
+  const bool read_noise = readout.read_noise_electrons != 0.0;
+  if (read_noise) {
+    draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), n, u1_, u2_, read_normals_,
+                 /*portable=*/true);
+  }
+  // out += gain * read(P, R) / lambda2
+  const double scale = gain / lambda2_;
+  for (std::size_t x = 0; x < n; ++x) {
+    out[x] += scale * readout.read(normals_[x], read_noise ? read_normals_[x] : 0.0);
+  }
+}
+
 AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
 void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
-                                     std::span<double> out) {
+                                     std::span<double> out, const SensorReadout* readout) {
   const std::size_t n = e.size();
   if (!has_frame_) {  // the row's first frame
     mean_.assign(n, 0.0);
@@ -349,6 +380,7 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
   lambda_.resize(n);
   // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12).
   const double gain_squared = gain * gain;
+  const double dark_electrons = readout != nullptr ? readout->dark_electrons : 0.0;
   std::size_t normal_pixels = 0;
   run_vectorized([&]() __attribute__((always_inline)) {
     // Locals, not the captured references, so that the loop vectorizes.
@@ -359,9 +391,10 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
     const double lambda2 = lambda2_;
     const double alpha = gain;
     const double alpha_squared = gain_squared;
+    const double dark = dark_electrons;
     std::size_t count = 0;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark;
       const bool normal = lambda[x] >= kKnuthLimit;
       mean[x] += normal ? alpha * lambda[x] : 0.0;
       variance[x] += normal ? alpha_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
@@ -370,6 +403,15 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
     normal_pixels = count;
   });
   if (normal_pixels > 0) has_normal_ = true;
+  if (readout != nullptr) {
+    // Every pixel: M -= alpha dark (dark-frame correction), V += alpha^2 sigma_r^2.
+    const double read_variance = readout->read_noise_electrons * readout->read_noise_electrons;
+    for (std::size_t x = 0; x < n; ++x) {
+      mean_[x] -= gain * readout->dark_electrons;
+      variance_[x] += gain_squared * read_variance;
+    }
+    has_normal_ = true;
+  }
   if (normal_pixels == n) return;
 
   // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.

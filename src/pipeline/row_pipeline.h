@@ -47,8 +47,10 @@ class RowPipeline {
   // `observed` is not null, it receives each observed row: observation
   // columns [3h, 3h + Wo) divided by the observed divisor. False when an
   // observed value is not finite.
+  // A noise-free run also counts its clipped readouts (ReadoutClipping,
+  // observe.h) into `clipping` when it is not null.
   bool restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
-                   ObservedRowSink* observed) const;
+                   ObservedRowSink* observed, ReadoutClipping* clipping = nullptr) const;
 
   // The noise-free pass of a noisy run: RMSE_0, the RMSE of the noise-free
   // restoration over output columns [first, end), and S(j), the sums over

@@ -57,9 +57,16 @@ bool SimulationOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  std::string sensor_error;
+  if (!sensor.IsValid(&sensor_error)) {
+    if (error) *error = "sensor." + sensor_error;
+    return false;
+  }
   const std::string margin = std::to_string(rmse_margin_columns);
   return !(broken("noise", to_string(noise),
                   noise_rule(noise == NoiseModel::kAggregated, mode == ShutterMode::kAnalog)) ||
+           broken("noise", to_string(noise),
+                  sensor_noise_rule(noise == NoiseModel::kAggregated, sensor.linear())) ||
            broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
            broken("trials", std::to_string(trials), trials_rule(trials)) ||
            broken("threads", std::to_string(threads), threads_rule(threads)));
@@ -201,8 +208,10 @@ struct TrialSums {
 // Without noise every trial is the same run: run it once. False when an
 // observed value is not finite.
 bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& options,
-                    const Image& input, SimulationReport& report, ObservedRowSink* observed) {
-  const bool observed_finite = pipeline.restore_all(std::nullopt, report.restored, observed);
+                    const Image& input, SimulationReport& report, ObservedRowSink* observed,
+                    ReadoutClipping& clipping) {
+  const bool observed_finite =
+      pipeline.restore_all(std::nullopt, report.restored, observed, &clipping);
   report.metrics = measure(report, input, report.restored);
   report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
   if (options.trial_callback) options.trial_callback(options.trials, options.trials);
@@ -253,6 +262,34 @@ void check_finite(const SimulationReport& report, const ShutterCode& code, bool 
                     format_number(report.options.snr) + " are too extreme");
 }
 
+// A full well or an ADC that clips readouts (docs/method.md §10): the
+// simulation says so, and that the prediction is approximate.
+void add_clipping_warnings(const NoiseFreeRun& run, SimulationReport& report) {
+  const auto total = [&]() {
+    const std::size_t readouts_per_pixel =
+        report.options.mode == ShutterMode::kAnalog
+            ? 1
+            : static_cast<std::size_t>(std::count_if(report.gains.begin(), report.gains.end(),
+                                                     [](double g) { return g != 0.0; }));
+    return std::to_string(readouts_per_pixel * static_cast<std::size_t>(
+                                                   report.geometry.observed_width) *
+                          static_cast<std::size_t>(report.height) *
+                          static_cast<std::size_t>(report.channels));
+  };
+  if (run.saturated_readouts > 0) {
+    report.warnings.push_back(
+        std::to_string(run.saturated_readouts) + " of " + total() +
+        " readouts saturate (mean charge at or above the full well or the ADC's top, "
+        "docs/method.md §10): the observation is clipped and the predicted RMSE is approximate");
+  }
+  if (run.near_zero_readouts > 0) {
+    report.warnings.push_back(
+        std::to_string(run.near_zero_readouts) + " of " + total() +
+        " readouts lie within 3 standard deviations of 0, where the ADC clips negative "
+        "readouts (docs/method.md §10): the predicted RMSE is approximate");
+  }
+}
+
 }  // namespace
 
 SimulationReport Simulate(const SimulationOptions& options, const Image& input,
@@ -282,8 +319,11 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   NoiseFreeRun noise_free;
   bool observed_finite = true;
   if (options.noise == NoiseModel::kNone) {
-    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink);
+    ReadoutClipping clipping;
+    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink, clipping);
     noise_free.rmse = report.metrics.rmse;
+    noise_free.saturated_readouts = clipping.saturated;
+    noise_free.near_zero_readouts = clipping.near_zero;
   } else {
     noise_free = pipeline.noise_free_pass(report.rmse_first, report.rmse_end);
     observed_finite = run_trials(pipeline, options, input, report, observed_sink);
@@ -293,6 +333,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
   // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.
   report.prediction = predict(report, input, noise_free);
+  add_clipping_warnings(noise_free, report);
   return report;
 }
 

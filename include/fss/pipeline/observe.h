@@ -11,6 +11,7 @@
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/model/noise.h"
+#include "fss/model/sensor.h"
 
 namespace fss {
 
@@ -21,9 +22,32 @@ struct ObservationParams {
   // Numerical mode: each pixel's normal-branch frames drawn as one normal
   // (AggregatedRowSampler, docs/method.md §6c) instead of one by one.
   bool aggregate_noise = false;
+  // The sensor (docs/method.md §10); a default one is the paper's photon
+  // noise, every output bit unchanged.
+  SensorModel sensor;
+  // Columns [first, end) of the row whose readouts the noise-free pass
+  // checks for clipping (ReadoutClipping); end -1: the whole row.
+  int clipping_first_column = 0;
+  int clipping_end_column = -1;
   // Used only by the whole-image reference paths (src/pipeline/reference_paths.h).
   std::uint64_t seed = 0;
   int threads = 0;
+};
+
+// Readouts of a noise-free pass whose mean charge (photo plus dark electrons)
+// a nonlinear sensor clips, where the exact prediction's linear model does
+// not hold (docs/method.md §10): `saturated` reach min(F, (2^b - 1) G), the
+// full well or the ADC's top; `near_zero` (ADC only) lie within 3 standard
+// deviations of 0, sqrt(charge + sigma_r^2), where the ADC clips negative
+// readouts. Counted only for a sensor with a full well or an ADC.
+struct ReadoutClipping {
+  std::uint64_t saturated = 0;
+  std::uint64_t near_zero = 0;
+  ReadoutClipping& operator+=(const ReadoutClipping& other) {
+    saturated += other.saturated;
+    near_zero += other.near_zero;
+    return *this;
+  }
 };
 
 // The observation of one row at a time, from the row's DFT: the first stage
@@ -66,8 +90,16 @@ class RowObserver {
   // variance of the noisy observation, Var(o) (docs/method.md §6b):
   // numerical sum_k alpha_k^2 Var(PoissonSNR(e_k)), analog Var(PoissonSNR(e)),
   // Var as poisson_snr_variance (noise.h).
-  void observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
-               std::span<double> out, std::span<double> variance = {}) const;
+  // With an enabled sensor (docs/method.md §10) each readout (a frame, or the
+  // analog exposure) is read as SensorReadout::read; the expectation is
+  // max(e, 0) for a linear sensor, and, with a full well or an ADC, the mean
+  // charge clipped, (min(max(e, 0) lambda2 + dark, clip) - dark) / lambda2,
+  // without the ADC's rounding (counted as variance G^2 / 12); the variance
+  // adds readout_variance_electrons2 / lambda2^2 per readout, and the dark
+  // charge moves the Poisson's branch test to lambda + dark >= 50. Returns the
+  // clipped readouts of a noise-free pass (zero for a noisy one).
+  ReadoutClipping observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
+                          std::span<double> out, std::span<double> variance = {}) const;
 
   // Aggregated noise (numerical mode): the next noisy observe() with this
   // scratch also records the row's plan (AggregatedRowPlan, noise.h) into
@@ -105,6 +137,12 @@ class RowObserver {
   long long step_ = 0;      // v dt when shift_
   // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
   std::vector<std::vector<std::complex<double>>> filters_;
+  bool sensor_ = false;         // the sensor is enabled
+  bool sensor_linear_ = true;   // and has neither a full well nor an ADC
+  SensorReadout readout_;       // of one readout of this mode
+  double readout_variance_ = 0.0;  // readout_variance_electrons2, electrons^2
+  int clipping_first_ = 0;
+  int clipping_end_ = 0;
 };
 
 }  // namespace fss

@@ -166,6 +166,7 @@ SweepCommand::SweepCommand(CLI::App& app) {
   flags_.AddRmseMargin(*sweep_);
   flags_.AddThreads(*sweep_);
   flags_.AddMaxMemory(*sweep_);  // the simulator's memory guard, for the image and each row
+  flags_.AddSensor(*sweep_);
   sweep_->add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep_->add_option("--plot", plot_,
                      "also draw measured and predicted RMSE against the swept parameter into "

@@ -341,30 +341,65 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
                                            std::span<double> out) {
   const std::size_t n = e.size();
   lambda_.resize(n);
-  // lambda = max(e, 0) lambda2 + dark: photo and dark electrons, one Poisson
-  bool knuth = false;
-  for (std::size_t x = 0; x < n; ++x) {
-    lambda_[x] = std::max(e[x], 0.0) * lambda2_ + readout.dark_electrons;
-    knuth = knuth || lambda_[x] < kKnuthLimit;
-  }
-  // The charge P, drawn as accumulate() draws it, into normals_.
+  std::size_t knuth_pixels = 0;
+  run_vectorized([&]() __attribute__((always_inline)) {
+    // lambda = max(e, 0) lambda2 + dark: photo and dark electrons, one Poisson
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = lambda_.data();
+    const double lambda2 = lambda2_;
+    const double dark = readout.dark_electrons;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark;
+      count += lambda[x] < kKnuthLimit ? 1 : 0;
+    }
+    knuth_pixels = count;
+  });
+  // The charge P, drawn as accumulate() draws it: normals from lane 0, and
+  // Knuth's variates from lane 1 in place of the unused normals.
   draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
-  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
-  for (std::size_t x = 0; x < n; ++x) {
-    normals_[x] = lambda_[x] < kKnuthLimit
-                      ? poisson_variate(lambda_[x], knuth_stream)
-                      : round_nonnegative(lambda_[x] + std::sqrt(lambda_[x]) * normals_[x]);
+  if (knuth_pixels > 0) {
+    RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
+    for (std::size_t x = 0; x < n; ++x) {
+      if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
+    }
   }
-  const bool read_noise = readout.read_noise_electrons != 0.0;
-  if (read_noise) {
+  // The read noise's normals from lane 4 (zeros without read noise).
+  if (readout.read_noise_electrons != 0.0) {
     draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), n, u1_, u2_, read_normals_,
                  /*portable=*/true);
+  } else {
+    read_normals_.assign(n, 0.0);
   }
-  // out += gain * read(P, R) / lambda2
-  const double scale = gain / lambda2_;
-  for (std::size_t x = 0; x < n; ++x) {
-    out[x] += scale * readout.read(normals_[x], read_noise ? read_normals_[x] : 0.0);
-  }
+  // out += gain * read(P, R) / lambda2 (SensorReadout::read, inline so that
+  // the loop vectorizes)
+  run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict lambda = lambda_.data();
+    const double* __restrict normal = normals_.data();
+    const double* __restrict read = read_normals_.data();
+    double* __restrict sum = out.data();
+    const double scale = gain / lambda2_;
+    const double well = readout.full_well_electrons;
+    const double sigma = readout.read_noise_electrons;
+    const double dark = readout.dark_electrons;
+    const bool adc = readout.adc();
+    const double adc_gain = adc ? readout.adc_gain_electrons_per_count : 1.0;
+    const double adc_max = readout.adc_max_counts;
+    for (std::size_t x = 0; x < n; ++x) {
+      const double rounded = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+      const double charge = lambda[x] < kKnuthLimit ? normal[x] : rounded;
+      const double q = std::min(charge, well) + sigma * read[x];
+      const double counted = std::min(round_nonnegative(q / adc_gain), adc_max) * adc_gain;
+      sum[x] += scale * ((adc ? counted : q) - dark);
+    }
+  });
+}
+
+void PoissonRowSampler::add_read_noise(const RowNoiseId& id, double scale,
+                                       std::span<double> out) {
+  draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), out.size(), u1_, u2_,
+               read_normals_, /*portable=*/true);
+  for (std::size_t x = 0; x < out.size(); ++x) out[x] += scale * read_normals_[x];
 }
 
 AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}

@@ -25,6 +25,15 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
   const double exposure = readout_exposure_slots(gains_.size(), params.dt, mode);
   readout_ = sensor_readout(params.sensor, exposure);
   readout_variance_ = readout_variance_electrons2(params.sensor, exposure);
+  frame_readout_ = readout_;
+  sum_read_noise_ = mode == ShutterMode::kNumerical && sensor_linear_ &&
+                    params.sensor.read_noise_electrons != 0.0;
+  if (sum_read_noise_) {
+    double sum_squares = 0.0;
+    for (const double alpha : gains_) sum_squares += alpha * alpha;
+    summed_read_sd_ = params.sensor.read_noise_electrons * std::sqrt(sum_squares);
+    frame_readout_.read_noise_electrons = 0.0;
+  }
   clipping_first_ = std::clamp(params.clipping_first_column, 0, width);
   clipping_end_ = params.clipping_end_column < 0
                       ? width
@@ -222,7 +231,7 @@ ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel
     if (noisy && aggregate_) {
       scratch.aggregated.add_frame(e, {seed, c, k, y}, alpha, out, readout);  // finished below
     } else if (noisy && sensor_) {
-      scratch.sampler.accumulate_readout(e, {seed, c, k, y}, alpha, readout_, out);
+      scratch.sampler.accumulate_readout(e, {seed, c, k, y}, alpha, frame_readout_, out);
     } else if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
@@ -233,6 +242,10 @@ ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel
   for_each_slot(scratch, add_slot);
   // The aggregated normal-branch frames: one normal per pixel.
   if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
+  // The frames' read noise, summed: sigma_r sqrt(sum alpha_k^2) N / lambda2.
+  if (noisy && !aggregate_ && sum_read_noise_) {
+    scratch.sampler.add_read_noise({seed, c, 0, y}, summed_read_sd_ / lambda2, out);
+  }
   return clipping;
 }
 

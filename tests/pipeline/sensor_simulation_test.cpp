@@ -195,6 +195,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         SensorCase{"Numerical", ShutterMode::kNumerical, NoiseModel::kPoisson, true},
         SensorCase{"Analog", ShutterMode::kAnalog, NoiseModel::kPoisson, true},
+        // a linear sensor: the frames' read noise drawn as one normal per pixel
+        SensorCase{"NumericalLinear", ShutterMode::kNumerical, NoiseModel::kPoisson, false},
         SensorCase{"NumericalAggregated", ShutterMode::kNumerical, NoiseModel::kAggregated, false}),
     [](const ::testing::TestParamInfo<SensorCase>& info) { return std::string(info.param.name); });
 

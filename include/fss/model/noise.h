@@ -89,6 +89,10 @@ class PoissonRowSampler {
   // processor). Used only when the sensor is enabled.
   void accumulate_readout(std::span<const double> e, const RowNoiseId& id, double gain,
                           const SensorReadout& readout, std::span<double> out);
+  // out[x] += scale * N[x], N standard normals from the row's kReadNoise lane
+  // (box_muller_portable), as accumulate_readout draws its read noise: the
+  // numerical mode's read noise summed over the frames of a linear sensor.
+  void add_read_noise(const RowNoiseId& id, double scale, std::span<double> out);
 
  private:
   double lambda2_;

@@ -449,10 +449,10 @@ void define_simulate(py::module_& m) {
          std::optional<double> restore_velocity, int threads, std::optional<int> rmse_margin,
          std::size_t max_memory, double read_noise, double dark_current,
          std::optional<double> full_well, int adc_bits, double adc_gain) {
-        return simulate(image, {code, mode, velocity, snr, dt, seed, trials, noise,
-                                restore_velocity, threads, rmse_margin, max_memory,
-                                sensor_from(read_noise, dark_current, full_well, adc_bits,
-                                            adc_gain)});
+        return simulate(
+            image, {code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
+                    rmse_margin, max_memory,
+                    sensor_from(read_noise, dark_current, full_well, adc_bits, adc_gain)});
       },
       py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
       py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0,

@@ -225,17 +225,17 @@ void seal(ResolvedCampaign& c) {
   for (const ShutterMode m : c.modes) modes.push_back(to_string(m));
   for (const auto& r : c.restore_velocities) restore.push_back(r ? Json(*r) : Json(nullptr));
   Json j = {{"campaign_schema", 1},
-                  {"images", images},
-                  {"codes", codes},
-                  {"modes", modes},
-                  {"velocity", values_json(c.velocities)},
-                  {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
-                  {"snr", values_json(c.snrs)},
-                  {"dt", values_json(c.dts)},
-                  {"trials", c.trials},
-                  {"seed", c.seed},
-                  {"noise", to_string(c.noise)},
-                  {"rmse_margin", c.rmse_margin_columns}};
+            {"images", images},
+            {"codes", codes},
+            {"modes", modes},
+            {"velocity", values_json(c.velocities)},
+            {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
+            {"snr", values_json(c.snrs)},
+            {"dt", values_json(c.dts)},
+            {"trials", c.trials},
+            {"seed", c.seed},
+            {"noise", to_string(c.noise)},
+            {"rmse_margin", c.rmse_margin_columns}};
   if (c.has_sensor()) j["sensor"] = sensor_json(c);
   c.canonical_json = j.dump();
   c.sha256 = sha256_hex(c.canonical_json);
@@ -365,12 +365,12 @@ Setting setting_at(const ResolvedCampaign& c, long long index) {
 std::string setting_description(const ResolvedCampaign& c, const Setting& s) {
   const auto& r = c.restore_velocities[s.restore_velocity];
   Json j = {{"image_sha256", c.images[s.image].sha256},
-                  {"code_sha256", c.codes[s.code].sha256},
-                  {"mode", to_string(c.modes[s.mode])},
-                  {"velocity", c.velocities.values[s.velocity]},
-                  {"restore_velocity", r ? Json(*r) : Json(nullptr)},
-                  {"snr", c.snrs.values[s.snr]},
-                  {"dt", c.dts.values[s.dt]}};
+            {"code_sha256", c.codes[s.code].sha256},
+            {"mode", to_string(c.modes[s.mode])},
+            {"velocity", c.velocities.values[s.velocity]},
+            {"restore_velocity", r ? Json(*r) : Json(nullptr)},
+            {"snr", c.snrs.values[s.snr]},
+            {"dt", c.dts.values[s.dt]}};
   if (c.has_sensor()) {
     j["sensor"] = sensor_json(c);
     j["sensor"].erase("read_noise");

@@ -41,15 +41,15 @@ json geometry_json(const SimulationReport& r) {
 // §6b), sigma and rmse_stationary the stationary approximation (§6).
 json prediction_json(const SimulationReport& r) {
   json j = {{"finite", r.prediction.finite},
-          {"rmse_noise_free", finite_or_null(r.prediction.rmse_noise_free)},
-          {"noise", finite_or_null(r.prediction.noise)},
-          {"rmse", finite_or_null(r.prediction.rmse)},
-          {"sigma", finite_or_null(r.prediction.sigma)},
-          {"rmse_stationary", finite_or_null(r.prediction.rmse_stationary)},
-          {"snr_level100", finite_or_null(r.prediction.snr_level100)},
-          {"window_mean", r.prediction.window_mean},
-          {"q", r.prediction.q},
-          {"m", finite_or_null(r.prediction.m_amplification)}};
+            {"rmse_noise_free", finite_or_null(r.prediction.rmse_noise_free)},
+            {"noise", finite_or_null(r.prediction.noise)},
+            {"rmse", finite_or_null(r.prediction.rmse)},
+            {"sigma", finite_or_null(r.prediction.sigma)},
+            {"rmse_stationary", finite_or_null(r.prediction.rmse_stationary)},
+            {"snr_level100", finite_or_null(r.prediction.snr_level100)},
+            {"window_mean", r.prediction.window_mean},
+            {"q", r.prediction.q},
+            {"m", finite_or_null(r.prediction.m_amplification)}};
   // With an enabled sensor only, so that a default report keeps its bytes.
   if (r.options.sensor.enabled()) j["exact"] = r.prediction.exact;
   return j;

@@ -395,8 +395,7 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
   });
 }
 
-void PoissonRowSampler::add_read_noise(const RowNoiseId& id, double scale,
-                                       std::span<double> out) {
+void PoissonRowSampler::add_read_noise(const RowNoiseId& id, double scale, std::span<double> out) {
   draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), out.size(), u1_, u2_,
                read_normals_, /*portable=*/true);
   for (std::size_t x = 0; x < out.size(); ++x) out[x] += scale * read_normals_[x];

@@ -79,8 +79,8 @@ class RowPipeline::Worker {
   const double* observe_with_variance(int c, int y, ReadoutClipping& clipping) {
     variance_.resize(observation_.size());
     pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
-    clipping += pipeline_.observer_.observe(false, 0, c, y, observer_scratch_, observation_,
-                                            variance_);
+    clipping +=
+        pipeline_.observer_.observe(false, 0, c, y, observer_scratch_, observation_, variance_);
     return variance_.data();
   }
 

@@ -271,10 +271,9 @@ void add_clipping_warnings(const NoiseFreeRun& run, SimulationReport& report) {
             ? 1
             : static_cast<std::size_t>(std::count_if(report.gains.begin(), report.gains.end(),
                                                      [](double g) { return g != 0.0; }));
-    return std::to_string(readouts_per_pixel * static_cast<std::size_t>(
-                                                   report.geometry.observed_width) *
-                          static_cast<std::size_t>(report.height) *
-                          static_cast<std::size_t>(report.channels));
+    return std::to_string(
+        readouts_per_pixel * static_cast<std::size_t>(report.geometry.observed_width) *
+        static_cast<std::size_t>(report.height) * static_cast<std::size_t>(report.channels));
   };
   if (run.saturated_readouts > 0) {
     report.warnings.push_back(

@@ -206,8 +206,7 @@ TEST(Campaign, SensorIsInTheHashTheSettingsAndTheRows) {
   const ResolvedCampaign plain = resolve_campaign(spec);
   EXPECT_FALSE(plain.has_sensor());
   EXPECT_EQ(plain.canonical_json.find("sensor"), std::string::npos);
-  EXPECT_EQ(setting_description(plain, setting_at(plain, 0)).find("read_noise"),
-            std::string::npos);
+  EXPECT_EQ(setting_description(plain, setting_at(plain, 0)).find("read_noise"), std::string::npos);
 
   spec.read_noise = "0,6";
   spec.sensor.dark_current_electrons_per_slot = 0.5;

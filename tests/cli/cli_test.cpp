@@ -416,9 +416,10 @@ TEST_F(CliRuns, SensorIsReportedOnlyWhenEnabled) {
   EXPECT_THAT(plain_json, Not(HasSubstr("sensor")));
   EXPECT_THAT(plain_json, Not(HasSubstr("\"exact\"")));
 
-  const CommandResult sensor = run_fssim(
-      "--input " + quote(input) + " --read-noise 4 --dark-current 0.5 --adc-bits 14 "
-      "--adc-gain 3 --report --outdir " + quote(dir_ / "sensor"));
+  const CommandResult sensor = run_fssim("--input " + quote(input) +
+                                         " --read-noise 4 --dark-current 0.5 --adc-bits 14 "
+                                         "--adc-gain 3 --report --outdir " +
+                                         quote(dir_ / "sensor"));
   ASSERT_EQ(sensor.exit_code, 0) << sensor.err;
   EXPECT_THAT(sensor.out, HasSubstr("Sensor: read noise 4 e-, dark current 0.5 e-/slot, full well "
                                     "none, ADC 14 bits, gain 3 e-/count\n"));

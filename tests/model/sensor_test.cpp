@@ -200,8 +200,8 @@ std::vector<double> sample_rows(double snr, double e, const SensorReadout& reado
   std::vector<double> all;
   for (int y = 0; y < rows; ++y) {
     std::vector<double> out(kWidth, 0.0);
-    sampler.accumulate_readout(exposure, {seed, 0, 2, static_cast<std::uint64_t>(y)}, gain,
-                               readout, out);
+    sampler.accumulate_readout(exposure, {seed, 0, 2, static_cast<std::uint64_t>(y)}, gain, readout,
+                               out);
     all.insert(all.end(), out.begin(), out.end());
   }
   return all;
@@ -318,8 +318,7 @@ TEST(SensorSampler, GainScalesTheReadout) {
   s.dark_current_electrons_per_slot = 2.0;
   const SensorReadout r = sensor_readout(s, 1.0);
   // alpha = -0.5 (numerical gains may be negative), lambda2 = 1
-  expect_moments(sample_rows(10.0, 100.0, r, -0.5), -50.0,
-                 0.25 * (102.0 + 1.0 / 12.0 + 25.0));
+  expect_moments(sample_rows(10.0, 100.0, r, -0.5), -50.0, 0.25 * (102.0 + 1.0 / 12.0 + 25.0));
 }
 
 TEST(SensorSampler, ReadNoiseIsIndependentOfThePhotonNoise) {

@@ -220,8 +220,8 @@ TEST(SensorPrediction, ConstantLandscapeAtRestAddsTheReadoutVariance) {
   const double photon = 100.0 * 2.0 / lambda2 / 4.0;
   EXPECT_NEAR(r.prediction.noise * r.prediction.noise,
               photon + (1.0 / 12.0 + readout) / (lambda2 * lambda2) / 4.0, 1e-12);
-  EXPECT_NEAR(r.prediction.sigma * r.prediction.sigma,
-              photon + readout / (lambda2 * lambda2) / 4.0, 1e-12);
+  EXPECT_NEAR(r.prediction.sigma * r.prediction.sigma, photon + readout / (lambda2 * lambda2) / 4.0,
+              1e-12);
   EXPECT_NEAR(r.prediction.snr_level100, 100.0 / std::sqrt(photon + readout / 81.0 / 4.0), 1e-9);
   EXPECT_TRUE(r.prediction.exact);
 }

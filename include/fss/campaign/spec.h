@@ -91,7 +91,7 @@ struct ResolvedCampaign {
   NoiseModel noise = NoiseModel::kPoisson;
   int rmse_margin_columns = -1;
   ValueList read_noises = {{0.0}, false};  // the read noise axis
-  SensorModel sensor;                       // the fixed parts; its read noise unused
+  SensorModel sensor;                      // the fixed parts; its read noise unused
 
   // True when the campaign uses a sensor: a read noise other than {0} or
   // a fixed part on. Only then do the canonical JSON and the settings'

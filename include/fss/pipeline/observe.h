@@ -137,16 +137,16 @@ class RowObserver {
   long long step_ = 0;      // v dt when shift_
   // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
   std::vector<std::vector<std::complex<double>>> filters_;
-  bool sensor_ = false;         // the sensor is enabled
-  bool sensor_linear_ = true;   // and has neither a full well nor an ADC
-  SensorReadout readout_;       // of one readout of this mode
+  bool sensor_ = false;        // the sensor is enabled
+  bool sensor_linear_ = true;  // and has neither a full well nor an ADC
+  SensorReadout readout_;      // of one readout of this mode
   // Numerical mode, per-frame sampler, linear sensor: the frames are read
   // without read noise (frame_readout_) and the read noise of all frames is
   // one normal per pixel of deviation sigma_r sqrt(sum_k alpha_k^2), the
   // same distribution (a sum of independent normals), one draw instead of L.
   bool sum_read_noise_ = false;
   SensorReadout frame_readout_;
-  double summed_read_sd_ = 0.0;  // sigma_r sqrt(sum_k alpha_k^2), electrons
+  double summed_read_sd_ = 0.0;    // sigma_r sqrt(sum_k alpha_k^2), electrons
   double readout_variance_ = 0.0;  // readout_variance_electrons2, electrons^2
   int clipping_first_ = 0;
   int clipping_end_ = 0;

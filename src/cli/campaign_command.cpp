@@ -96,6 +96,28 @@ bool apply_list(const std::string& key, const Json& value, fss::CampaignSpec& sp
   return true;
 }
 
+// A fixed sensor field of a campaign file (docs/method.md §10); false if
+// `key` is not one. The values are checked by CampaignSpec::IsValid.
+bool apply_sensor(const std::string& key, const Json& value, fss::CampaignSpec& spec) {
+  if (key == "adc_bits") {
+    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 64) {
+      fss::throw_usage_error("campaign file: 'adc_bits' takes an integer in [1, 32], got " +
+                             value.dump());
+    }
+    spec.sensor.adc_bits = value.get<int>();
+    return true;
+  }
+  if (key != "dark_current" && key != "full_well" && key != "adc_gain") return false;
+  if (!value.is_number()) {
+    fss::throw_usage_error("campaign file: '" + key + "' takes a number, got " + value.dump());
+  }
+  const double number = value.get<double>();
+  if (key == "dark_current") spec.sensor.dark_current_electrons_per_slot = number;
+  if (key == "full_well") spec.sensor.full_well_electrons = number;
+  if (key == "adc_gain") spec.sensor.adc_gain_electrons_per_count = number;
+  return true;
+}
+
 // A scalar field of a campaign file; false if `key` is not one.
 bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& spec,
                   std::string& noise) {
@@ -115,22 +137,8 @@ bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& 
   } else if (key == "noise") {
     if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
     noise = value.get<std::string>();
-  } else if (key == "dark_current" || key == "full_well" || key == "adc_gain") {
-    if (!value.is_number()) {
-      fss::throw_usage_error("campaign file: '" + key + "' takes a number, got " + value.dump());
-    }
-    const double number = value.get<double>();
-    if (key == "dark_current") spec.sensor.dark_current_electrons_per_slot = number;
-    if (key == "full_well") spec.sensor.full_well_electrons = number;
-    if (key == "adc_gain") spec.sensor.adc_gain_electrons_per_count = number;
-  } else if (key == "adc_bits") {
-    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 64) {
-      fss::throw_usage_error("campaign file: 'adc_bits' takes an integer in [1, 32], got " +
-                             value.dump());
-    }
-    spec.sensor.adc_bits = value.get<int>();
   } else {
-    return false;
+    return apply_sensor(key, value, spec);
   }
   return true;
 }

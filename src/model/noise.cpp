@@ -437,15 +437,7 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
     normal_pixels = count;
   });
   if (normal_pixels > 0) has_normal_ = true;
-  if (readout != nullptr) {
-    // Every pixel: M -= alpha dark (dark-frame correction), V += alpha^2 sigma_r^2.
-    const double read_variance = readout->read_noise_electrons * readout->read_noise_electrons;
-    for (std::size_t x = 0; x < n; ++x) {
-      mean_[x] -= gain * readout->dark_electrons;
-      variance_[x] += gain_squared * read_variance;
-    }
-    has_normal_ = true;
-  }
+  if (readout != nullptr) add_readout_terms(gain, *readout);
   if (normal_pixels == n) return;
 
   // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
@@ -469,6 +461,16 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
       }
     }
   }
+}
+
+void AggregatedRowSampler::add_readout_terms(double gain, const SensorReadout& readout) {
+  // Every pixel: M -= alpha dark (dark-frame correction), V += alpha^2 sigma_r^2.
+  const double read_variance = readout.read_noise_electrons * readout.read_noise_electrons;
+  for (std::size_t x = 0; x < mean_.size(); ++x) {
+    mean_[x] -= gain * readout.dark_electrons;
+    variance_[x] += gain * gain * read_variance;
+  }
+  has_normal_ = true;
 }
 
 void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,

@@ -200,28 +200,20 @@ ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel
                   readout_variance_);
   ReadoutClipping clipping;
   const double lambda2 = scratch.aggregated.lambda2();
-  // E[o] of one readout, weight alpha: alpha max(e, 0), or clipped (above)
-  const auto expect = [&](std::span<const double> e, double alpha) {
-    if (sensor_linear_) {
-      for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
-    } else {
-      add_clipped_expectation(e, alpha, lambda2, readout_, clipping_first_, clipping_end_, out,
-                              clipping);
-    }
-  };
   if (mode_ == ShutterMode::kAnalog) {
     const std::span<const double> e = filtered(filters_[0], scratch);
-    if (noisy && sensor_) {
-      scratch.sampler.accumulate_readout(e, {seed, c, 0, y}, 1.0, readout_, out);
-    } else if (noisy) {
-      scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
-    } else if (!sensor_linear_) {
-      expect(e, 1.0);
-      var.add_slot(e, {}, 0, 1.0);
-    } else {
-      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
-      var.add_slot(e, {}, 0, 1.0);
+    if (noisy) {
+      const RowNoiseId id{seed, c, 0, y};
+      sensor_ ? scratch.sampler.accumulate_readout(e, id, 1.0, readout_, out)
+              : scratch.sampler.accumulate(e, id, 1.0, out);  // o = PoissonSNR(e)
+      return clipping;
     }
+    if (sensor_linear_) {
+      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
+    } else {
+      add_expectation(e, 1.0, lambda2, out, clipping);
+    }
+    var.add_slot(e, {}, 0, 1.0);
     return clipping;
   }
   // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
@@ -235,7 +227,7 @@ ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel
     } else if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
-      expect(e, alpha);
+      add_expectation(e, alpha, lambda2, out, clipping);
       var.add_slot(e, shift.e0, shift.offset, alpha * alpha);
     }
   };
@@ -247,6 +239,16 @@ ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel
     scratch.sampler.add_read_noise({seed, c, 0, y}, summed_read_sd_ / lambda2, out);
   }
   return clipping;
+}
+
+void RowObserver::add_expectation(std::span<const double> e, double alpha, double lambda2,
+                                  std::span<double> out, ReadoutClipping& clipping) const {
+  if (sensor_linear_) {
+    for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+  } else {
+    add_clipped_expectation(e, alpha, lambda2, readout_, clipping_first_, clipping_end_, out,
+                            clipping);
+  }
 }
 
 void RowObserver::record_plan(AggregatedRowPlan* plan, Scratch& scratch) const {

@@ -238,6 +238,8 @@ class AggregatedRowSampler {
   void replay(const AggregatedRowPlan& plan, const RowNoiseId& id, std::span<double> out);
 
  private:
+  // A linear sensor's frame of gain alpha: M -= alpha dark, V += alpha^2 sigma_r^2.
+  void add_readout_terms(double gain, const SensorReadout& readout);
   // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
   void add_normals(std::span<const double> mean, std::span<const double> variance,
                    const RowNoiseId& id, std::span<double> out);

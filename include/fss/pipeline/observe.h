@@ -126,6 +126,10 @@ class RowObserver {
   // e_k from the row last loaded into `scratch` (numerical mode).
   template <typename PerSlot>
   void for_each_slot(Scratch& scratch, const PerSlot& per_slot) const;
+  // out += E[o] of one readout of gain alpha: alpha max(e, 0) (linear
+  // sensor), else the clipped mean charge, counting clipped readouts.
+  void add_expectation(std::span<const double> e, double alpha, double lambda2,
+                       std::span<double> out, ReadoutClipping& clipping) const;
 
   int width_;
   std::vector<double> gains_;

@@ -389,6 +389,18 @@ std::string SimulationReport::FullReport() const {
               : std::string())
       << ", dt " << format_number(options.dt) << ", snr " << format_number(options.snr)
       << ", noise " << to_string(options.noise) << ", seed " << options.seed << "\n";
+  if (options.sensor.enabled()) {  // docs/method.md §10
+    const SensorModel& s = options.sensor;
+    out << "  sensor           read noise " << format_number(s.read_noise_electrons)
+        << " e-, dark current " << format_number(s.dark_current_electrons_per_slot)
+        << " e-/slot, full well "
+        << (s.full_well_electrons ? format_number(*s.full_well_electrons) + " e-" : "none")
+        << ", ADC "
+        << (s.adc_bits != 0 ? std::to_string(s.adc_bits) + " bits, " +
+                                  format_number(s.adc_gain_electrons_per_count) + " e-/count"
+                            : "none")
+        << "\n";
+  }
   out << "  geometry         B = " << geometry.blur_length << ", observed crop "
       << geometry.observed_width << ", deconvolution grid " << geometry.mirror_width << ", output "
       << geometry.output_width << "\n";
@@ -410,7 +422,8 @@ std::string SimulationReport::FullReport() const {
   if (prediction.finite) {
     out << "  predicted        RMSE " << format_number(prediction.rmse) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.noise)
-        << "^2), the exact expectation\n";
+        << (prediction.exact ? "^2), the exact expectation\n"
+                             : "^2), approximate: the sensor clips readouts\n");
     out << "  stationary       RMSE " << format_number(prediction.rmse_stationary) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.sigma)
         << "^2), SNR at level 100 " << format_number(prediction.snr_level100) << "\n";

@@ -28,6 +28,11 @@ enum Column {
   kRestoreVelocity,
   kSnr,
   kDt,
+  kReadNoise,
+  kDarkCurrent,
+  kFullWell,
+  kAdcBits,
+  kAdcGain,
   kNoise,
   kRmseMargin,
   kSeed,
@@ -42,6 +47,7 @@ enum Column {
   kPredictedNoiseFree,
   kPredictedSigma,
   kSnrLevel100,
+  kPredictedExact,
   kInvertible,
   kStatus,
   kMessage,
@@ -62,6 +68,11 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"restore_velocity", kNumber},
                                                     {"snr", kNumber},
                                                     {"dt", kNumber},
+                                                    {"read_noise", kNumber},
+                                                    {"dark_current", kNumber},
+                                                    {"full_well", kNumber},
+                                                    {"adc_bits", kNumber},
+                                                    {"adc_gain", kNumber},
                                                     {"noise", kText},
                                                     {"rmse_margin", kNumber},
                                                     {"seed", kText},
@@ -76,6 +87,7 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"predicted_rmse_noise_free", kNumber},
                                                     {"predicted_sigma", kNumber},
                                                     {"snr_level100", kNumber},
+                                                    {"predicted_exact", kBoolean},
                                                     {"invertible", kBoolean},
                                                     {"status", kText},
                                                     {"message", kText},
@@ -154,6 +166,13 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   row[kRestoreVelocity] = shortest(o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot));
   row[kSnr] = shortest(o.snr);
   row[kDt] = shortest(o.dt);
+  // The sensor (docs/method.md §10): full_well empty for none, adc_gain
+  // empty without an ADC.
+  row[kReadNoise] = shortest(o.sensor.read_noise_electrons);
+  row[kDarkCurrent] = shortest(o.sensor.dark_current_electrons_per_slot);
+  if (o.sensor.full_well_electrons) row[kFullWell] = shortest(*o.sensor.full_well_electrons);
+  row[kAdcBits] = std::to_string(o.sensor.adc_bits);
+  if (o.sensor.adc_bits != 0) row[kAdcGain] = shortest(o.sensor.adc_gain_electrons_per_count);
   row[kNoise] = to_string(o.noise);
   row[kRmseMargin] = std::to_string(o.rmse_margin_columns);
   row[kSeed] = std::to_string(o.seed);
@@ -213,6 +232,7 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
       row[kPredictedNoiseFree] = shortest(p.rmse_noise_free);
       row[kPredictedSigma] = shortest(p.sigma);
       row[kSnrLevel100] = shortest(p.snr_level100);
+      row[kPredictedExact] = p.exact ? "true" : "false";
       row[kInvertible] = r.kernel.invertible ? "true" : "false";
       status = r.kernel.invertible ? kStatusOk : kStatusNotInvertible;
       if (trial_rows != nullptr) *trial_rows = trial_rows_of(row, r);

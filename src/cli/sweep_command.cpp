@@ -144,6 +144,7 @@ SweepCommand::SweepCommand(CLI::App& parent)
   flags_.AddRmseMargin(sweep);
   flags_.AddThreads(sweep);
   flags_.AddMaxMemory(sweep);  // the simulator's memory guard, for the image and each row
+  flags_.AddSensor(sweep);
   sweep.add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep.add_option("--plot", plot_,
                    "also draw measured and predicted RMSE against the swept parameter into "

@@ -28,6 +28,29 @@ double snr_level100(double q, double m_amplification, double snr) {
   return 100.0 / noise_sigma(100.0, q, m_amplification, snr);
 }
 
+double noise_sigma(double mean_level, std::span<const double> gains, double dt, ShutterMode mode,
+                   double m_amplification, double snr, const SensorModel& sensor) {
+  if (!sensor.enabled()) {
+    return noise_sigma(mean_level, noise_gain(gains, dt, mode), m_amplification, snr);
+  }
+  if (!std::isfinite(m_amplification)) return std::numeric_limits<double>::infinity();
+  // sigma^2 = ((m / 100) V_photon + (V_100 - V_photon)) M
+  const double photon = level100_observation_variance(gains, dt, mode, snr, SensorModel());
+  const double with_sensor = level100_observation_variance(gains, dt, mode, snr, sensor);
+  return std::sqrt((mean_level / 100.0 * photon + (with_sensor - photon)) * m_amplification);
+}
+
+double snr_level100(std::span<const double> gains, double dt, ShutterMode mode,
+                    double m_amplification, double snr, const SensorModel& sensor) {
+  if (!sensor.enabled()) {
+    return snr_level100(noise_gain(gains, dt, mode), m_amplification, snr);
+  }
+  if (!std::isfinite(m_amplification)) return 0.0;
+  // 100 / sqrt(V_100 M)
+  return 100.0 /
+         std::sqrt(level100_observation_variance(gains, dt, mode, snr, sensor) * m_amplification);
+}
+
 namespace {
 
 // m: the mean of input columns [first, end), per channel, then averaged over
@@ -77,13 +100,18 @@ Prediction predict_with(const SimulationReport& report, const Image& input,
   p.q = noise_gain(report.gains, options.dt, options.mode);
   p.m_amplification = p.finite ? m_amplification() : kInfinity;
   p.rmse_noise_free = r0;
-  p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
+  p.snr_level100 = snr_level100(report.gains, options.dt, options.mode, p.m_amplification,
+                                options.snr, options.sensor);
+  // A clipping sensor breaks the linear model of the variance terms (docs/method.md §10).
+  p.exact = noise_free.saturated_readouts == 0 && noise_free.near_zero_readouts == 0;
   if (!p.finite) {
     p.noise = p.rmse = p.sigma = p.rmse_stationary = kInfinity;
     return p;
   }
   // Stationary (§6): E[RMSE^2] ~ RMSE_0^2 + m Q (100 / snr^2) M
-  p.sigma = noisy ? noise_sigma(p.window_mean, p.q, p.m_amplification, options.snr) : 0.0;
+  p.sigma = noisy ? noise_sigma(p.window_mean, report.gains, options.dt, options.mode,
+                                p.m_amplification, options.snr, options.sensor)
+                  : 0.0;
   p.rmse_stationary = std::sqrt(r0 * r0 + p.sigma * p.sigma);
   // Exact (§6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count
   const double noise_power = noisy ? exact_noise_power(report, noise_weights(), noise_free) : 0.0;

@@ -54,9 +54,16 @@ bool SimulationOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  std::string sensor_error;
+  if (!sensor.IsValid(&sensor_error)) {
+    if (error) *error = "sensor." + sensor_error;
+    return false;
+  }
   const std::string margin = std::to_string(rmse_margin_columns);
   return !(broken("noise", to_string(noise),
                   noise_rule(noise == NoiseModel::kAggregated, mode == ShutterMode::kAnalog)) ||
+           broken("noise", to_string(noise),
+                  sensor_noise_rule(noise == NoiseModel::kAggregated, sensor.linear())) ||
            broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
            broken("trials", std::to_string(trials), trials_rule(trials)) ||
            broken("threads", std::to_string(threads), threads_rule(threads)));
@@ -128,15 +135,6 @@ Geometry checked_geometry(const SimulationOptions& options, int width, const Shu
   return run_geometry(options, width, code);
 }
 
-ObservationParams observation_params(const SimulationOptions& options) {
-  ObservationParams params;
-  params.velocity = options.velocity_px_per_slot;
-  params.dt = options.dt;
-  params.snr = options.snr;
-  params.aggregate_noise = options.noise == NoiseModel::kAggregated;
-  return params;
-}
-
 }  // namespace
 
 SimulationPlan::SimulationPlan(const SimulationOptions& options, int width, const ShutterCode& code)
@@ -150,7 +148,7 @@ SimulationPlan::SimulationPlan(const SimulationOptions& options, int width, cons
       noisy_(options.noise != NoiseModel::kNone),
       geometry_(checked_geometry(options, width, code)),
       windows_(metric_windows(geometry_, margin_)),
-      observer_(width, code.gains, options.mode, observation_params(options)),
+      observer_(width, code.gains, options.mode, observation_params(options, geometry_)),
       restorer_(geometry_, code.gains, restore_velocity_, dt_) {
   // The kernel the restoration inverts, K at the restore velocity v_r
   // (docs/method.md §1), the divisor of the observed image, and their warnings.
@@ -246,8 +244,10 @@ struct TrialSums {
 // Without noise every trial is the same run: run it once. False when an
 // observed value is not finite.
 bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& options,
-                    const Image& input, SimulationReport& report, ObservedRowSink* observed) {
-  const bool observed_finite = pipeline.restore_all(std::nullopt, report.restored, observed);
+                    const Image& input, SimulationReport& report, ObservedRowSink* observed,
+                    ReadoutClipping& clipping) {
+  const bool observed_finite =
+      pipeline.restore_all(std::nullopt, report.restored, observed, &clipping);
   report.metrics = measure(report, input, report.restored);
   report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
   report.trial_metrics.assign(static_cast<std::size_t>(options.trials), report.metrics);
@@ -298,6 +298,33 @@ void check_finite(const SimulationReport& report, const ShutterCode& code, bool 
                     format_number(gain_max_abs(code.gains)) + "), dt " +
                     format_number(report.options.dt) + " or snr " +
                     format_number(report.options.snr) + " are too extreme");
+}
+
+// A full well or an ADC that clips readouts (docs/method.md §10): the
+// simulation says so, and that the prediction is approximate.
+void add_clipping_warnings(const NoiseFreeRun& run, SimulationReport& report) {
+  const auto total = [&]() {
+    const std::size_t readouts_per_pixel =
+        report.options.mode == ShutterMode::kAnalog
+            ? 1
+            : static_cast<std::size_t>(std::count_if(report.gains.begin(), report.gains.end(),
+                                                     [](double g) { return g != 0.0; }));
+    return std::to_string(
+        readouts_per_pixel * static_cast<std::size_t>(report.geometry.observed_width) *
+        static_cast<std::size_t>(report.height) * static_cast<std::size_t>(report.channels));
+  };
+  if (run.saturated_readouts > 0) {
+    report.warnings.push_back(
+        std::to_string(run.saturated_readouts) + " of " + total() +
+        " readouts saturate (mean charge at or above the full well or the ADC's top, "
+        "docs/method.md §10): the observation is clipped and the predicted RMSE is approximate");
+  }
+  if (run.near_zero_readouts > 0) {
+    report.warnings.push_back(
+        std::to_string(run.near_zero_readouts) + " of " + total() +
+        " readouts lie within 3 standard deviations of 0, where the ADC clips negative "
+        "readouts (docs/method.md §10): the predicted RMSE is approximate");
+  }
 }
 
 }  // namespace
@@ -354,8 +381,11 @@ SimulationReport run_planned(const SimulationPlan& plan, const SimulationOptions
   NoiseFreeRun noise_free;
   bool observed_finite = true;
   if (options.noise == NoiseModel::kNone) {
-    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink);
+    ReadoutClipping clipping;
+    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink, clipping);
     noise_free.rmse = report.metrics.rmse;
+    noise_free.saturated_readouts = clipping.saturated;
+    noise_free.near_zero_readouts = clipping.near_zero;
   } else {
     noise_free = pipeline.noise_free_pass(report.rmse_first, report.rmse_end);
     observed_finite = run_trials(pipeline, options, input, report, observed_sink);
@@ -365,6 +395,7 @@ SimulationReport run_planned(const SimulationPlan& plan, const SimulationOptions
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
   // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.
   report.prediction = predict(report, input, noise_free, plan);
+  add_clipping_warnings(noise_free, report);
   return report;
 }
 
@@ -448,6 +479,18 @@ std::string SimulationReport::FullReport() const {
               : std::string())
       << ", dt " << format_number(options.dt) << ", snr " << format_number(options.snr)
       << ", noise " << to_string(options.noise) << ", seed " << options.seed << "\n";
+  if (options.sensor.enabled()) {  // docs/method.md §10
+    const SensorModel& s = options.sensor;
+    out << "  sensor           read noise " << format_number(s.read_noise_electrons)
+        << " e-, dark current " << format_number(s.dark_current_electrons_per_slot)
+        << " e-/slot, full well "
+        << (s.full_well_electrons ? format_number(*s.full_well_electrons) + " e-" : "none")
+        << ", ADC "
+        << (s.adc_bits != 0 ? std::to_string(s.adc_bits) + " bits, " +
+                                  format_number(s.adc_gain_electrons_per_count) + " e-/count"
+                            : "none")
+        << "\n";
+  }
   out << "  geometry         B = " << geometry.blur_length << ", observed crop "
       << geometry.observed_width << ", deconvolution grid " << geometry.mirror_width << ", output "
       << geometry.output_width << "\n";
@@ -469,7 +512,8 @@ std::string SimulationReport::FullReport() const {
   if (prediction.finite) {
     out << "  predicted        RMSE " << format_number(prediction.rmse) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.noise)
-        << "^2), the exact expectation\n";
+        << (prediction.exact ? "^2), the exact expectation\n"
+                             : "^2), approximate: the sensor clips readouts\n");
     out << "  stationary       RMSE " << format_number(prediction.rmse_stationary) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.sigma)
         << "^2), SNR at level 100 " << format_number(prediction.snr_level100) << "\n";

@@ -303,6 +303,54 @@ TEST(Campaign, PerTrialRowsResumeAndMergeToTheBytesOfOneRun) {
             test::read_file(tmp / "single" / kCampaignResultsCsv));
 }
 
+// The sensor (docs/method.md §10): the read noise is an axis, the other
+// parts fixed; both are in the hash, the seeds and the rows, and a campaign
+// without a sensor keeps the canonical form (hash, seeds) it had before.
+TEST(Campaign, SensorIsInTheHashTheSettingsAndTheRows) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  const ResolvedCampaign plain = resolve_campaign(spec);
+  EXPECT_FALSE(plain.has_sensor());
+  EXPECT_EQ(plain.canonical_json.find("sensor"), std::string::npos);
+  EXPECT_EQ(setting_description(plain, setting_at(plain, 0)).find("read_noise"), std::string::npos);
+
+  spec.read_noise = "0,6";
+  spec.sensor.dark_current_electrons_per_slot = 0.5;
+  spec.sensor.adc_bits = 14;
+  spec.sensor.adc_gain_electrons_per_count = 2.0;
+  const ResolvedCampaign c = resolve_campaign(spec);
+  EXPECT_TRUE(c.has_sensor());
+  EXPECT_EQ(c.setting_count(), 2 * plain.setting_count());
+  EXPECT_NE(c.sha256, plain.sha256);
+  EXPECT_EQ(campaign_from_canonical_json(c.canonical_json).sha256, c.sha256);
+  // The read noise varies fastest; the other values are those of plain's setting 0.
+  const Setting quiet = setting_at(c, 0);
+  const Setting noisy = setting_at(c, 1);
+  EXPECT_EQ(setting_options(c, quiet).sensor.read_noise_electrons, 0.0);
+  EXPECT_EQ(setting_options(c, noisy).sensor.read_noise_electrons, 6.0);
+  EXPECT_EQ(setting_options(c, noisy).sensor.adc_bits, 14);
+  EXPECT_EQ(setting_options(c, noisy).velocity_px_per_slot,
+            setting_options(plain, setting_at(plain, 0)).velocity_px_per_slot);
+  EXPECT_NE(setting_seed(c, quiet), setting_seed(c, noisy));
+  const Image image = read_png(c.images[0].path);
+  const ResultRow row = run_setting(c, noisy, image, {1, 0, "test-version"});
+  EXPECT_EQ(cell(row, "status"), "ok") << cell(row, "message");
+  EXPECT_EQ(cell(row, "read_noise"), "6");
+  EXPECT_EQ(cell(row, "dark_current"), "0.5");
+  EXPECT_EQ(cell(row, "full_well"), "");
+  EXPECT_EQ(cell(row, "adc_bits"), "14");
+  EXPECT_EQ(cell(row, "adc_gain"), "2");
+  const SimulationReport r = Simulate(setting_options(c, noisy), image, c.codes[0].code);
+  EXPECT_EQ(std::stod(cell(row, "predicted_rmse")), r.prediction.rmse);
+  EXPECT_EQ(cell(row, "predicted_exact"), r.prediction.exact ? "true" : "false");
+
+  spec.sensor.dark_current_electrons_per_slot = 0.25;  // a fixed part changes the hash
+  EXPECT_NE(resolve_campaign(spec).sha256, c.sha256);
+  spec.sensor.full_well_electrons = -3.0;
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"sensor.full_well_electrons = -3: must be finite and > 0"}));
+}
+
 std::string results_of(const fs::path& dir) {
   return test::read_file(dir / kCampaignResultsCsv) + test::read_file(dir / kCampaignResultsJsonl) +
          test::read_file(dir / kCampaignManifest);

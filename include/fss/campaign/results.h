@@ -18,7 +18,7 @@
 namespace fss {
 
 // Version of the results schema: the columns below, their order and meaning.
-inline constexpr int kCampaignSchemaVersion = 1;
+inline constexpr int kCampaignSchemaVersion = 2;
 
 enum class ColumnKind { kText, kNumber, kBoolean };
 

@@ -13,6 +13,7 @@
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
+#include "fss/model/sensor.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/observe.h"
 #include "fss/pipeline/option_rules.h"
@@ -53,6 +54,9 @@ struct SimulationOptions {
   double snr = 100.0;  // in [kMinScale, kMaxScale]
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
+  // Read noise, dark current, full well and ADC (docs/method.md §10); all off
+  // by default: the paper's photon noise, every output bit unchanged.
+  SensorModel sensor;
   // Columns left out at each side of the output for the RMSE; -1 means 3 B.
   int rmse_margin_columns = -1;
   // Independent noise realizations, seeds seed, seed + 1, ...; images and the

@@ -539,6 +539,19 @@ TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
             rmse_contrast_invariant(a, 5, crop_columns(b, 5, 290), 5, 285, 1));
 }
 
+// Windows above the sorter's buffer (2^18 keys) are split in place and the
+// parts sorted on two threads; the passes over the ranks run in two ranges.
+// Both ground truths (counted and sorted) give the bits of one thread.
+TEST(RmseContrastInvariant, TwoThreadsOnALargeWindowGiveTheBitsOfOne) {
+  for (const bool integers : {true, false}) {
+    const Image a = random_image(720, 500, 1, 51, 0.0, 255.0, integers);
+    const Image b = random_image(720, 500, 1, 52, -30.0, 290.0, false);
+    const double one = rmse_contrast_invariant(a, b, 3, 717, 1);
+    EXPECT_GT(one, 0.0);
+    EXPECT_EQ(rmse_contrast_invariant(a, b, 3, 717, 2), one) << "integers " << integers;
+  }
+}
+
 // A ground truth of integers in [0, 65535] is grouped by a histogram, any
 // other by sorting: halving both images (exact in binary, and it halves every
 // midway value, difference and square root exactly) moves the odd levels off

@@ -34,6 +34,7 @@
 #include "fss/io/png_io.h"
 #include "fss/io/report_json.h"
 #include "fss/model/code.h"
+#include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/simulate.h"
 
@@ -216,7 +217,20 @@ struct SimulateArguments {
   int threads;
   std::optional<int> rmse_margin;
   std::size_t max_memory;
+  fss::SensorModel sensor;  // docs/method.md §10
 };
+
+// The sensor keywords as a SensorModel (checked by Simulate's rules).
+fss::SensorModel sensor_from(double read_noise, double dark_current,
+                             std::optional<double> full_well, int adc_bits, double adc_gain) {
+  fss::SensorModel sensor;
+  sensor.read_noise_electrons = read_noise;
+  sensor.dark_current_electrons_per_slot = dark_current;
+  sensor.full_well_electrons = full_well;
+  sensor.adc_bits = adc_bits;
+  sensor.adc_gain_electrons_per_count = adc_gain;
+  return sensor;
+}
 
 SimulationResult simulate(const py::array& image_array, const SimulateArguments& a) {
   fss::SimulationOptions options;
@@ -231,6 +245,7 @@ SimulationResult simulate(const py::array& image_array, const SimulateArguments&
   options.threads = a.threads;
   options.rmse_margin_columns = a.rmse_margin.value_or(-1);
   options.max_memory_bytes = a.max_memory;
+  options.sensor = a.sensor;
   const fss::ShutterCode code = code_from_object(a.code);
   const fss::Image input = image_from_array(image_array);
   fss::SimulationReport report;
@@ -432,16 +447,25 @@ void define_simulate(py::module_& m) {
       [](const py::array& image, const py::object& code, const std::string& mode, double velocity,
          double snr, double dt, const py::int_& seed, int trials, const std::string& noise,
          std::optional<double> restore_velocity, int threads, std::optional<int> rmse_margin,
-         std::size_t max_memory) {
-        return simulate(image, {code, mode, velocity, snr, dt, seed, trials, noise,
-                                restore_velocity, threads, rmse_margin, max_memory});
+         std::size_t max_memory, double read_noise, double dark_current,
+         std::optional<double> full_well, int adc_bits, double adc_gain) {
+        return simulate(
+            image, {code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
+                    rmse_margin, max_memory,
+                    sensor_from(read_noise, dark_current, full_well, adc_bits, adc_gain)});
       },
       py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
       py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
       py::arg("trials") = 1, py::arg("noise") = "poisson", py::arg("restore_velocity") = py::none(),
       py::arg("threads") = 0, py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
+      py::arg("read_noise") = 0.0, py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(),
+      py::arg("adc_bits") = 0, py::arg("adc_gain") = 1.0,
       "Simulates a flutter shutter run on `image` (H x W or H x W x 3, gray levels on the "
-      "0..255 scale) as `fssim --input` does; returns a SimulationResult.");
+      "0..255 scale) as `fssim --input` does; returns a SimulationResult. The sensor "
+      "(docs/method.md §10): read_noise (electrons RMS per readout), dark_current (electrons "
+      "per slot), full_well (electrons, None: none), adc_bits (0: no ADC) and adc_gain "
+      "(electrons per count); all off by default. With a sensor, result.report['sensor'] "
+      "holds them and result.prediction['exact'] says whether the prediction is exact.");
 }
 
 void define_codes(py::module_& m) {

@@ -38,6 +38,7 @@
 #include "fss/core/error.h"
 #include "fss/core/fft.h"
 #include "fss/core/image.h"
+#include "fss/core/number_text.h"
 #include "fss/core/parallel.h"
 #include "fss/design/analyze.h"
 #include "fss/design/generate.h"

@@ -21,6 +21,11 @@ CASES = [
      "camera"),
     ("noise_free_sinc", ["--code", "sinc", "--noise", "none"], {"code": "sinc", "noise": "none"},
      "astronaut"),
+    # the sensor (docs/method.md §10)
+    ("sensor", ["--read-noise", "6", "--dark-current", "0.5", "--adc-bits", "14", "--adc-gain",
+                "2", "--full-well", "30000", "--seed", "5"],
+     {"read_noise": 6, "dark_current": 0.5, "adc_bits": 14, "adc_gain": 2, "full_well": 30000,
+      "seed": 5}, "camera"),
 ]
 
 
@@ -118,3 +123,17 @@ def test_not_invertible_gives_none(camera):
     assert result.prediction["finite"] is False
     assert result.prediction["rmse"] is None
     assert result.warnings
+
+
+def test_sensor_keywords(camera):
+    image = read_png8(camera)
+    plain = fss.simulate(image)
+    assert "sensor" not in plain.report and "exact" not in plain.prediction
+    result = fss.simulate(image, read_noise=10, dark_current=1)
+    assert result.report["sensor"] == {
+        "read_noise_electrons": 10.0, "dark_current_electrons_per_slot": 1.0,
+        "full_well_electrons": None, "adc_bits": 0, "adc_gain_electrons_per_count": 1.0}
+    assert result.prediction["exact"] is True
+    assert result.prediction["rmse"] > plain.prediction["rmse"]
+    with pytest.raises(ValueError, match="sensor.read_noise_electrons = -1"):
+        fss.simulate(image, read_noise=-1)

@@ -11,7 +11,8 @@ _fssim_options() {
     main)
       echo "-h --help --version -i --input -c --code -m --mode -v --velocity --restore-velocity
             --dt --snr --seed --noise --rmse-margin --trials --threads --max-memory -o --outdir
-            --no-plots --sheet --report --save-float --png-depth" ;;
+            --no-plots --sheet --report --save-float --png-depth
+            --read-noise --dark-current --full-well --adc-bits --adc-gain" ;;
     spectra) echo "-h --help -o --output -v --velocity --dt --linear --width --height --title" ;;
     code) echo "-h --help" ;;
     generate) echo "-h --help -L --length -v --velocity --dt --seed --analog -o --output" ;;
@@ -24,11 +25,13 @@ _fssim_options() {
             --full-well -o --output" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
-            --noise --rmse-margin --threads --max-memory -o --output --plot" ;;
+            --noise --rmse-margin --threads --max-memory -o --output --plot
+            --read-noise --dark-current --full-well --adc-bits --adc-gain" ;;
     campaign)
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
-            --snr --dt --trials --seed --noise --rmse-margin --threads -o --output --shard
-            --figures --no-progress" ;;
+            --snr --dt --trials --seed --noise --rmse-margin --per-trial --threads -o --output
+            --shard --figures --no-progress --read-noise --dark-current --full-well --adc-bits
+            --adc-gain" ;;
     merge) echo "-h --help -o --output --figures" ;;
     check) echo "-h --help --columns --abs --rel --k-se --junit" ;;
   esac
@@ -39,7 +42,7 @@ _fssim_options() {
 _fssim_takes_value() {
   case $1 in
     -h | --help | --version | --no-plots | --sheet | --report | --save-float | --linear | --analog | --binary) return 1 ;;
-    --figures | --no-progress) return 1 ;;
+    --figures | --no-progress | --per-trial) return 1 ;;
     -*=*) return 1 ;;
     -*) return 0 ;;
   esac

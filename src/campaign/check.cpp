@@ -82,8 +82,10 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
 
 namespace {
 
-const char* const kSettingColumns[] = {"image", "code", "mode",  "velocity",   "restore_velocity",
-                                       "snr",   "dt",   "noise", "rmse_margin"};
+const char* const kSettingColumns[] = {
+    "image",        "code",      "mode",     "velocity",    "restore_velocity",
+    "snr",          "dt",        "noise",    "rmse_margin", "read_noise",
+    "dark_current", "full_well", "adc_bits", "adc_gain"};
 const char* const kNotCompared[] = {"image_sha256", "code_sha256", "seed",
                                     "trials",       "rmse_sd",     "rmse_ci_sd",
                                     "blur_length",  "message",     "fssim_version"};

@@ -33,7 +33,9 @@ std::vector<Axis> swept_axes(const ResolvedCampaign& c) {
       {"restore_velocity", "restore velocity (pixels per time slot)", &Setting::restore_velocity,
        restore, c.restore_geometric},
       {"snr", "snr", &Setting::snr, c.snrs.values, true},
-      {"dt", "dt (time slot length)", &Setting::dt, c.dts.values, c.dts.geometric}};
+      {"dt", "dt (time slot length)", &Setting::dt, c.dts.values, c.dts.geometric},
+      {"read_noise", "read noise (electrons RMS per readout)", &Setting::read_noise,
+       c.read_noises.values, c.read_noises.geometric}};
   std::vector<Axis> swept;
   for (Axis& a : axes) {
     if (a.values.size() < 2) continue;
@@ -58,6 +60,7 @@ std::string fixed_settings(const ResolvedCampaign& c, const Setting& s, const Ax
     add("restore_velocity", "v_r", shortest(*r));
   add("snr", "snr", shortest(c.snrs.values[s.snr]));
   add("dt", "dt", shortest(c.dts.values[s.dt]));
+  if (c.has_sensor()) add("read_noise", "read noise", shortest(c.read_noises.values[s.read_noise]));
   return text;
 }
 

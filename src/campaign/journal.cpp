@@ -54,6 +54,15 @@ void parse_row(const std::string& path, const std::string& line, int number, Con
     if (index < 0 || index >= c.settings || row.size() != campaign_columns().size()) {
       fail(path, "line " + std::to_string(number) + " does not fit the campaign");
     }
+    if (const auto trials = j.find("trials"); trials != j.end()) {
+      std::vector<ResultRow> rows = trials->get<std::vector<ResultRow>>();
+      for (const ResultRow& trial : rows) {
+        if (trial.size() != trial_columns().size()) {
+          fail(path, "line " + std::to_string(number) + " has a trial row that does not fit");
+        }
+      }
+      c.trial_rows[index] = std::move(rows);
+    }
     c.rows[index] = std::move(row);
   } catch (const Error&) {
     throw;
@@ -107,8 +116,11 @@ std::string header_line(const ResolvedCampaign& campaign, const CampaignShard& s
   return j.dump() + "\n";
 }
 
-std::string row_line(long long index, const ResultRow& row) {
-  return Json{{"index", index}, {"row", row}}.dump() + "\n";
+std::string row_line(long long index, const ResultRow& row,
+                     const std::vector<ResultRow>* trial_rows) {
+  Json j = {{"index", index}, {"row", row}};
+  if (trial_rows != nullptr) j["trials"] = *trial_rows;
+  return j.dump() + "\n";
 }
 
 Appender::Appender(const std::string& path, std::size_t valid_bytes) : path_(path) {

@@ -18,6 +18,8 @@ struct Contents {
   CampaignShard shard;
   long long settings = 0;  // of the whole campaign
   std::map<long long, ResultRow> rows;
+  // A campaign with per_trial: the trial rows of each setting in `rows`.
+  std::map<long long, std::vector<ResultRow>> trial_rows;
   std::size_t valid_bytes = 0;  // up to the last complete line
   std::size_t file_bytes = 0;
 };
@@ -28,8 +30,10 @@ std::optional<Contents> read(const std::string& path);
 
 // The header line of a journal (newline included).
 std::string header_line(const ResolvedCampaign& campaign, const CampaignShard& shard);
-// The line of one finished setting (newline included).
-std::string row_line(long long index, const ResultRow& row);
+// The line of one finished setting (newline included); with `trial_rows`
+// (a campaign with per_trial), its trial rows too.
+std::string row_line(long long index, const ResultRow& row,
+                     const std::vector<ResultRow>* trial_rows = nullptr);
 
 // Appends lines to a journal. Each line is written at once (a killed
 // process loses none) and fsynced on a helper thread while the caller goes

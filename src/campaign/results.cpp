@@ -28,6 +28,11 @@ enum Column {
   kRestoreVelocity,
   kSnr,
   kDt,
+  kReadNoise,
+  kDarkCurrent,
+  kFullWell,
+  kAdcBits,
+  kAdcGain,
   kNoise,
   kRmseMargin,
   kSeed,
@@ -42,6 +47,7 @@ enum Column {
   kPredictedNoiseFree,
   kPredictedSigma,
   kSnrLevel100,
+  kPredictedExact,
   kInvertible,
   kStatus,
   kMessage,
@@ -62,6 +68,11 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"restore_velocity", kNumber},
                                                     {"snr", kNumber},
                                                     {"dt", kNumber},
+                                                    {"read_noise", kNumber},
+                                                    {"dark_current", kNumber},
+                                                    {"full_well", kNumber},
+                                                    {"adc_bits", kNumber},
+                                                    {"adc_gain", kNumber},
                                                     {"noise", kText},
                                                     {"rmse_margin", kNumber},
                                                     {"seed", kText},
@@ -76,6 +87,7 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"predicted_rmse_noise_free", kNumber},
                                                     {"predicted_sigma", kNumber},
                                                     {"snr_level100", kNumber},
+                                                    {"predicted_exact", kBoolean},
                                                     {"invertible", kBoolean},
                                                     {"status", kText},
                                                     {"message", kText},
@@ -91,7 +103,54 @@ int campaign_column_index(std::string_view name) {
   return -1;
 }
 
+const std::vector<ResultColumn>& trial_columns() {
+  static const std::vector<ResultColumn> columns = [] {
+    // The setting columns: those before blur_length.
+    std::vector<ResultColumn> c(campaign_columns().begin(),
+                                campaign_columns().begin() + kBlurLength);
+    c.insert(c.end(), {{"trial", kNumber},
+                       {"trial_seed", kText},
+                       {"rmse", kNumber},
+                       {"rmse_ci", kNumber},
+                       {"psnr", kNumber}});
+    return c;
+  }();
+  return columns;
+}
+
+const SimulationPlan& SimulationPlanCache::plan(const SimulationOptions& options, int width,
+                                                const ShutterCode& code) {
+  for (const auto& kept : plans_) {
+    if (kept->fits(options, width, code)) {
+      ++reused_;
+      return *kept;
+    }
+  }
+  plans_.push_back(std::make_unique<const SimulationPlan>(options, width, code));
+  ++built_;
+  bytes_ += plans_.back()->bytes();
+  while (plans_.size() > 1 && (bytes_ > kMaxBytes || plans_.size() > kMaxPlans)) {
+    bytes_ -= plans_.front()->bytes();
+    plans_.pop_front();
+  }
+  return *plans_.back();
+}
+
 namespace {
+
+// The trial rows of a setting that ran: its setting cells, then each trial's.
+std::vector<ResultRow> trial_rows_of(const ResultRow& row, const SimulationReport& r) {
+  std::vector<ResultRow> rows;
+  const std::uint64_t seed = r.options.seed;
+  for (std::size_t t = 0; t < r.trial_metrics.size(); ++t) {
+    ResultRow trial(row.begin(), row.begin() + kBlurLength);
+    const Metrics& m = r.trial_metrics[t];
+    trial.insert(trial.end(), {std::to_string(t), std::to_string(seed + t), shortest(m.rmse),
+                               shortest(m.rmse_ci), shortest(psnr(m.rmse))});
+    rows.push_back(std::move(trial));
+  }
+  return rows;
+}
 
 // The cells every row has: the setting and its provenance.
 ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const SimulationOptions& o,
@@ -107,6 +166,13 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   row[kRestoreVelocity] = shortest(o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot));
   row[kSnr] = shortest(o.snr);
   row[kDt] = shortest(o.dt);
+  // The sensor (docs/method.md §10): full_well empty for none, adc_gain
+  // empty without an ADC.
+  row[kReadNoise] = shortest(o.sensor.read_noise_electrons);
+  row[kDarkCurrent] = shortest(o.sensor.dark_current_electrons_per_slot);
+  if (o.sensor.full_well_electrons) row[kFullWell] = shortest(*o.sensor.full_well_electrons);
+  row[kAdcBits] = std::to_string(o.sensor.adc_bits);
+  if (o.sensor.adc_bits != 0) row[kAdcGain] = shortest(o.sensor.adc_gain_electrons_per_count);
   row[kNoise] = to_string(o.noise);
   row[kRmseMargin] = std::to_string(o.rmse_margin_columns);
   row[kSeed] = std::to_string(o.seed);
@@ -138,17 +204,23 @@ std::pair<std::string, std::string> refusal(const ResolvedCampaign& c, const Set
 }  // namespace
 
 ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& image,
-                      const SettingRunOptions& options) {
+                      const SettingRunOptions& options, SimulationPlanCache* plans,
+                      std::vector<ResultRow>* trial_rows) {
   SimulationOptions o = setting_options(c, s);
   o.threads = options.threads;
   o.max_memory_bytes = options.max_memory_bytes;
+  if (options.seed) o.seed = *options.seed;
+  if (trial_rows != nullptr) trial_rows->clear();
   ResultRow row = setting_cells(c, s, o, options);
   int blur_length = -1;
   auto [status, message] = refusal(c, s, o, image, &blur_length);
   if (blur_length > 0) row[kBlurLength] = std::to_string(blur_length);
   if (status.empty()) {
     try {
-      const SimulationReport r = Simulate(o, image, c.codes[s.code].code);
+      const ShutterCode& code = c.codes[s.code].code;
+      const SimulationReport r = plans != nullptr
+                                     ? Simulate(plans->plan(o, image.width, code), o, image, code)
+                                     : Simulate(o, image, code);
       const Prediction& p = r.prediction;
       row[kBlurLength] = std::to_string(r.geometry.blur_length);
       row[kRmseMean] = shortest(r.trials.rmse_mean);
@@ -160,8 +232,10 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
       row[kPredictedNoiseFree] = shortest(p.rmse_noise_free);
       row[kPredictedSigma] = shortest(p.sigma);
       row[kSnrLevel100] = shortest(p.snr_level100);
+      row[kPredictedExact] = p.exact ? "true" : "false";
       row[kInvertible] = r.kernel.invertible ? "true" : "false";
       status = r.kernel.invertible ? kStatusOk : kStatusNotInvertible;
+      if (trial_rows != nullptr) *trial_rows = trial_rows_of(row, r);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::kUsage) throw;
       status = kStatusFailed;
@@ -173,9 +247,11 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
   return row;
 }
 
-std::string results_csv(const std::vector<ResultRow>& rows) {
+namespace {
+
+std::string table_csv(const std::vector<ResultColumn>& columns,
+                      const std::vector<ResultRow>& rows) {
   std::string out;
-  const auto& columns = campaign_columns();
   for (std::size_t i = 0; i < columns.size(); ++i) {
     if (i > 0) out += ',';
     out += columns[i].name;
@@ -191,19 +267,15 @@ std::string results_csv(const std::vector<ResultRow>& rows) {
   return out;
 }
 
-namespace {
-
 std::string json_cell(const std::string& cell, ColumnKind kind) {
   if (kind == ColumnKind::kText) return campaign_text::json_quote(cell);
   if (cell.empty() || cell == "inf" || cell == "-inf" || cell == "nan") return "null";
   return cell;  // a number in shortest form, or true / false
 }
 
-}  // namespace
-
-std::string results_jsonl(const std::vector<ResultRow>& rows) {
+std::string table_jsonl(const std::vector<ResultColumn>& columns,
+                        const std::vector<ResultRow>& rows) {
   std::string out;
-  const auto& columns = campaign_columns();
   for (const ResultRow& row : rows) {
     out += "{";
     for (std::size_t i = 0; i < row.size(); ++i) {
@@ -213,6 +285,24 @@ std::string results_jsonl(const std::vector<ResultRow>& rows) {
     out += "}\n";
   }
   return out;
+}
+
+}  // namespace
+
+std::string results_csv(const std::vector<ResultRow>& rows) {
+  return table_csv(campaign_columns(), rows);
+}
+
+std::string results_jsonl(const std::vector<ResultRow>& rows) {
+  return table_jsonl(campaign_columns(), rows);
+}
+
+std::string trials_csv(const std::vector<ResultRow>& rows) {
+  return table_csv(trial_columns(), rows);
+}
+
+std::string trials_jsonl(const std::vector<ResultRow>& rows) {
+  return table_jsonl(trial_columns(), rows);
 }
 
 }  // namespace fss

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "campaign/journal.h"
 #include "fss/campaign/sha256.h"
@@ -94,11 +95,27 @@ std::string manifest(const ResolvedCampaign& campaign, const CampaignShard& shar
   return j.dump(2) + "\n";
 }
 
+// The rows of the settings in `contents` (index order) and, for a campaign
+// with per_trial, their trial rows, written into dir.
 void write_results(const std::string& dir, const ResolvedCampaign& campaign,
-                   const CampaignShard& shard, const std::vector<ResultRow>& rows) {
+                   const CampaignShard& shard, const journal::Contents& contents,
+                   std::vector<ResultRow>* rows_out) {
+  std::vector<ResultRow> rows;
+  std::vector<ResultRow> trial_rows;
+  for (const auto& [index, row] : contents.rows) {
+    rows.push_back(row);
+    const auto trials = contents.trial_rows.find(index);
+    if (trials == contents.trial_rows.end()) continue;
+    trial_rows.insert(trial_rows.end(), trials->second.begin(), trials->second.end());
+  }
+  if (campaign.per_trial) {
+    write_file_durably((fs::path(dir) / kCampaignTrialsCsv).string(), trials_csv(trial_rows));
+    write_file_durably((fs::path(dir) / kCampaignTrialsJsonl).string(), trials_jsonl(trial_rows));
+  }
   write_file_durably((fs::path(dir) / kCampaignResultsCsv).string(), results_csv(rows));
   write_file_durably((fs::path(dir) / kCampaignResultsJsonl).string(), results_jsonl(rows));
   write_file_durably((fs::path(dir) / kCampaignManifest).string(), manifest(campaign, shard));
+  if (rows_out != nullptr) *rows_out = std::move(rows);
 }
 
 std::string short_hash(const std::string& sha256) { return sha256.substr(0, 12); }
@@ -198,6 +215,9 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
   journal::Appender appender((fs::path(dir) / kCampaignJournal).string(), contents.valid_bytes);
   int loaded = -1;  // settings are image-major: each image is decoded once
   Image image;
+  SimulationPlanCache plans;  // each kernel once per code, mode, velocities, dt and width
+  std::vector<ResultRow> trial_rows;
+  std::vector<ResultRow>* trials = campaign.per_trial ? &trial_rows : nullptr;
   for (long long i = options.shard.index - 1; i < settings; i += options.shard.count) {
     if (contents.rows.count(i)) continue;
     const Setting setting = setting_at(campaign, i);
@@ -205,8 +225,9 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
       image = load_image(campaign, setting.image);
       loaded = setting.image;
     }
-    ResultRow row = run_setting(campaign, setting, image, run_options);
-    appender.append(journal::row_line(i, row));
+    ResultRow row = run_setting(campaign, setting, image, run_options, &plans, trials);
+    appender.append(journal::row_line(i, row, trials));
+    if (trials != nullptr) contents.trial_rows[i] = std::exchange(trial_rows, {});
     contents.rows[i] = std::move(row);
     ++summary.ran;
     progress.done = static_cast<long long>(contents.rows.size());
@@ -215,8 +236,9 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
     if (options.progress) options.progress(progress);
   }
   appender.finish();
-  for (auto& entry : contents.rows) summary.rows.push_back(entry.second);
-  write_results(dir, campaign, options.shard, summary.rows);
+  summary.plans_built = plans.built();
+  summary.plans_reused = plans.reused();
+  write_results(dir, campaign, options.shard, contents, &summary.rows);
   return summary;
 }
 
@@ -294,15 +316,16 @@ std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& part_d
     throw_runtime_error("part '" + escape_control_characters(parts.front().dir) +
                         "': its journal's specification does not match its hash");
   }
-  std::map<long long, const ResultRow*> rows;
-  for (const Part& part : parts) {
-    for (const auto& entry : part.contents.rows) rows[entry.first] = &entry.second;
+  journal::Contents merged;
+  for (Part& part : parts) {
+    merged.rows.merge(part.contents.rows);
+    merged.trial_rows.merge(part.contents.trial_rows);
   }
-  std::vector<ResultRow> ordered;
   std::string journal_text = journal::header_line(campaign, {1, 1});
-  for (const auto& entry : rows) {
-    ordered.push_back(*entry.second);
-    journal_text += journal::row_line(entry.first, *entry.second);
+  for (const auto& [index, row] : merged.rows) {
+    const auto trials = merged.trial_rows.find(index);
+    journal_text += journal::row_line(
+        index, row, trials == merged.trial_rows.end() ? nullptr : &trials->second);
   }
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) {
@@ -315,7 +338,8 @@ std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& part_d
     }
   }
   write_file_durably((fs::path(dir) / kCampaignJournal).string(), journal_text);
-  write_results(dir, campaign, {1, 1}, ordered);
+  std::vector<ResultRow> ordered;
+  write_results(dir, campaign, {1, 1}, merged, &ordered);
   if (out) *out = campaign;
   return ordered;
 }

@@ -112,6 +112,7 @@ bool CampaignSpec::IsValid(std::string* error) const {
     if (!restore_velocity.empty()) parse_value_list(restore_velocity, "restore_velocity");
     parse_value_list(snr, "snr");
     parse_value_list(dt, "dt");
+    parse_value_list(read_noise, "read_noise");
   } catch (const Error& e) {
     return fail(e.what());
   }
@@ -121,6 +122,11 @@ bool CampaignSpec::IsValid(std::string* error) const {
   if (const std::string rule = margin_rule(rmse_margin_columns); !rule.empty()) {
     return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) + ": " + rule);
   }
+  // The fixed sensor parts (a read noise value out of range is a row's status).
+  SensorModel fixed = sensor;
+  fixed.read_noise_electrons = 0.0;
+  std::string sensor_error;
+  if (!fixed.IsValid(&sensor_error)) return fail("sensor." + sensor_error);
   return true;
 }
 
@@ -178,6 +184,25 @@ ValueList values_from_json(const Json& j) {
   return {j.at("values").get<std::vector<double>>(), j.at("geometric").get<bool>()};
 }
 
+// The sensor's part of the canonical JSON: the read noise axis and the
+// fixed parts (full_well null for none).
+Json sensor_json(const ResolvedCampaign& c) {
+  const SensorModel& s = c.sensor;
+  return {{"read_noise", values_json(c.read_noises)},
+          {"dark_current", s.dark_current_electrons_per_slot},
+          {"full_well", s.full_well_electrons ? Json(*s.full_well_electrons) : Json(nullptr)},
+          {"adc_bits", s.adc_bits},
+          {"adc_gain", s.adc_gain_electrons_per_count}};
+}
+
+void sensor_from_json(const Json& j, ResolvedCampaign& c) {
+  c.read_noises = values_from_json(j.at("read_noise"));
+  c.sensor.dark_current_electrons_per_slot = j.at("dark_current").get<double>();
+  if (!j.at("full_well").is_null()) c.sensor.full_well_electrons = j.at("full_well").get<double>();
+  c.sensor.adc_bits = j.at("adc_bits").get<int>();
+  c.sensor.adc_gain_electrons_per_count = j.at("adc_gain").get<double>();
+}
+
 void seal(ResolvedCampaign& c) {
   Json images = Json::array(), codes = Json::array(), modes = Json::array(),
        restore = Json::array();
@@ -188,29 +213,38 @@ void seal(ResolvedCampaign& c) {
   }
   for (const ShutterMode m : c.modes) modes.push_back(to_string(m));
   for (const auto& r : c.restore_velocities) restore.push_back(r ? Json(*r) : Json(nullptr));
-  const Json j = {{"campaign_schema", 1},
-                  {"images", images},
-                  {"codes", codes},
-                  {"modes", modes},
-                  {"velocity", values_json(c.velocities)},
-                  {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
-                  {"snr", values_json(c.snrs)},
-                  {"dt", values_json(c.dts)},
-                  {"trials", c.trials},
-                  {"seed", c.seed},
-                  {"noise", to_string(c.noise)},
-                  {"rmse_margin", c.rmse_margin_columns}};
+  Json j = {{"campaign_schema", 1},
+            {"images", images},
+            {"codes", codes},
+            {"modes", modes},
+            {"velocity", values_json(c.velocities)},
+            {"restore_velocity", {{"values", restore}, {"geometric", c.restore_geometric}}},
+            {"snr", values_json(c.snrs)},
+            {"dt", values_json(c.dts)},
+            {"trials", c.trials},
+            {"seed", c.seed},
+            {"noise", to_string(c.noise)},
+            {"rmse_margin", c.rmse_margin_columns}};
+  if (c.per_trial) j["per_trial"] = true;  // absent when off: earlier campaigns keep their hash
+  if (c.has_sensor()) j["sensor"] = sensor_json(c);
   c.canonical_json = j.dump();
   c.sha256 = sha256_hex(c.canonical_json);
 }
 
 }  // namespace
 
+bool ResolvedCampaign::has_sensor() const {
+  SensorModel fixed = sensor;
+  fixed.read_noise_electrons = 0.0;
+  return fixed.enabled() || read_noises.values != std::vector<double>{0.0};
+}
+
 long long ResolvedCampaign::setting_count() const {
   long long n = 1;
   for (const std::size_t size :
        {images.size(), codes.size(), modes.size(), velocities.values.size(),
-        restore_velocities.size(), snrs.values.size(), dts.values.size()}) {
+        restore_velocities.size(), snrs.values.size(), dts.values.size(),
+        read_noises.values.size()}) {
     n *= static_cast<long long>(size);
     if (n > kMaxCampaignSettings) return kMaxCampaignSettings + 1;
   }
@@ -248,6 +282,10 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   c.seed = spec.seed;
   c.noise = spec.noise;
   c.rmse_margin_columns = spec.rmse_margin_columns;
+  c.per_trial = spec.per_trial;
+  c.read_noises = parse_value_list(spec.read_noise, "read_noise");
+  c.sensor = spec.sensor;
+  c.sensor.read_noise_electrons = 0.0;
   if (c.setting_count() > kMaxCampaignSettings) {
     throw_usage_error("the campaign has more than " + std::to_string(kMaxCampaignSettings) +
                       " settings");
@@ -283,6 +321,8 @@ ResolvedCampaign campaign_from_canonical_json(const std::string& json) {
     c.seed = j.at("seed").get<std::uint64_t>();
     c.noise = *noise_model_from_string(j.at("noise").get<std::string>());
     c.rmse_margin_columns = j.at("rmse_margin").get<int>();
+    c.per_trial = j.value("per_trial", false);
+    if (j.contains("sensor")) sensor_from_json(j.at("sensor"), c);
     seal(c);
     return c;
   } catch (const Error&) {
@@ -303,6 +343,7 @@ Setting setting_at(const ResolvedCampaign& c, long long index) {
     return value;
   };
   // The last list varies fastest.
+  s.read_noise = take(c.read_noises.values.size());
   s.dt = take(c.dts.values.size());
   s.snr = take(c.snrs.values.size());
   s.restore_velocity = take(c.restore_velocities.size());
@@ -315,13 +356,18 @@ Setting setting_at(const ResolvedCampaign& c, long long index) {
 
 std::string setting_description(const ResolvedCampaign& c, const Setting& s) {
   const auto& r = c.restore_velocities[s.restore_velocity];
-  const Json j = {{"image_sha256", c.images[s.image].sha256},
-                  {"code_sha256", c.codes[s.code].sha256},
-                  {"mode", to_string(c.modes[s.mode])},
-                  {"velocity", c.velocities.values[s.velocity]},
-                  {"restore_velocity", r ? Json(*r) : Json(nullptr)},
-                  {"snr", c.snrs.values[s.snr]},
-                  {"dt", c.dts.values[s.dt]}};
+  Json j = {{"image_sha256", c.images[s.image].sha256},
+            {"code_sha256", c.codes[s.code].sha256},
+            {"mode", to_string(c.modes[s.mode])},
+            {"velocity", c.velocities.values[s.velocity]},
+            {"restore_velocity", r ? Json(*r) : Json(nullptr)},
+            {"snr", c.snrs.values[s.snr]},
+            {"dt", c.dts.values[s.dt]}};
+  if (c.has_sensor()) {
+    j["sensor"] = sensor_json(c);
+    j["sensor"].erase("read_noise");
+    j["read_noise"] = c.read_noises.values[s.read_noise];
+  }
   return j.dump();
 }
 
@@ -344,6 +390,8 @@ SimulationOptions setting_options(const ResolvedCampaign& c, const Setting& s) {
   o.noise = c.noise;
   o.rmse_margin_columns = c.rmse_margin_columns;
   o.trials = c.trials;
+  o.sensor = c.sensor;
+  o.sensor.read_noise_electrons = c.read_noises.values[s.read_noise];
   return o;
 }
 

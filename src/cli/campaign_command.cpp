@@ -88,9 +88,33 @@ bool apply_list(const std::string& key, const Json& value, fss::CampaignSpec& sp
     spec.snr = value_list(value, key);
   } else if (key == "dt") {
     spec.dt = value_list(value, key);
+  } else if (key == "read_noise") {
+    spec.read_noise = value_list(value, key);
   } else {
     return false;
   }
+  return true;
+}
+
+// A fixed sensor field of a campaign file (docs/method.md §10); false if
+// `key` is not one. The values are checked by CampaignSpec::IsValid.
+bool apply_sensor(const std::string& key, const Json& value, fss::CampaignSpec& spec) {
+  if (key == "adc_bits") {
+    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 64) {
+      fss::throw_usage_error("campaign file: 'adc_bits' takes an integer in [1, 32], got " +
+                             value.dump());
+    }
+    spec.sensor.adc_bits = value.get<int>();
+    return true;
+  }
+  if (key != "dark_current" && key != "full_well" && key != "adc_gain") return false;
+  if (!value.is_number()) {
+    fss::throw_usage_error("campaign file: '" + key + "' takes a number, got " + value.dump());
+  }
+  const double number = value.get<double>();
+  if (key == "dark_current") spec.sensor.dark_current_electrons_per_slot = number;
+  if (key == "full_well") spec.sensor.full_well_electrons = number;
+  if (key == "adc_gain") spec.sensor.adc_gain_electrons_per_count = number;
   return true;
 }
 
@@ -113,8 +137,12 @@ bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& 
   } else if (key == "noise") {
     if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
     noise = value.get<std::string>();
+  } else if (key == "per_trial") {
+    if (!value.is_boolean())
+      fss::throw_usage_error("campaign file: 'per_trial' takes true or false");
+    spec.per_trial = value.get<bool>();
   } else {
-    return false;
+    return apply_sensor(key, value, spec);
   }
   return true;
 }
@@ -125,7 +153,8 @@ void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
     if (!apply_list(key, value, spec) && !apply_scalar(key, value, spec, noise)) {
       fss::throw_usage_error("campaign file: unknown key '" + key +
                              "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, "
-                             "seed, noise, rmse_margin)");
+                             "seed, noise, rmse_margin, per_trial, read_noise, dark_current, "
+                             "full_well, adc_bits, adc_gain)");
     }
   }
 }
@@ -187,6 +216,16 @@ void CampaignCommand::AddSpecOptions() {
                "velocities assumed by the restoration (default: the true one), as --velocity");
   c.add_option("--snr", snr_, "snr values, as --velocity")->capture_default_str();
   c.add_option("--dt", dt_, "time slot lengths, as --velocity")->capture_default_str();
+  // The sensor (docs/method.md §10): the read noise is an axis, the rest fixed.
+  c.add_option("--read-noise", read_noise_, "sensor read noises, electrons RMS, as --velocity")
+      ->capture_default_str();
+  c.add_option("--dark-current", dark_current_, "sensor dark current, electrons per slot")
+      ->check(finite());
+  c.add_option("--full-well", full_well_, "sensor full well, electrons (default none)")
+      ->check(finite());
+  c.add_option("--adc-bits", adc_bits_, "ADC bits, 1 to 32 (default 0: no ADC)");
+  c.add_option("--adc-gain", adc_gain_, "ADC gain, electrons per count (needs --adc-bits)")
+      ->check(finite());
   c.add_option("--trials", trials_, "noise realizations per setting")
       ->check(at_least(1))
       ->capture_default_str();
@@ -197,6 +236,9 @@ void CampaignCommand::AddSpecOptions() {
       ->capture_default_str();
   c.add_option("--rmse-margin", rmse_margin_, "RMSE margin in columns (-1: 3B)")
       ->capture_default_str();
+  c.add_flag("--per-trial", per_trial_,
+             "also write one row per trial (trials.csv, trials.jsonl): its seed, RMSE, RMSE_CI "
+             "and PSNR");
   c.add_option("--threads", threads_, "threads of each simulation (0: all)")->check(at_least(0));
   c.add_option("-o,--output", output_, "campaign directory (created; rerun to resume)")
       ->check(not_empty());
@@ -246,6 +288,18 @@ fss::CampaignSpec CampaignCommand::Spec() const {
   if (use("--seed")) spec.seed = seed_;
   if (use("--noise")) noise = noise_;
   if (use("--rmse-margin")) spec.rmse_margin_columns = rmse_margin_;
+  if (use("--per-trial")) spec.per_trial = per_trial_;
+  if (use("--read-noise")) spec.read_noise = read_noise_;
+  const auto given = [this](const char* name) { return app().count(name) > 0; };
+  if (given("--dark-current")) spec.sensor.dark_current_electrons_per_slot = dark_current_;
+  if (given("--full-well")) spec.sensor.full_well_electrons = full_well_;
+  if (given("--adc-bits")) spec.sensor.adc_bits = adc_bits_;
+  if (given("--adc-gain")) {
+    if (spec.sensor.adc_bits == 0) {
+      fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
+    }
+    spec.sensor.adc_gain_electrons_per_count = adc_gain_;
+  }
   spec.noise = parse_noise(noise);
   return spec;
 }

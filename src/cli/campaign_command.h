@@ -37,6 +37,10 @@ class CampaignCommand : public Command {
   std::uint64_t seed_ = 0;
   std::string noise_ = "poisson";
   int rmse_margin_ = -1;
+  bool per_trial_ = false;
+  std::string read_noise_ = "0";
+  double dark_current_ = 0.0, full_well_ = 0.0, adc_gain_ = 1.0;
+  int adc_bits_ = 0;
   int threads_ = 0;
   std::string output_;
   std::string shard_ = "1/1";

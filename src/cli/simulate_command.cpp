@@ -107,6 +107,21 @@ fss::PngDepth resolve_png_depth(const std::string& choice, const fss::ImageFileI
 
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
 
+// The sensor line, only for an enabled sensor (docs/method.md §10).
+void print_sensor(const fss::SensorModel& s) {
+  if (!s.enabled()) return;
+  const std::string full_well =
+      s.full_well_electrons ? fss::format_number(*s.full_well_electrons) + " e-" : "none";
+  const std::string adc = s.adc_bits != 0
+                              ? std::to_string(s.adc_bits) + " bits, gain " +
+                                    fss::format_number(s.adc_gain_electrons_per_count) + " e-/count"
+                              : "none";
+  std::printf("Sensor: read noise %s e-, dark current %s e-/slot, full well %s, ADC %s\n",
+              fss::format_number(s.read_noise_electrons).c_str(),
+              fss::format_number(s.dark_current_electrons_per_slot).c_str(), full_well.c_str(),
+              adc.c_str());
+}
+
 void print_results(const fss::SimulationReport& report, const fss::SimulationOptions& options,
                    const std::string& outdir) {
   print_metric("RMSE", report.metrics.rmse);
@@ -117,8 +132,8 @@ void print_results(const fss::SimulationReport& report, const fss::SimulationOpt
   if (p.finite) {
     // The exact expectation (docs/method.md §6b), then the paper's stationary
     // approximation and the image-independent figure of merit (§6).
-    std::printf("Predicted RMSE: %f (noise-free %f, noise %f)\n", p.rmse, p.rmse_noise_free,
-                p.noise);
+    std::printf("Predicted RMSE: %f (noise-free %f, noise %f)%s\n", p.rmse, p.rmse_noise_free,
+                p.noise, p.exact ? "" : ", approximate: the sensor clips readouts");
     std::printf("Stationary approximation: RMSE %f (noise %f), SNR at level 100 %f\n",
                 p.rmse_stationary, p.sigma, p.snr_level100);
   } else {
@@ -134,6 +149,7 @@ void print_results(const fss::SimulationReport& report, const fss::SimulationOpt
     std::printf("Restore velocity: %g (true velocity %g)\n", *options.restore_velocity_px_per_slot,
                 options.velocity_px_per_slot);
   }
+  print_sensor(options.sensor);
   std::printf("Seed: %llu\n", static_cast<unsigned long long>(options.seed));
   const fss::Geometry& g = report.geometry;
   std::printf(

@@ -130,6 +130,32 @@ void SimulationFlags::AddMaxMemory(CLI::App& app) {
       "half of physical memory)");
 }
 
+void SimulationFlags::AddSensor(CLI::App& app) {
+  fss::SensorModel& sensor = options_.sensor;
+  app.add_option("--read-noise", sensor.read_noise_electrons,
+                 "sensor read noise, electrons RMS per readout (numerical: every frame is read; "
+                 "analog: one readout), >= 0; default 0 (off)")
+      ->check(finite());
+  app.add_option("--dark-current", sensor.dark_current_electrons_per_slot,
+                 "sensor dark current, mean electrons per unit time slot, >= 0; its mean is "
+                 "subtracted, its noise stays; default 0 (off)")
+      ->check(finite());
+  full_well_option_ =
+      app.add_option("--full-well", full_well_,
+                     "sensor full well, electrons: a readout's charge is clipped there (the "
+                     "prediction is then approximate); default none")
+          ->check(finite());
+  adc_bits_option_ =
+      app.add_option("--adc-bits", sensor.adc_bits,
+                     "ADC resolution in bits, 1 to 32: readouts rounded to counts in [0, 2^B - 1]; "
+                     "default 0 (no ADC)")
+          ->check(integer_in(std::numeric_limits<int>::min(), kMaxInt));
+  adc_gain_option_ = app.add_option("--adc-gain", sensor.adc_gain_electrons_per_count,
+                                    "ADC gain, electrons per count, > 0 (needs --adc-bits)")
+                         ->check(finite())
+                         ->capture_default_str();
+}
+
 void SimulationFlags::AddAll(CLI::App& app) {
   AddCode(app);
   AddMode(app);
@@ -143,6 +169,7 @@ void SimulationFlags::AddAll(CLI::App& app) {
   AddTrials(app);
   AddThreads(app);
   AddMaxMemory(app);
+  AddSensor(app);
 }
 
 fss::SimulationOptions SimulationFlags::Options() const {
@@ -163,7 +190,41 @@ fss::SimulationOptions SimulationFlags::Options() const {
   if (!noise_problem.empty()) {
     fss::throw_usage_error("--noise: value " + noise_ + " " + noise_problem);
   }
+  if (full_well_option_ != nullptr) check_sensor(options);
   return options;
+}
+
+void SimulationFlags::check_sensor(fss::SimulationOptions& options) const {
+  if (full_well_option_->count() > 0) options.sensor.full_well_electrons = full_well_;
+  if (adc_gain_option_->count() > 0 && adc_bits_option_->count() == 0) {
+    fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
+  }
+  // The library's rule (SensorModel::IsValid), its field named as the flag:
+  // "read_noise_electrons = -1: must be ..." -> "--read-noise: value -1 must be ...".
+  std::string error;
+  if (!options.sensor.IsValid(&error)) {
+    static const std::pair<const char*, const char*> kFlags[] = {
+        {"read_noise_electrons", "--read-noise"},
+        {"dark_current_electrons_per_slot", "--dark-current"},
+        {"full_well_electrons", "--full-well"},
+        {"adc_bits", "--adc-bits"},
+        {"adc_gain_electrons_per_count", "--adc-gain"}};
+    const std::size_t equals = error.find(" = ");
+    const std::size_t colon = error.find(": ", equals);
+    const std::string field = error.substr(0, equals);
+    std::string flag = field;
+    for (const auto& [name, option] : kFlags) {
+      if (field == name) flag = option;
+    }
+    if (equals == std::string::npos || colon == std::string::npos) fss::throw_usage_error(error);
+    fss::throw_usage_error(flag + ": value " + error.substr(equals + 3, colon - equals - 3) + " " +
+                           error.substr(colon + 2));
+  }
+  const std::string noise_problem = fss::sensor_noise_rule(
+      options.noise == fss::NoiseModel::kAggregated, options.sensor.linear());
+  if (!noise_problem.empty()) {
+    fss::throw_usage_error("--noise: value " + noise_ + " " + noise_problem);
+  }
 }
 
 }  // namespace fssim

@@ -26,6 +26,9 @@ class SimulationFlags {
   void AddTrials(CLI::App& app);           // --trials
   void AddThreads(CLI::App& app);          // --threads
   void AddMaxMemory(CLI::App& app);        // --max-memory
+  // --read-noise, --dark-current, --full-well, --adc-bits, --adc-gain
+  // (docs/method.md §10); all off by default.
+  void AddSensor(CLI::App& app);
 
   // All of the above, in this order.
   void AddAll(CLI::App& app);
@@ -40,6 +43,11 @@ class SimulationFlags {
   fss::SimulationOptions Options() const;
 
  private:
+  // With AddSensor: sets the full well and checks the sensor flags by the
+  // library's rule, throwing a usage fss::Error naming the flag.
+  void check_sensor(fss::SimulationOptions& options) const;
+
+ private:
   fss::SimulationOptions options_;
   std::string code_name_ = "raskar";
   std::string mode_ = "numerical";
@@ -48,6 +56,10 @@ class SimulationFlags {
   CLI::Option* restore_velocity_option_ = nullptr;
   std::string max_memory_;
   CLI::Option* max_memory_option_ = nullptr;
+  double full_well_ = 0.0;
+  CLI::Option* full_well_option_ = nullptr;
+  CLI::Option* adc_bits_option_ = nullptr;
+  CLI::Option* adc_gain_option_ = nullptr;
 };
 
 }  // namespace fssim

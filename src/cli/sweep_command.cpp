@@ -8,6 +8,8 @@
 #include <utility>
 
 #include "cli_common.h"
+#include "fss/campaign/results.h"
+#include "fss/campaign/spec.h"
 #include "fss/core/error.h"
 #include "fss/io/image_io.h"
 #include "fss/io/plot.h"
@@ -34,99 +36,74 @@ std::string csv_number(double value, int digits = kResultDigits) {
   return format_number(value, digits);
 }
 
-// docs/method.md §4 and §5: blur length B = max(L, ceil(|v| dt L)); the
-// outputs are W - 3B wide; the RMSE window [margin, W - 3B - margin) and the
-// RMSE_CI window [B, W - 4B) must not be empty. Returns "" when the setting
-// fits, otherwise why it does not.
-std::string too_narrow_reason(int width, int length, double velocity, double dt, int margin,
-                              int* blur_length) {
-  const double motion = std::ceil(std::abs(velocity) * dt * length);
-  if (!(motion < width)) {
-    *blur_length = -1;
-    return "the blur spans " + format_number(motion) + " pixels, more than the image width " +
-           std::to_string(width);
-  }
-  const int b = std::max(length, static_cast<int>(motion));
-  *blur_length = b;
-  const int m = margin < 0 ? 3 * b : margin;
-  const int output = width - 3 * b;
-  if (output <= 2 * b || output <= 2 * m) {
-    const int needed = std::max(5 * b, 3 * b + 2 * m) + 1;
-    return "image width " + std::to_string(width) +
-           " is too narrow for blur length B = " + std::to_string(b) + " and RMSE margin " +
-           std::to_string(m) + " (needs " + std::to_string(needed) + ")";
-  }
-  return {};
-}
-
 // The swept values and the results, for --plot (NaN where a setting has none).
 struct Curves {
   std::vector<double> x, measured, predicted;
 };
 
-// One setting: its CSV row and its console line; the curves get its point.
-class SweepRunner {
+// Turns the campaign engine's rows into the sweep's CSV rows and console
+// lines; the curves get each row's point.
+class SweepRows {
  public:
-  SweepRunner(const fss::SimulationOptions& options, const fss::Image& image,
-              const fss::ShutterCode& code, bool by_velocity, std::FILE* console)
-      : options_(options),
-        image_(image),
-        code_(code),
-        by_velocity_(by_velocity),
-        console_(console) {}
+  SweepRows(bool by_velocity, std::FILE* console) : by_velocity_(by_velocity), console_(console) {}
 
-  std::string Row(double velocity, double snr);
+  // The CSV line of the setting (velocity, snr) from its campaign row.
+  std::string Row(double velocity, double snr, const fss::ResultRow& row);
   const Curves& curves() const { return curves_; }
 
  private:
-  std::string TooNarrowRow(double velocity, double snr, const std::string& reason, int blur_length);
+  std::string TooNarrowRow(double velocity, double snr, const fss::ResultRow& row);
 
-  fss::SimulationOptions options_;
-  const fss::Image& image_;
-  const fss::ShutterCode& code_;
   bool by_velocity_;
   std::FILE* console_;  // stdout, or stderr when the CSV goes to stdout
   Curves curves_;
 };
 
-std::string SweepRunner::TooNarrowRow(double velocity, double snr, const std::string& reason,
-                                      int blur_length) {
-  std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": " << reason
-            << "; row marked too-narrow (see --rmse-margin)\n";
+const std::string& cell(const fss::ResultRow& row, const char* column) {
+  return row[static_cast<std::size_t>(fss::campaign_column_index(column))];
+}
+
+// A number cell of the row (shortest round-trip text: the same double).
+double number(const fss::ResultRow& row, const char* column) {
+  return std::strtod(cell(row, column).c_str(), nullptr);
+}
+
+std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::ResultRow& row) {
+  std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": "
+            << cell(row, "message") << "; row marked too-narrow\n";
   curves_.x.push_back(by_velocity_ ? velocity : snr);
   curves_.measured.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));
   std::fprintf(console_, "velocity %g, snr %g: too narrow\n", velocity, snr);
-  return (blur_length > 0 ? std::to_string(blur_length) : "") + ",,,,,,,too-narrow\n";
+  return cell(row, "blur_length") + ",,,,,,,too-narrow\n";
 }
 
-std::string SweepRunner::Row(double velocity, double snr) {
-  options_.velocity_px_per_slot = velocity;
-  options_.snr = snr;
+std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& row) {
   const std::string setting =
       csv_number(velocity, kSettingDigits) + "," + csv_number(snr, kSettingDigits) + ",";
-  int blur_length = 0;
-  const std::string reason = too_narrow_reason(image_.width, code_.length(), velocity, options_.dt,
-                                               options_.rmse_margin_columns, &blur_length);
-  if (!reason.empty()) return setting + TooNarrowRow(velocity, snr, reason, blur_length);
-  const fss::SimulationReport r = fss::Simulate(options_, image_, code_);
-  const fss::Prediction& p = r.prediction;
+  const std::string& status = cell(row, "status");
+  if (status == fss::kStatusTooNarrow) return setting + TooNarrowRow(velocity, snr, row);
+  if (status != fss::kStatusOk && status != fss::kStatusNotInvertible) {
+    fss::throw_usage_error(cell(row, "message"));  // what Simulate refused
+  }
+  const bool invertible = status == fss::kStatusOk;
+  const double mean = number(row, "rmse_mean"), sd = number(row, "rmse_sd");
+  const double predicted = number(row, "predicted_rmse");
+  const int trials = std::stoi(cell(row, "trials"));
   curves_.x.push_back(by_velocity_ ? velocity : snr);
-  curves_.measured.push_back(r.trials.rmse_mean);
-  curves_.predicted.push_back(p.finite ? p.rmse : std::nan(""));
-  if (p.finite) {
+  curves_.measured.push_back(mean);
+  curves_.predicted.push_back(invertible ? predicted : std::nan(""));
+  if (invertible) {
     std::fprintf(console_, "velocity %g, snr %g: RMSE %f (sd %f, %d trial%s), predicted %f\n",
-                 velocity, snr, r.trials.rmse_mean, r.trials.rmse_sd, r.trials.n,
-                 r.trials.n == 1 ? "" : "s", p.rmse);
+                 velocity, snr, mean, sd, trials, trials == 1 ? "" : "s", predicted);
   } else {
     std::fprintf(console_, "velocity %g, snr %g: RMSE %g (%d trial%s), not invertible\n", velocity,
-                 snr, r.trials.rmse_mean, r.trials.n, r.trials.n == 1 ? "" : "s");
+                 snr, mean, trials, trials == 1 ? "" : "s");
   }
-  return setting + std::to_string(r.geometry.blur_length) + "," + csv_number(r.trials.rmse_mean) +
-         "," + csv_number(r.trials.rmse_sd) + "," + csv_number(p.rmse) + "," +
-         csv_number(p.rmse_noise_free) + "," + csv_number(p.snr_level100) + "," +
-         (r.kernel.invertible ? "true" : "false") + "," +
-         (r.kernel.invertible ? "ok" : "not-invertible") + "\n";
+  return setting + cell(row, "blur_length") + "," + csv_number(mean) + "," + csv_number(sd) + "," +
+         csv_number(predicted) + "," + csv_number(number(row, "predicted_rmse_noise_free")) + "," +
+         csv_number(number(row, "snr_level100")) + "," + cell(row, "invertible") + "," + status +
+         "\n";
 }
 
 [[noreturn]] void refuse_snr(const std::string& text, const std::string& rule, double snr) {
@@ -167,6 +144,7 @@ SweepCommand::SweepCommand(CLI::App& parent)
   flags_.AddRmseMargin(sweep);
   flags_.AddThreads(sweep);
   flags_.AddMaxMemory(sweep);  // the simulator's memory guard, for the image and each row
+  flags_.AddSensor(sweep);
   sweep.add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep.add_option("--plot", plot_,
                    "also draw measured and predicted RMSE against the swept parameter into "
@@ -213,6 +191,25 @@ void SweepCommand::CheckPaths() const {
   }
 }
 
+// The sweep as a campaign of one image and one code over the grid, every
+// setting with the seeds --seed, --seed + 1, ... (SettingRunOptions::seed).
+fss::ResolvedCampaign SweepCommand::Campaign(const Grid& grid, const fss::ShutterCode& code,
+                                             const fss::SimulationOptions& options) const {
+  fss::ResolvedCampaign c;
+  c.images = {{input_, input_, ""}};
+  c.codes = {{code.name, code, ""}};
+  c.modes = {options.mode};
+  c.velocities.values = grid.velocities;
+  c.restore_velocities = {std::nullopt};
+  c.snrs.values = grid.snrs;
+  c.dts.values = {options.dt};
+  c.trials = options.trials;
+  c.seed = options.seed;
+  c.noise = options.noise;
+  c.rmse_margin_columns = options.rmse_margin_columns;
+  return c;
+}
+
 int SweepCommand::Sweep() const {
   const Grid grid = ParseGrid();
   CheckPaths();
@@ -223,14 +220,18 @@ int SweepCommand::Sweep() const {
   // the first setting that fits the image).
   fss::check_code_for_mode(code, options.mode);
   const bool on_stdout = is_stdout(output_) || is_stdout(plot_);
-  SweepRunner runner(options, image, code, grid.by_velocity(), on_stdout ? stderr : stdout);
+  // The campaign engine runs the settings (velocity-major, as the CSV), each
+  // kernel once per velocity.
+  const fss::ResolvedCampaign campaign = Campaign(grid, code, options);
+  const fss::SettingRunOptions run{options.threads, options.max_memory_bytes, "", options.seed};
+  fss::SimulationPlanCache plans;
+  SweepRows rows(grid.by_velocity(), on_stdout ? stderr : stdout);
   std::string csv = kCsvHeader;
-  int rows = 0;
-  for (const double velocity : grid.velocities) {
-    for (const double snr : grid.snrs) {
-      csv += runner.Row(velocity, snr);
-      ++rows;
-    }
+  const long long settings = campaign.setting_count();
+  for (long long i = 0; i < settings; ++i) {
+    const fss::Setting s = fss::setting_at(campaign, i);
+    csv += rows.Row(grid.velocities[s.velocity], grid.snrs[s.snr],
+                    fss::run_setting(campaign, s, image, run, &plans));
   }
   std::vector<std::uint8_t> png;
   if (!plot_.empty()) {
@@ -242,7 +243,7 @@ int SweepCommand::Sweep() const {
         ", " + fss::to_string(options.mode) +
         (grid.by_velocity() ? ", snr " + format_number(grid.snrs.front())
                             : ", velocity " + format_number(grid.velocities.front()));
-    const Curves& c = runner.curves();
+    const Curves& c = rows.curves();
     png = fss::plot_curves_png(c.x,
                                {{"measured (mean of " + trials + ")", c.measured, false, true},
                                 {"predicted (exact expectation)", c.predicted, true, false}},
@@ -252,7 +253,8 @@ int SweepCommand::Sweep() const {
   const std::vector<std::string> inputs = {input_, flags_.code_name()};
   std::FILE* console = on_stdout ? stderr : stdout;
   write_output(output_, csv, inputs);
-  std::fprintf(console, "Wrote %d row%s to %s\n", rows, rows == 1 ? "" : "s", output_.c_str());
+  std::fprintf(console, "Wrote %lld row%s to %s\n", settings, settings == 1 ? "" : "s",
+               output_.c_str());
   if (!plot_.empty()) {
     write_output(plot_, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
                  inputs);

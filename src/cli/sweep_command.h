@@ -1,11 +1,15 @@
 // `fssim sweep`: the simulator over a grid of velocities and snr values, one
-// CSV row per setting with the measured and the predicted RMSE.
+// CSV row per setting with the measured and the predicted RMSE. A thin alias
+// of the campaign engine (fss/campaign/results.h): a campaign of one image
+// and one code, every setting with the same seeds, its rows written in the
+// sweep's CSV form.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "command.h"
+#include "fss/campaign/spec.h"
 #include "simulation_flags.h"
 
 namespace fssim {
@@ -25,6 +29,8 @@ class SweepCommand : public Command {
   };
   Grid ParseGrid() const;
   void CheckPaths() const;
+  fss::ResolvedCampaign Campaign(const Grid& grid, const fss::ShutterCode& code,
+                                 const fss::SimulationOptions& options) const;
   int Sweep() const;
 
   SimulationFlags flags_;

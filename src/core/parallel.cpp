@@ -1,6 +1,7 @@
 #include "fss/core/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <thread>
 #include <vector>
@@ -43,6 +44,25 @@ void parallel_for(int count, int threads, const std::function<void(int begin, in
   run_block(0);
   for (int w = started; w < workers; ++w) run_block(w);
   for (auto& thread : pool) thread.join();
+  for (const auto& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+}
+
+void parallel_for_each(int count, int threads, const std::function<void(int i)>& body) {
+  if (count <= 0) return;
+  const int workers = std::min(resolve_thread_count(threads), count);
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
+  std::atomic<int> next{0};
+  parallel_for(workers, workers, [&](int, int) {
+    for (int i = next++; i < count; i = next++) {
+      try {
+        body(i);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  });
   for (const auto& error : errors) {
     if (error) std::rethrow_exception(error);
   }

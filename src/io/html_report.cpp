@@ -132,6 +132,17 @@ void write_parameters(std::ostringstream& out, const SimulationReport& r, const 
   t.row("noise", to_string(o.noise));
   t.row("seed", std::to_string(o.seed));
   t.row("trials", std::to_string(o.trials));
+  if (o.sensor.enabled()) {  // docs/method.md §10
+    const SensorModel& s = o.sensor;
+    t.row("sensor",
+          "read noise " + format("%g", s.read_noise_electrons) + " e⁻, dark current " +
+              format("%g", s.dark_current_electrons_per_slot) + " e⁻/slot, full well " +
+              (s.full_well_electrons ? format("%g", *s.full_well_electrons) + " e⁻" : "none") +
+              ", ADC " +
+              (s.adc_bits != 0 ? std::to_string(s.adc_bits) + " bits, " +
+                                     format("%g", s.adc_gain_electrons_per_count) + " e⁻/count"
+                               : "none"));
+  }
   t.row("blur length B", std::to_string(r.geometry.blur_length) + " pixels");
   t.row("output crop", std::to_string(r.geometry.output_width) + "×" + std::to_string(r.height) +
                            ", input columns " + std::to_string(first_column) + " … " +
@@ -144,7 +155,9 @@ void write_parameters(std::ostringstream& out, const SimulationReport& r, const 
 // stationary approximation and the figure of merit (§6), and |K| (§1).
 void write_prediction_rows(Table& t, const SimulationReport& r) {
   if (r.prediction.finite) {
-    t.row("predicted RMSE (exact expectation)", metric(r.prediction.rmse));
+    t.row(r.prediction.exact ? "predicted RMSE (exact expectation)"
+                             : "predicted RMSE (approximate: the sensor clips readouts)",
+          metric(r.prediction.rmse));
     t.row("noise-free RMSE", metric(r.prediction.rmse_noise_free));
     t.row("noise part (exact)", metric(r.prediction.noise));
     t.row("stationary approximation: RMSE", metric(r.prediction.rmse_stationary));

@@ -40,16 +40,29 @@ json geometry_json(const SimulationReport& r) {
 // The predicted error: rmse and noise the exact expectation (docs/method.md
 // §6b), sigma and rmse_stationary the stationary approximation (§6).
 json prediction_json(const SimulationReport& r) {
-  return {{"finite", r.prediction.finite},
-          {"rmse_noise_free", finite_or_null(r.prediction.rmse_noise_free)},
-          {"noise", finite_or_null(r.prediction.noise)},
-          {"rmse", finite_or_null(r.prediction.rmse)},
-          {"sigma", finite_or_null(r.prediction.sigma)},
-          {"rmse_stationary", finite_or_null(r.prediction.rmse_stationary)},
-          {"snr_level100", finite_or_null(r.prediction.snr_level100)},
-          {"window_mean", r.prediction.window_mean},
-          {"q", r.prediction.q},
-          {"m", finite_or_null(r.prediction.m_amplification)}};
+  json j = {{"finite", r.prediction.finite},
+            {"rmse_noise_free", finite_or_null(r.prediction.rmse_noise_free)},
+            {"noise", finite_or_null(r.prediction.noise)},
+            {"rmse", finite_or_null(r.prediction.rmse)},
+            {"sigma", finite_or_null(r.prediction.sigma)},
+            {"rmse_stationary", finite_or_null(r.prediction.rmse_stationary)},
+            {"snr_level100", finite_or_null(r.prediction.snr_level100)},
+            {"window_mean", r.prediction.window_mean},
+            {"q", r.prediction.q},
+            {"m", finite_or_null(r.prediction.m_amplification)}};
+  // With an enabled sensor only, so that a default report keeps its bytes.
+  if (r.options.sensor.enabled()) j["exact"] = r.prediction.exact;
+  return j;
+}
+
+// The sensor (docs/method.md §10), written only when it is enabled;
+// full_well_electrons null for none, adc_bits 0 for no ADC.
+json sensor_json(const SensorModel& s) {
+  return {{"read_noise_electrons", s.read_noise_electrons},
+          {"dark_current_electrons_per_slot", s.dark_current_electrons_per_slot},
+          {"full_well_electrons", s.full_well_electrons ? json(*s.full_well_electrons) : json()},
+          {"adc_bits", s.adc_bits},
+          {"adc_gain_electrons_per_count", s.adc_gain_electrons_per_count}};
 }
 
 }  // namespace
@@ -65,6 +78,7 @@ json report_json(const SimulationReport& r, const std::string& input_path) {
   j["input"] = {
       {"path", input_path}, {"width", r.width}, {"height", r.height}, {"channels", r.channels}};
   j["parameters"] = parameters_json(r);
+  if (r.options.sensor.enabled()) j["sensor"] = sensor_json(r.options.sensor);
   j["code"] = {{"name", r.code_name},
                {"gains", r.gains},
                {"sum", gain_sum(r.gains)},

@@ -336,10 +336,75 @@ void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& 
   });
 }
 
+void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowNoiseId& id,
+                                           double gain, const SensorReadout& readout,
+                                           std::span<double> out) {
+  const std::size_t n = e.size();
+  lambda_.resize(n);
+  std::size_t knuth_pixels = 0;
+  run_vectorized([&]() __attribute__((always_inline)) {
+    // lambda = max(e, 0) lambda2 + dark: photo and dark electrons, one Poisson
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = lambda_.data();
+    const double lambda2 = lambda2_;
+    const double dark = readout.dark_electrons;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark;
+      count += lambda[x] < kKnuthLimit ? 1 : 0;
+    }
+    knuth_pixels = count;
+  });
+  // The charge P, drawn as accumulate() draws it: normals from lane 0, and
+  // Knuth's variates from lane 1 in place of the unused normals.
+  draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
+  if (knuth_pixels > 0) {
+    RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
+    for (std::size_t x = 0; x < n; ++x) {
+      if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
+    }
+  }
+  // The read noise's normals from lane 4 (zeros without read noise).
+  if (readout.read_noise_electrons != 0.0) {
+    draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), n, u1_, u2_, read_normals_,
+                 /*portable=*/true);
+  } else {
+    read_normals_.assign(n, 0.0);
+  }
+  // out += gain * read(P, R) / lambda2 (SensorReadout::read, inline so that
+  // the loop vectorizes)
+  run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict lambda = lambda_.data();
+    const double* __restrict normal = normals_.data();
+    const double* __restrict read = read_normals_.data();
+    double* __restrict sum = out.data();
+    const double scale = gain / lambda2_;
+    const double well = readout.full_well_electrons;
+    const double sigma = readout.read_noise_electrons;
+    const double dark = readout.dark_electrons;
+    const bool adc = readout.adc();
+    const double adc_gain = adc ? readout.adc_gain_electrons_per_count : 1.0;
+    const double adc_max = readout.adc_max_counts;
+    for (std::size_t x = 0; x < n; ++x) {
+      const double rounded = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+      const double charge = lambda[x] < kKnuthLimit ? normal[x] : rounded;
+      const double q = std::min(charge, well) + sigma * read[x];
+      const double counted = std::min(round_nonnegative(q / adc_gain), adc_max) * adc_gain;
+      sum[x] += scale * ((adc ? counted : q) - dark);
+    }
+  });
+}
+
+void PoissonRowSampler::add_read_noise(const RowNoiseId& id, double scale, std::span<double> out) {
+  draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), out.size(), u1_, u2_,
+               read_normals_, /*portable=*/true);
+  for (std::size_t x = 0; x < out.size(); ++x) out[x] += scale * read_normals_[x];
+}
+
 AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
 void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
-                                     std::span<double> out) {
+                                     std::span<double> out, const SensorReadout* readout) {
   const std::size_t n = e.size();
   if (!has_frame_) {  // the row's first frame
     mean_.assign(n, 0.0);
@@ -349,6 +414,7 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
   lambda_.resize(n);
   // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12).
   const double gain_squared = gain * gain;
+  const double dark_electrons = readout != nullptr ? readout->dark_electrons : 0.0;
   std::size_t normal_pixels = 0;
   run_vectorized([&]() __attribute__((always_inline)) {
     // Locals, not the captured references, so that the loop vectorizes.
@@ -359,9 +425,10 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
     const double lambda2 = lambda2_;
     const double alpha = gain;
     const double alpha_squared = gain_squared;
+    const double dark = dark_electrons;
     std::size_t count = 0;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark;
       const bool normal = lambda[x] >= kKnuthLimit;
       mean[x] += normal ? alpha * lambda[x] : 0.0;
       variance[x] += normal ? alpha_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
@@ -370,6 +437,7 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
     normal_pixels = count;
   });
   if (normal_pixels > 0) has_normal_ = true;
+  if (readout != nullptr) add_readout_terms(gain, *readout);
   if (normal_pixels == n) return;
 
   // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
@@ -393,6 +461,16 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
       }
     }
   }
+}
+
+void AggregatedRowSampler::add_readout_terms(double gain, const SensorReadout& readout) {
+  // Every pixel: M -= alpha dark (dark-frame correction), V += alpha^2 sigma_r^2.
+  const double read_variance = readout.read_noise_electrons * readout.read_noise_electrons;
+  for (std::size_t x = 0; x < mean_.size(); ++x) {
+    mean_[x] -= gain * readout.dark_electrons;
+    variance_[x] += gain * gain * read_variance;
+  }
+  has_normal_ = true;
 }
 
 void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,

@@ -1,8 +1,10 @@
 #include "fss/model/sensor.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "fss/core/error.h"
+#include "fss/model/noise.h"
 
 namespace fss {
 
@@ -72,6 +74,34 @@ double level100_observation_variance(std::span<const double> gains, double dt, S
     for (const double alpha : gains) electrons2 += alpha * alpha * (100.0 * dt * lambda2 + readout);
   }
   return electrons2 / (lambda2 * lambda2);
+}
+
+double SensorReadout::clip_electrons() const {
+  const double top = adc() ? adc_max_counts * adc_gain_electrons_per_count
+                           : std::numeric_limits<double>::infinity();
+  return std::min(full_well_electrons, top);
+}
+
+double SensorReadout::read(double charge, double r) const {
+  // q = min(charge, F) + sigma_r r; ADC: q = min(round+(q / G), 2^b - 1) G; minus d * exposure
+  double q = std::min(charge, full_well_electrons) + read_noise_electrons * r;
+  if (adc()) {
+    q = std::min(round_nonnegative(q / adc_gain_electrons_per_count), adc_max_counts) *
+        adc_gain_electrons_per_count;
+  }
+  return q - dark_electrons;
+}
+
+SensorReadout sensor_readout(const SensorModel& sensor, double exposure_slots) {
+  SensorReadout readout;
+  readout.dark_electrons = sensor.dark_current_electrons_per_slot * exposure_slots;
+  readout.read_noise_electrons = sensor.read_noise_electrons;
+  if (sensor.full_well_electrons) readout.full_well_electrons = *sensor.full_well_electrons;
+  if (sensor.adc_bits != 0) {
+    readout.adc_gain_electrons_per_count = sensor.adc_gain_electrons_per_count;
+    readout.adc_max_counts = std::ldexp(1.0, sensor.adc_bits) - 1.0;
+  }
+  return readout;
 }
 
 }  // namespace fss

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <future>
 #include <limits>
+#include <numeric>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -80,6 +83,7 @@ class PixelKeys {
   std::uint64_t value_part(std::uint64_t key) const { return key & ~index_mask_; }
   // True when the value part of `bits` is all of it (its dropped bits are 0).
   bool keeps_all(std::uint64_t bits) const { return (bits & index_mask_) == 0; }
+  int index_bits() const { return index_bits_; }
 
  private:
   int index_bits_;
@@ -135,9 +139,42 @@ class KeySorter {
  public:
   // The buffer is reserved once for the largest range it can serve, so it
   // never reallocates (no moment with two copies).
-  KeySorter(std::size_t n, std::size_t max_scratch)
-      : max_scratch_(std::max<std::size_t>(max_scratch, 1)) {
+  // Only bits from `low_bit` up are sorted on: the bits below (a pixel
+  // index, PixelKeys) are left in any order.
+  KeySorter(std::size_t n, std::size_t max_scratch, int low_bit)
+      : max_scratch_(std::max<std::size_t>(max_scratch, 1)), low_bit_(low_bit) {
     buffer_.reserve(std::min(n, max_scratch_));
+  }
+
+  // As sort(), but when the keys need an in-place split, the parts of the
+  // first split are sorted on two threads (the second with its own buffer),
+  // largest parts first. Each part is sorted as sort() would sort it, so the
+  // result is the same.
+  void sort_on_two_threads(std::uint64_t* keys, std::size_t n) {
+    if (n <= max_scratch_ || n < kSmall) {
+      sort(keys, n);
+      return;
+    }
+    const auto [low, high] = std::minmax_element(keys, keys + n);
+    if ((*low ^ *high) >> low_bit_ == 0) return;
+    const int top_bit = 63 - std::countl_zero(*low ^ *high);
+    const std::vector<std::size_t> stop =
+        partition(keys, n, std::max(low_bit_, top_bit - kDigitBits + 1));
+    std::vector<std::size_t> parts(kBuckets);
+    std::iota(parts.begin(), parts.end(), std::size_t{0});
+    const auto size = [&](std::size_t d) { return stop[d] - (d == 0 ? 0 : stop[d - 1]); };
+    std::stable_sort(parts.begin(), parts.end(),
+                     [&](std::size_t x, std::size_t y) { return size(x) > size(y); });
+    std::atomic<std::size_t> next{0};
+    parallel_for(2, 2, [&](int worker, int) {
+      std::optional<KeySorter> own;
+      if (worker > 0) own.emplace(n, max_scratch_, low_bit_);
+      KeySorter& sorter = worker > 0 ? *own : *this;
+      for (std::size_t i = next++; i < kBuckets && size(parts[i]) > 0; i = next++) {
+        const std::size_t d = parts[i];
+        sorter.sort(keys + (d == 0 ? 0 : stop[d - 1]), size(d));
+      }
+    });
   }
 
   void sort(std::uint64_t* keys, std::size_t n) {
@@ -146,12 +183,12 @@ class KeySorter {
       return;
     }
     const auto [low, high] = std::minmax_element(keys, keys + n);
-    if (*low == *high) return;
+    if ((*low ^ *high) >> low_bit_ == 0) return;              // equal in every sorted bit
     const int top_bit = 63 - std::countl_zero(*low ^ *high);  // highest differing bit
     if (n <= max_scratch_) {
       sort_lsd(keys, n, top_bit);
     } else {
-      split_msd(keys, n, std::max(0, top_bit - kDigitBits + 1));
+      split_msd(keys, n, std::max(low_bit_, top_bit - kDigitBits + 1));
     }
   }
 
@@ -161,13 +198,14 @@ class KeySorter {
   // Below this, std::sort beats LSD passes that each walk 2048 counters.
   static constexpr std::size_t kSmall = 1024;
 
+  // Digit p holds bits [low_bit + 11 p, low_bit + 11 (p + 1)).
   void sort_lsd(std::uint64_t* keys, std::size_t n, int top_bit) {
-    const int passes = top_bit / kDigitBits + 1;
+    const int passes = (top_bit - low_bit_) / kDigitBits + 1;
     // Every pass's histogram in one read of the keys.
     std::vector<std::size_t> counts(static_cast<std::size_t>(passes) * kBuckets, 0);
     for (std::size_t i = 0; i < n; ++i) {
       for (int p = 0; p < passes; ++p) {
-        ++counts[p * kBuckets + ((keys[i] >> (p * kDigitBits)) & (kBuckets - 1))];
+        ++counts[p * kBuckets + ((keys[i] >> (low_bit_ + p * kDigitBits)) & (kBuckets - 1))];
       }
     }
     buffer_.resize(n);
@@ -175,7 +213,7 @@ class KeySorter {
     std::uint64_t* to = buffer_.data();
     for (int p = 0; p < passes; ++p) {
       std::size_t* count = counts.data() + p * kBuckets;
-      const int shift = p * kDigitBits;
+      const int shift = low_bit_ + p * kDigitBits;
       if (count[(from[0] >> shift) & (kBuckets - 1)] == n) continue;  // one digit value
       std::size_t start = 0;
       for (std::size_t d = 0; d < kBuckets; ++d) start += std::exchange(count[d], start);
@@ -187,6 +225,17 @@ class KeySorter {
   }
 
   void split_msd(std::uint64_t* keys, std::size_t n, int shift) {
+    const std::vector<std::size_t> stop = partition(keys, n, shift);
+    std::size_t begin = 0;
+    for (std::size_t d = 0; d < kBuckets; ++d) {
+      sort(keys + begin, stop[d] - begin);  // the part's own highest differing bit is lower
+      begin = stop[d];
+    }
+  }
+
+  // Puts the keys in the order of their digit at `shift`, in place; returns
+  // one past each digit's range.
+  static std::vector<std::size_t> partition(std::uint64_t* keys, std::size_t n, int shift) {
     std::vector<std::size_t> next(kBuckets, 0);  // where the next key of each digit goes
     std::vector<std::size_t> stop(kBuckets, 0);  // one past each digit's range
     for (std::size_t i = 0; i < n; ++i) ++stop[(keys[i] >> shift) & (kBuckets - 1)];
@@ -207,20 +256,18 @@ class KeySorter {
         keys[next[d]++] = key;
       }
     }
-    std::size_t begin = 0;
-    for (std::size_t d = 0; d < kBuckets; ++d) {
-      sort(keys + begin, stop[d] - begin);  // the part's own highest differing bit is lower
-      begin = stop[d];
-    }
+    return stop;
   }
 
   std::size_t max_scratch_;
+  int low_bit_;
   std::vector<std::uint64_t> buffer_;
 };
 
 // The keys of a window, sorted by value part; *exact is set when every key
 // holds its whole value (the dropped bits are 0, e.g. for integers).
-std::vector<std::uint64_t> sorted_keys(const Window& w, const PixelKeys& keys, bool* exact) {
+std::vector<std::uint64_t> sorted_keys(const Window& w, const PixelKeys& keys, bool* exact,
+                                       bool two_threads) {
   std::vector<std::uint64_t> sorted(w.size());
   std::uint64_t dropped = 0;
   std::size_t k = 0;
@@ -234,7 +281,12 @@ std::vector<std::uint64_t> sorted_keys(const Window& w, const PixelKeys& keys, b
     }
   }
   *exact = keys.keeps_all(dropped);
-  KeySorter(sorted.size(), sort_scratch_keys(sorted.size())).sort(sorted.data(), sorted.size());
+  KeySorter sorter(sorted.size(), sort_scratch_keys(sorted.size()), keys.index_bits());
+  if (two_threads) {
+    sorter.sort_on_two_threads(sorted.data(), sorted.size());
+  } else {
+    sorter.sort(sorted.data(), sorted.size());
+  }
   return sorted;
 }
 
@@ -349,6 +401,45 @@ GroundRanks rank_groups(std::vector<std::uint64_t> sorted, const Window& w, cons
   return ranks;
 }
 
+// a's groups without sorting, when every value of the window is an integer
+// in [0, 65535] (the ground truth of an 8- or 16-bit image): a histogram
+// gives each value's group number (the values in increasing order) and the
+// first rank of each group. The same GroundRanks as sorting gives; false,
+// with `ranks` untouched, for any other window.
+constexpr std::uint32_t kIntegerLevels = 65536;
+
+bool rank_integer_groups(const Window& w, GroundRanks& ranks) {
+  std::vector<std::uint32_t> count(kIntegerLevels, 0);
+  for (int y = 0; y < static_cast<int>(w.size() / w.width()); ++y) {
+    const double* row = w.row(y);
+    for (std::uint32_t x = 0; x < w.width(); ++x) {
+      const double v = row[x];
+      if (!(v >= 0.0 && v < kIntegerLevels) || v != std::floor(v)) return false;
+      ++count[static_cast<std::uint32_t>(v)];
+    }
+  }
+  std::vector<std::uint32_t> group_of(kIntegerLevels);
+  ranks.starts.assign(w.size(), false);
+  ranks.value.clear();
+  std::size_t rank = 0;
+  for (std::uint32_t level = 0; level < kIntegerLevels; ++level) {
+    if (count[level] == 0) continue;
+    group_of[level] = static_cast<std::uint32_t>(ranks.value.size());
+    ranks.value.push_back(static_cast<double>(level));
+    ranks.starts[rank] = true;
+    rank += count[level];
+  }
+  ranks.group.resize(w.size());
+  std::size_t p = 0;
+  for (int y = 0; p < w.size(); ++y) {
+    const double* row = w.row(y);
+    for (std::uint32_t x = 0; x < w.width(); ++x) {
+      ranks.group[p++] = group_of[static_cast<std::uint32_t>(row[x])];
+    }
+  }
+  return true;
+}
+
 // Puts b's sorted keys in the exact order of their values, and equal values
 // in the order of a's groups at their pixels: the ranks then list the
 // (b value, a value) pairs in lexicographic order, whatever the pixel order.
@@ -377,7 +468,11 @@ void order_restored(std::vector<std::uint64_t>& sorted, const Window& w, const P
 // values alone, so the result does not depend on the order of the pixels.
 class ExpectedMidwaySum {
  public:
-  ExpectedMidwaySum(const Window& a, const Window& b, bool in_parallel) {
+  // With two `workers`, a and b are ranked at the same time when the window
+  // is small (in_parallel), else b's sort and the passes over the ranks use
+  // both.
+  ExpectedMidwaySum(const Window& a, const Window& b, bool in_parallel, int workers)
+      : workers_(workers > 1 ? 2 : 1) {
     const std::size_t n = a.size();
     if (n > kMaxRankedPixels) {
       throw_usage_error("a window of " + std::to_string(n) +
@@ -388,16 +483,20 @@ class ExpectedMidwaySum {
     std::future<std::vector<std::uint64_t>> b_sorted;
     if (in_parallel) {
       try {
-        b_sorted = std::async(std::launch::async, [&] { return sorted_keys(b, keys, &b_exact); });
+        b_sorted =
+            std::async(std::launch::async, [&] { return sorted_keys(b, keys, &b_exact, false); });
       } catch (const std::system_error&) {
         // no thread: sort b after a
       }
     }
-    bool a_exact = false;
-    std::vector<std::uint64_t> a_sorted = sorted_keys(a, keys, &a_exact);
-    GroundRanks ranks = rank_groups(std::move(a_sorted), a, keys, a_exact);
+    GroundRanks ranks;
+    if (!rank_integer_groups(a, ranks)) {
+      bool a_exact = false;
+      ranks = rank_groups(sorted_keys(a, keys, &a_exact, workers_ > 1 && !b_sorted.valid()), a,
+                          keys, a_exact);
+    }
     std::vector<std::uint64_t> sorted =
-        b_sorted.valid() ? b_sorted.get() : sorted_keys(b, keys, &b_exact);
+        b_sorted.valid() ? b_sorted.get() : sorted_keys(b, keys, &b_exact, workers_ > 1);
     order_restored(sorted, b, keys, b_exact, ranks);
     const double m2_sum = sweep(b, keys, ranks, sorted);
     sum_ = m2_sum + cross_sum(ranks, sorted);
@@ -407,8 +506,11 @@ class ExpectedMidwaySum {
  private:
   double sweep(const Window& b, const PixelKeys& keys, GroundRanks& ranks,
                std::vector<std::uint64_t>& sorted);
-  double cross_sum(const GroundRanks& ranks, const std::vector<std::uint64_t>& b_means) const;
+  double cross_sum(const GroundRanks& ranks, std::vector<std::uint64_t>& b_means) const;
 
+  // Below twice this many ranks, the passes over them stay on one thread.
+  static constexpr std::size_t kChunkRanks = std::size_t{1} << 16;
+  int workers_;                         // threads of the passes over the ranks: 1 or 2
   std::vector<std::uint32_t> b_pixel_;  // by rank
   double sum_ = 0.0;
 };
@@ -422,18 +524,38 @@ double ExpectedMidwaySum::sweep(const Window& b, const PixelKeys& keys, GroundRa
   const std::size_t n = sorted.size();
   b_pixel_.resize(n);
   std::vector<bool> b_starts(n);
-  std::size_t a_group = 0;
-  std::uint64_t previous = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i + kAhead < n) __builtin_prefetch(b.address(keys.pixel(sorted[i + kAhead])));
-    if (i > 0 && ranks.starts[i]) ++a_group;
-    const std::uint32_t pixel = keys.pixel(sorted[i]);
-    const double vb = b[pixel];
-    b_starts[i] = i == 0 || ordered_bits(vb) != previous;
-    previous = ordered_bits(vb);
-    b_pixel_[i] = pixel;
-    sorted[i] = as_bits(0.5 * (ranks.value[a_group] + vb));  // mid_i: the two i-th smallest' mean
+  // The ranks in `chunks` ranges on as many threads; each range starts at a
+  // multiple of 64 (its own words of b_starts), knowing a's group there and
+  // the bits of the previous rank's b value (read before any is written).
+  const std::size_t chunks = n >= 2 * kChunkRanks ? static_cast<std::size_t>(workers_) : 1;
+  std::vector<std::size_t> bounds(chunks + 1, n);
+  std::vector<std::size_t> first_group(chunks, 0);
+  std::vector<std::uint64_t> previous_bits(chunks, 0);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    bounds[c] = n * c / chunks / 64 * 64;
+    if (c == 0) continue;
+    first_group[c] = static_cast<std::size_t>(std::count(
+                         ranks.starts.begin(),
+                         ranks.starts.begin() + static_cast<std::ptrdiff_t>(bounds[c]) + 1, true)) -
+                     1;
+    previous_bits[c] = ordered_bits(b[keys.pixel(sorted[bounds[c] - 1])]);
   }
+  parallel_for(static_cast<int>(chunks), static_cast<int>(chunks), [&](int c, int) {
+    const std::size_t begin = bounds[c];
+    const std::size_t end = bounds[c + 1];
+    std::size_t a_group = first_group[c];
+    std::uint64_t previous = previous_bits[c];
+    for (std::size_t i = begin; i < end; ++i) {
+      if (i + kAhead < end) __builtin_prefetch(b.address(keys.pixel(sorted[i + kAhead])));
+      if (i > begin && ranks.starts[i]) ++a_group;
+      const std::uint32_t pixel = keys.pixel(sorted[i]);
+      const double vb = b[pixel];
+      b_starts[i] = i == 0 || ordered_bits(vb) != previous;
+      previous = ordered_bits(vb);
+      b_pixel_[i] = pixel;
+      sorted[i] = as_bits(0.5 * (ranks.value[a_group] + vb));  // mid_i: the two i-th smallest' mean
+    }
+  });
   double m2_sum = 0.0;
   std::size_t k = 0;
   for_each_group(ranks.starts, [&](std::size_t begin, std::size_t end) {
@@ -451,15 +573,24 @@ double ExpectedMidwaySum::sweep(const Window& b, const PixelKeys& keys, GroundRa
   return m2_sum;
 }
 
-// sum_p (B_G - B_H)^2 in b's rank order (b's ties in the order of a's groups).
+// sum_p (B_G - B_H)^2 in b's rank order (b's ties in the order of a's
+// groups). The squares are computed on the threads, in place of the B_H
+// they were made from, and summed in rank order: the bits of one thread.
 double ExpectedMidwaySum::cross_sum(const GroundRanks& ranks,
-                                    const std::vector<std::uint64_t>& b_means) const {
+                                    std::vector<std::uint64_t>& b_means) const {
+  const std::size_t n = b_means.size();
+  const int chunks = n >= 2 * kChunkRanks ? workers_ : 1;
+  parallel_for(chunks, chunks, [&](int c, int) {
+    const std::size_t begin = n * static_cast<std::size_t>(c) / static_cast<std::size_t>(chunks);
+    const std::size_t end = n * static_cast<std::size_t>(c + 1) / static_cast<std::size_t>(chunks);
+    for (std::size_t i = begin; i < end; ++i) {
+      if (i + kAhead < end) __builtin_prefetch(&ranks.group[b_pixel_[i + kAhead]]);
+      const double d = ranks.value[ranks.group[b_pixel_[i]]] - as_double(b_means[i]);
+      b_means[i] = as_bits(d * d);
+    }
+  });
   double sum = 0.0;
-  for (std::size_t i = 0; i < b_means.size(); ++i) {
-    if (i + kAhead < b_means.size()) __builtin_prefetch(&ranks.group[b_pixel_[i + kAhead]]);
-    const double d = ranks.value[ranks.group[b_pixel_[i]]] - as_double(b_means[i]);
-    sum += d * d;
-  }
+  for (std::size_t i = 0; i < n; ++i) sum += as_double(b_means[i]);
   return sum;
 }
 
@@ -555,11 +686,12 @@ double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int
   require_aligned(a, a_offset, b);
   require_window(b, first, end);
   const std::size_t window = static_cast<std::size_t>(end - first) * b.height;
-  const bool in_parallel = resolve_thread_count(threads) > 1 && window <= kParallelSortPixels;
+  const int workers = resolve_thread_count(threads);
+  const bool in_parallel = workers > 1 && window <= kParallelSortPixels;
   double sum = 0.0;
   for (int c = 0; c < b.channels; ++c) {
     sum += ExpectedMidwaySum(Window(&a, c, first + a_offset, end + a_offset),
-                             Window(&b, c, first, end), in_parallel)
+                             Window(&b, c, first, end), in_parallel, workers)
                .sum();
   }
   const double count = static_cast<double>(end - first) * b.height * b.channels;

@@ -19,6 +19,8 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
       snr_(params.snr),
       fft_(RowFFT::for_size(width)),
       aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical) {
+  set_noise(params);
+  auto filters = std::make_shared<std::vector<std::vector<Complex>>>();
   if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
       if (!(gains_[k] >= 0.0 && gains_[k] <= 1.0)) {
@@ -26,22 +28,55 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
                           " is " + std::to_string(gains_[k]));
       }
     }
-    filters_.push_back(transfer_function_bins(gains_, params.velocity, params.dt, width));
+    filters->push_back(transfer_function_bins(gains_, params.velocity, params.dt, width));
+    filters_ = std::move(filters);
     return;
   }
   const double s = params.velocity * params.dt;
   shift_ = std::nearbyint(s) == s && std::abs(s) < 1e9;
   if (shift_) {
     step_ = static_cast<long long>(s);
-    filters_.push_back(slot_transfer_function_bins(0, params.velocity, params.dt, width));
+    filters->push_back(slot_transfer_function_bins(0, params.velocity, params.dt, width));
   } else {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
-      filters_.push_back(gains_[k] == 0.0
+      filters->push_back(gains_[k] == 0.0
                              ? std::vector<Complex>()
                              : slot_transfer_function_bins(static_cast<int>(k), params.velocity,
                                                            params.dt, width));
     }
   }
+  filters_ = std::move(filters);
+}
+
+RowObserver RowObserver::with_noise(const ObservationParams& params) const {
+  RowObserver copy = *this;
+  copy.snr_ = params.snr;
+  copy.aggregate_ = params.aggregate_noise && mode_ == ShutterMode::kNumerical;
+  copy.set_noise(params);
+  return copy;
+}
+
+void RowObserver::set_noise(const ObservationParams& params) {
+  sensor_ = params.sensor.enabled();
+  sensor_linear_ = params.sensor.linear();
+  // One readout: a frame of dt (numerical) or the whole exposure L dt (analog).
+  const double exposure = readout_exposure_slots(gains_.size(), params.dt, mode_);
+  readout_ = sensor_readout(params.sensor, exposure);
+  readout_variance_ = readout_variance_electrons2(params.sensor, exposure);
+  frame_readout_ = readout_;
+  sum_read_noise_ = mode_ == ShutterMode::kNumerical && sensor_linear_ &&
+                    params.sensor.read_noise_electrons != 0.0;
+  summed_read_sd_ = 0.0;
+  if (sum_read_noise_) {
+    double sum_squares = 0.0;
+    for (const double alpha : gains_) sum_squares += alpha * alpha;
+    summed_read_sd_ = params.sensor.read_noise_electrons * std::sqrt(sum_squares);
+    frame_readout_.read_noise_electrons = 0.0;
+  }
+  clipping_first_ = std::clamp(params.clipping_first_column, 0, width_);
+  clipping_end_ = params.clipping_end_column < 0
+                      ? width_
+                      : std::clamp(params.clipping_end_column, clipping_first_, width_);
 }
 
 RowObserver::Scratch::Scratch(const RowObserver& observer)
@@ -75,11 +110,18 @@ namespace {
 // the caller gives; every call does nothing for a noisy pass or an empty row.
 // With integer v dt (shifts), V(e_0) is computed once and slot k adds it
 // shifted like its exposure; otherwise each slot adds V of its own exposure.
+//
+// A sensor (docs/method.md §10) adds `readout_variance` electrons^2 per
+// readout, and its dark charge d moves the branch test to lambda + d >= 50;
+// both are 0 without one (x + 0 is x: the same bits).
 class VarianceRow {
  public:
-  VarianceRow(bool noisy, double snr, std::span<double> variance, std::vector<double>& unit)
+  VarianceRow(bool noisy, double snr, std::span<double> variance, std::vector<double>& unit,
+              double dark_electrons, double readout_variance)
       : active_(!noisy && !variance.empty()),
         lambda2_(active_ ? PoissonSNR(snr).lambda2() : 0.0),
+        dark_(dark_electrons),
+        readout_(active_ ? readout_variance / (lambda2_ * lambda2_) : 0.0),
         variance_(variance),
         unit_(unit) {
     if (active_) std::fill(variance_.begin(), variance_.end(), 0.0);
@@ -116,59 +158,113 @@ class VarianceRow {
   // into[x] += weight * V(e[x]): poisson_snr_variance's formula and branch
   // test, inline so that the loop vectorizes, and with a product by 1 / lambda2
   // instead of its division (equal within an ulp; a division per slot and
-  // pixel would cost about as much as the slot's exposure).
+  // pixel would cost about as much as the slot's exposure). With a sensor:
+  //   V = max(e, 0) / lambda2 + (lambda + d >= 50 ? 1 / (12 lambda2^2) : 0)
+  //       + v_r / lambda2^2.
   void add(std::span<const double> e, double weight, std::span<double> into) const {
     const double lambda2 = lambda2_;
     const double inverse = 1.0 / lambda2;
     const double rounding = 1.0 / (12.0 * lambda2 * lambda2);
+    const double dark = dark_;
+    const double readout = readout_;
     const double* __restrict exposure = e.data();
     double* __restrict sum = into.data();
     for (std::size_t x = 0; x < e.size(); ++x) {
       const double signal = std::max(exposure[x], 0.0);
-      sum[x] += weight * (signal * inverse + (signal * lambda2 >= kKnuthLimit ? rounding : 0.0));
+      sum[x] += weight * (signal * inverse +
+                          (signal * lambda2 + dark >= kKnuthLimit ? rounding : 0.0) + readout);
     }
   }
 
   bool active_;
   bool unit_ready_ = false;
   double lambda2_;
+  double dark_;
+  double readout_;  // v_r / lambda2^2
   std::span<double> variance_;
   std::vector<double>& unit_;
 };
 
+// The expectation of one readout of a sensor with a full well or an ADC, the
+// mean charge clipped: (min(max(e, 0) lambda2 + d, clip) - d) / lambda2;
+// `clipping` counts the clipped readouts of columns [first, end).
+void add_clipped_expectation(std::span<const double> e, double alpha, double lambda2,
+                             const SensorReadout& readout, int first, int end,
+                             std::span<double> out, ReadoutClipping& clipping) {
+  const double clip = readout.clip_electrons();
+  const double sigma2 = readout.read_noise_electrons * readout.read_noise_electrons;
+  for (std::size_t x = 0; x < e.size(); ++x) {
+    const double charge = std::max(e[x], 0.0) * lambda2 + readout.dark_electrons;
+    out[x] += alpha * (std::min(charge, clip) - readout.dark_electrons) / lambda2;
+    const auto column = static_cast<int>(x);
+    if (column < first || column >= end) continue;
+    if (charge >= clip) ++clipping.saturated;
+    if (readout.adc() && charge < 3.0 * std::sqrt(charge + sigma2)) ++clipping.near_zero;
+  }
+}
+
 }  // namespace
 
-void RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
-                          std::span<double> out, std::span<double> variance) const {
+ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row,
+                                     Scratch& scratch, std::span<double> out,
+                                     std::span<double> variance) const {
   const auto c = static_cast<std::uint64_t>(channel);
   const auto y = static_cast<std::uint64_t>(row);
   std::fill(out.begin(), out.end(), 0.0);
-  VarianceRow var(noisy, snr_, variance, scratch.unit_variance);  // the exact prediction
+  // the exact prediction's per-pixel variance
+  VarianceRow var(noisy, snr_, variance, scratch.unit_variance, readout_.dark_electrons,
+                  readout_variance_);
+  ReadoutClipping clipping;
+  const double lambda2 = scratch.aggregated.lambda2();
   if (mode_ == ShutterMode::kAnalog) {
-    const std::span<const double> e = filtered(filters_[0], scratch);
+    const std::span<const double> e = filtered((*filters_)[0], scratch);
     if (noisy) {
-      scratch.sampler.accumulate(e, {seed, c, 0, y}, 1.0, out);  // o = PoissonSNR(e)
-    } else {
-      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
-      var.add_slot(e, {}, 0, 1.0);
+      const RowNoiseId id{seed, c, 0, y};
+      sensor_ ? scratch.sampler.accumulate_readout(e, id, 1.0, readout_, out)
+              : scratch.sampler.accumulate(e, id, 1.0, out);  // o = PoissonSNR(e)
+      return clipping;
     }
-    return;
+    if (sensor_linear_) {
+      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
+    } else {
+      add_expectation(e, 1.0, lambda2, out, clipping);
+    }
+    var.add_slot(e, {}, 0, 1.0);
+    return clipping;
   }
   // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
+  const SensorReadout* readout = sensor_ ? &readout_ : nullptr;
   auto add_slot = [&](std::size_t k, std::span<const double> e, const SlotShift& shift) {
     const double alpha = gains_[k];
     if (noisy && aggregate_) {
-      scratch.aggregated.add_frame(e, {seed, c, k, y}, alpha, out);  // finished below
+      scratch.aggregated.add_frame(e, {seed, c, k, y}, alpha, out, readout);  // finished below
+    } else if (noisy && sensor_) {
+      scratch.sampler.accumulate_readout(e, {seed, c, k, y}, alpha, frame_readout_, out);
     } else if (noisy) {
       scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
     } else {
-      for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+      add_expectation(e, alpha, lambda2, out, clipping);
       var.add_slot(e, shift.e0, shift.offset, alpha * alpha);
     }
   };
   for_each_slot(scratch, add_slot);
   // The aggregated normal-branch frames: one normal per pixel.
   if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
+  // The frames' read noise, summed: sigma_r sqrt(sum alpha_k^2) N / lambda2.
+  if (noisy && !aggregate_ && sum_read_noise_) {
+    scratch.sampler.add_read_noise({seed, c, 0, y}, summed_read_sd_ / lambda2, out);
+  }
+  return clipping;
+}
+
+void RowObserver::add_expectation(std::span<const double> e, double alpha, double lambda2,
+                                  std::span<double> out, ReadoutClipping& clipping) const {
+  if (sensor_linear_) {
+    for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+  } else {
+    add_clipped_expectation(e, alpha, lambda2, readout_, clipping_first_, clipping_end_, out,
+                            clipping);
+  }
 }
 
 void RowObserver::record_plan(AggregatedRowPlan* plan, Scratch& scratch) const {
@@ -186,11 +282,11 @@ template <typename PerSlot>
 void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const {
   if (!shift_) {
     for (std::size_t k = 0; k < gains_.size(); ++k) {
-      if (gains_[k] != 0.0) per_slot(k, filtered(filters_[k], scratch), SlotShift{});
+      if (gains_[k] != 0.0) per_slot(k, filtered((*filters_)[k], scratch), SlotShift{});
     }
     return;
   }
-  const std::span<const double> e0 = filtered(filters_[0], scratch);
+  const std::span<const double> e0 = filtered((*filters_)[0], scratch);
   scratch.shifted.resize(static_cast<std::size_t>(width_));
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;

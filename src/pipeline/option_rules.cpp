@@ -29,6 +29,13 @@ std::string noise_rule(bool aggregated, bool analog) {
              : std::string();
 }
 
+std::string sensor_noise_rule(bool aggregated, bool sensor_linear) {
+  return aggregated && !sensor_linear
+             ? "must be poisson or none with a full well or an ADC (the aggregated noise does not "
+               "draw each frame's charge)"
+             : std::string();
+}
+
 std::string trials_rule(long long trials) { return trials < 1 ? "must be >= 1" : std::string(); }
 
 std::string threads_rule(long long threads) {

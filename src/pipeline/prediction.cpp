@@ -28,6 +28,29 @@ double snr_level100(double q, double m_amplification, double snr) {
   return 100.0 / noise_sigma(100.0, q, m_amplification, snr);
 }
 
+double noise_sigma(double mean_level, std::span<const double> gains, double dt, ShutterMode mode,
+                   double m_amplification, double snr, const SensorModel& sensor) {
+  if (!sensor.enabled()) {
+    return noise_sigma(mean_level, noise_gain(gains, dt, mode), m_amplification, snr);
+  }
+  if (!std::isfinite(m_amplification)) return std::numeric_limits<double>::infinity();
+  // sigma^2 = ((m / 100) V_photon + (V_100 - V_photon)) M
+  const double photon = level100_observation_variance(gains, dt, mode, snr, SensorModel());
+  const double with_sensor = level100_observation_variance(gains, dt, mode, snr, sensor);
+  return std::sqrt((mean_level / 100.0 * photon + (with_sensor - photon)) * m_amplification);
+}
+
+double snr_level100(std::span<const double> gains, double dt, ShutterMode mode,
+                    double m_amplification, double snr, const SensorModel& sensor) {
+  if (!sensor.enabled()) {
+    return snr_level100(noise_gain(gains, dt, mode), m_amplification, snr);
+  }
+  if (!std::isfinite(m_amplification)) return 0.0;
+  // 100 / sqrt(V_100 M)
+  return 100.0 /
+         std::sqrt(level100_observation_variance(gains, dt, mode, snr, sensor) * m_amplification);
+}
+
 namespace {
 
 // m: the mean of input columns [first, end), per channel, then averaged over
@@ -44,7 +67,8 @@ double window_mean(const Image& image, int first, int end) {
 
 // sum_j W(j) S(j) / (rows * channels * window width): the noise part of
 // E[MSE] over the RMSE window (docs/method.md §6b).
-double exact_noise_power(const SimulationReport& report, double v_r, const NoiseFreeRun& run) {
+double exact_noise_power(const SimulationReport& report, const std::vector<double>& w,
+                         const NoiseFreeRun& run) {
   const std::vector<double>& s = run.crop_variance_sums;
   const int wa = report.geometry.observed_width;
   if (s.size() != static_cast<std::size_t>(wa)) {
@@ -52,8 +76,6 @@ double exact_noise_power(const SimulationReport& report, double v_r, const Noise
                       " observed-crop columns, but the noise-free run has " +
                       std::to_string(s.size()));
   }
-  const std::vector<double> w = noise_energy_weights(
-      report.geometry, report.gains, v_r, report.options.dt, report.rmse_first, report.rmse_end);
   double total = 0.0;
   for (std::size_t j = 0; j < s.size(); ++j) total += w[j] * s[j];
   const double count =
@@ -61,12 +83,13 @@ double exact_noise_power(const SimulationReport& report, double v_r, const Noise
   return total / count;
 }
 
-}  // namespace
-
-Prediction predict(const SimulationReport& report, const Image& input,
-                   const NoiseFreeRun& noise_free) {
+// The prediction, with M and W(j) from `m_amplification()` and
+// `noise_weights()` (called only when needed).
+template <typename M, typename W>
+Prediction predict_with(const SimulationReport& report, const Image& input,
+                        const NoiseFreeRun& noise_free, const M& m_amplification,
+                        const W& noise_weights) {
   const SimulationOptions& options = report.options;
-  const double v_r = options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot);
   const bool noisy = options.noise != NoiseModel::kNone;
   const double r0 = noise_free.rmse;
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -75,23 +98,48 @@ Prediction predict(const SimulationReport& report, const Image& input,
   p.window_mean = window_mean(input, report.output_first_column() + report.rmse_first,
                               report.output_first_column() + report.rmse_end);
   p.q = noise_gain(report.gains, options.dt, options.mode);
-  p.m_amplification =
-      p.finite ? mean_inverse_power(report.gains, v_r, options.dt, report.geometry.mirror_width)
-               : kInfinity;
+  p.m_amplification = p.finite ? m_amplification() : kInfinity;
   p.rmse_noise_free = r0;
-  p.snr_level100 = snr_level100(p.q, p.m_amplification, options.snr);
+  p.snr_level100 = snr_level100(report.gains, options.dt, options.mode, p.m_amplification,
+                                options.snr, options.sensor);
+  // A clipping sensor breaks the linear model of the variance terms (docs/method.md §10).
+  p.exact = noise_free.saturated_readouts == 0 && noise_free.near_zero_readouts == 0;
   if (!p.finite) {
     p.noise = p.rmse = p.sigma = p.rmse_stationary = kInfinity;
     return p;
   }
   // Stationary (§6): E[RMSE^2] ~ RMSE_0^2 + m Q (100 / snr^2) M
-  p.sigma = noisy ? noise_sigma(p.window_mean, p.q, p.m_amplification, options.snr) : 0.0;
+  p.sigma = noisy ? noise_sigma(p.window_mean, report.gains, options.dt, options.mode,
+                                p.m_amplification, options.snr, options.sensor)
+                  : 0.0;
   p.rmse_stationary = std::sqrt(r0 * r0 + p.sigma * p.sigma);
   // Exact (§6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count
-  const double noise_power = noisy ? exact_noise_power(report, v_r, noise_free) : 0.0;
+  const double noise_power = noisy ? exact_noise_power(report, noise_weights(), noise_free) : 0.0;
   p.noise = std::sqrt(noise_power);
   p.rmse = std::sqrt(r0 * r0 + noise_power);
   return p;
+}
+
+}  // namespace
+
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free) {
+  const SimulationOptions& o = report.options;
+  const double v_r = o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot);
+  return predict_with(
+      report, input, noise_free,
+      [&] { return mean_inverse_power(report.gains, v_r, o.dt, report.geometry.mirror_width); },
+      [&] {
+        return noise_energy_weights(report.geometry, report.gains, v_r, o.dt, report.rmse_first,
+                                    report.rmse_end);
+      });
+}
+
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free, const SimulationPlan& plan) {
+  return predict_with(
+      report, input, noise_free, [&] { return plan.m_amplification(); },
+      [&]() -> const std::vector<double>& { return plan.noise_weights(); });
 }
 
 }  // namespace fss

@@ -14,30 +14,39 @@ void ImageRowSink::consume_row(int channel, int row, std::span<const double> val
   std::copy(values.begin(), values.end(), image_.row(channel, row));
 }
 
-namespace {
-
-ObservationParams observation_params(const SimulationOptions& options) {
+ObservationParams observation_params(const SimulationOptions& options, const Geometry& geometry) {
   ObservationParams params;
   params.velocity = options.velocity_px_per_slot;
   params.dt = options.dt;
   params.snr = options.snr;
   params.aggregate_noise = options.noise == NoiseModel::kAggregated;
+  params.sensor = options.sensor;
+  // the readouts that reach the restoration: the observed crop [h, h + Wa)
+  params.clipping_first_column = geometry.half_blur;
+  params.clipping_end_column = geometry.half_blur + geometry.observed_width;
   return params;
 }
-
-}  // namespace
 
 RowPipeline::RowPipeline(const Image& input, const ShutterCode& code,
                          const SimulationOptions& options, const Geometry& geometry,
                          double observed_divisor)
+    : RowPipeline(
+          input, RowObserver(input.width, code.gains, options.mode,
+                                 observation_params(options, geometry)),
+          RowRestorer(geometry, code.gains,
+                      options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
+                      options.dt),
+          options, geometry, observed_divisor) {}
+
+RowPipeline::RowPipeline(const Image& input, const RowObserver& observer,
+                         const RowRestorer& restorer, const SimulationOptions& options,
+                         const Geometry& geometry, double observed_divisor)
     : input_(input),
       geometry_(geometry),
       threads_(options.threads),
       observed_divisor_(observed_divisor),
-      observer_(input.width, code.gains, options.mode, observation_params(options)),
-      restorer_(geometry, code.gains,
-                options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
-                options.dt) {
+      observer_(observer.with_noise(observation_params(options, geometry))),
+      restorer_(restorer) {
   const auto samples = static_cast<std::size_t>(input.width) * input.height * input.channels;
   if (observer_.aggregates_noise() && options.trials > 1 && samples <= kMaxPlannedSamples) {
     plans_.resize(static_cast<std::size_t>(input.channels) * input.height);
@@ -56,24 +65,27 @@ class RowPipeline::Worker {
 
   // observation = o (noisy) or E[o] (no seed) of input row (c, y); with a
   // plan (aggregated noise), replayed when recorded, else recorded.
-  void observe(int c, int y, std::optional<std::uint64_t> noise_seed,
-               AggregatedRowPlan* plan = nullptr) {
+  // The clipped readouts of a noise-free observation (none for a noisy one).
+  ReadoutClipping observe(int c, int y, std::optional<std::uint64_t> noise_seed,
+                          AggregatedRowPlan* plan = nullptr) {
     const RowObserver& observer = pipeline_.observer_;
     if (plan != nullptr && plan->recorded) {
       observer.replay(*plan, *noise_seed, c, y, observer_scratch_, observation_);
-      return;
+      return {};
     }
     if (plan != nullptr) observer.record_plan(plan, observer_scratch_);
     pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
-    pipeline_.observer_.observe(noise_seed.has_value(), noise_seed.value_or(0), c, y,
-                                observer_scratch_, observation_);
+    return pipeline_.observer_.observe(noise_seed.has_value(), noise_seed.value_or(0), c, y,
+                                       observer_scratch_, observation_);
   }
 
-  // observation = E[o] of input row (c, y); returns Var(o), W values.
-  const double* observe_with_variance(int c, int y) {
+  // observation = E[o] of input row (c, y); returns Var(o), W values, and
+  // adds the row's clipped readouts to `clipping`.
+  const double* observe_with_variance(int c, int y, ReadoutClipping& clipping) {
     variance_.resize(observation_.size());
     pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
-    pipeline_.observer_.observe(false, 0, c, y, observer_scratch_, observation_, variance_);
+    clipping +=
+        pipeline_.observer_.observe(false, 0, c, y, observer_scratch_, observation_, variance_);
     return variance_.data();
   }
 
@@ -116,14 +128,20 @@ void RowPipeline::for_each_row(const PerRow& per_row) const {
 }
 
 bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
-                              ObservedRowSink* observed) const {
+                              ObservedRowSink* observed, ReadoutClipping* clipping) const {
   std::atomic<bool> observed_finite{true};
+  std::atomic<std::uint64_t> saturated{0};
+  std::atomic<std::uint64_t> near_zero{0};
   for_each_row([&](Worker& worker, int c, int y, int r) {
     const bool planned = noise_seed.has_value() && !plans_.empty();
-    worker.observe(c, y, noise_seed, planned ? &plans_[static_cast<std::size_t>(r)] : nullptr);
+    const ReadoutClipping row_clipping =
+        worker.observe(c, y, noise_seed, planned ? &plans_[static_cast<std::size_t>(r)] : nullptr);
+    saturated += row_clipping.saturated;  // integer sums: any order gives the same total
+    near_zero += row_clipping.near_zero;
     if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
     worker.restore(restored.row(c, y));
   });
+  if (clipping != nullptr) *clipping = {saturated.load(), near_zero.load()};
   return observed_finite;
 }
 
@@ -136,6 +154,7 @@ NoiseFreeRun RowPipeline::noise_free_pass(int first, int end) const {
   const int blocks = std::min(rows, kVarianceBlocks);
   std::vector<double> row_errors(static_cast<std::size_t>(rows));
   std::vector<double> block_sums(static_cast<std::size_t>(blocks) * wa, 0.0);
+  std::vector<ReadoutClipping> block_clipping(static_cast<std::size_t>(blocks));
   parallel_for(blocks, threads_, [&](int block_begin, int block_end) {
     Worker worker(*this);
     for (int b = block_begin; b < block_end; ++b) {
@@ -145,13 +164,19 @@ NoiseFreeRun RowPipeline::noise_free_pass(int first, int end) const {
       for (int r = row_begin; r < row_end; ++r) {
         const int c = r / input_.height;
         const int y = r % input_.height;
-        const double* variance = worker.observe_with_variance(c, y) + h;  // crop column 0
+        const double* variance =
+            worker.observe_with_variance(c, y, block_clipping[static_cast<std::size_t>(b)]) +
+            h;  // crop column 0
         for (int j = 0; j < wa; ++j) sums[j] += variance[j];
         row_errors[r] = row_squared_error(input_.row(c, y) + 3 * h, worker.restore(), first, end);
       }
     }
   });
   NoiseFreeRun run;
+  ReadoutClipping clipping;
+  for (const ReadoutClipping& block : block_clipping) clipping += block;
+  run.saturated_readouts = clipping.saturated;
+  run.near_zero_readouts = clipping.near_zero;
   double total = 0.0;
   for (const double e : row_errors) total += e;
   // sqrt(mean (truth - restored)^2), as rmse() divides

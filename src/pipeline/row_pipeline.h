@@ -20,6 +20,11 @@
 
 namespace fss {
 
+// The observation parameters of a run: its velocity, dt, snr, noise model and
+// sensor, with the sensor's clipping checked over the observed crop
+// [h, h + Wa), the readouts that reach the restoration.
+ObservationParams observation_params(const SimulationOptions& options, const Geometry& geometry);
+
 // An ObservedRowSink that stores the rows in a Wo x H x C image
 // (SimulationReport::observed when the caller gives no sink).
 class ImageRowSink : public ObservedRowSink {
@@ -38,6 +43,10 @@ class RowPipeline {
   // unless set). Observed rows are divided by `observed_divisor`.
   RowPipeline(const Image& input, const ShutterCode& code, const SimulationOptions& options,
               const Geometry& geometry, double observed_divisor);
+  // The same with the observer and the restorer of a SimulationPlan: the
+  // observer takes the options' snr and noise model.
+  RowPipeline(const Image& input, const RowObserver& observer, const RowRestorer& restorer,
+              const SimulationOptions& options, const Geometry& geometry, double observed_divisor);
 
   // Frequencies of the deconvolution grid where K = 0, left at 0.
   int zero_bins() const { return restorer_.zero_bins(); }
@@ -47,8 +56,10 @@ class RowPipeline {
   // `observed` is not null, it receives each observed row: observation
   // columns [3h, 3h + Wo) divided by the observed divisor. False when an
   // observed value is not finite.
+  // A noise-free run also counts its clipped readouts (ReadoutClipping,
+  // observe.h) into `clipping` when it is not null.
   bool restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
-                   ObservedRowSink* observed) const;
+                   ObservedRowSink* observed, ReadoutClipping* clipping = nullptr) const;
 
   // The noise-free pass of a noisy run: RMSE_0, the RMSE of the noise-free
   // restoration over output columns [first, end), and S(j), the sums over

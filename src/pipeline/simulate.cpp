@@ -1,6 +1,7 @@
 #include "fss/pipeline/simulate.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -10,6 +11,7 @@
 #include "fss/core/error.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/metrics.h"
+#include "fss/pipeline/noise_weights.h"
 #include "pipeline/row_pipeline.h"
 
 namespace fss {
@@ -52,9 +54,16 @@ bool SimulationOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  std::string sensor_error;
+  if (!sensor.IsValid(&sensor_error)) {
+    if (error) *error = "sensor." + sensor_error;
+    return false;
+  }
   const std::string margin = std::to_string(rmse_margin_columns);
   return !(broken("noise", to_string(noise),
                   noise_rule(noise == NoiseModel::kAggregated, mode == ShutterMode::kAnalog)) ||
+           broken("noise", to_string(noise),
+                  sensor_noise_rule(noise == NoiseModel::kAggregated, sensor.linear())) ||
            broken("rmse_margin_columns", margin, margin_rule(rmse_margin_columns)) ||
            broken("trials", std::to_string(trials), trials_rule(trials)) ||
            broken("threads", std::to_string(threads), threads_rule(threads)));
@@ -110,54 +119,93 @@ void check_memory(const SimulationOptions& options, const Image& input, const Ge
   }
 }
 
-// The kernel the restoration inverts, K at the restore velocity v_r
-// (docs/method.md §1), the divisor of the observed image, and their warnings.
-void analyze_restoration_kernel(const ShutterCode& code, double v_r, SimulationReport& report) {
-  const double dt = report.options.dt;
-  report.kernel = analyze_kernel(code.gains, v_r, dt);
-  if (!report.kernel.invertible) {
-    report.warnings.push_back("code '" + code.name + "' is not invertible at velocity " +
-                              format_number(v_r) +
-                              ": min |K| = " + format_number(report.kernel.min_abs) +
-                              " at xi = " + format_number(report.kernel.min_abs_xi) +
-                              "; the restoration amplifies noise without bound and no finite "
-                              "error prediction exists");
+// The geometry of a run (docs/method.md §4): the blur length B covers both
+// velocities. Throws a usage fss::Error for an image too narrow.
+Geometry run_geometry(const SimulationOptions& options, int width, const ShutterCode& code) {
+  const double v = options.velocity_px_per_slot;
+  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
+  return Geometry::compute(width, code.length(), std::max(std::abs(v), std::abs(v_r)), options.dt);
+}
+
+// The geometry of a plan, after the checks Simulate makes first.
+Geometry checked_geometry(const SimulationOptions& options, int width, const ShutterCode& code) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  check_code_for_mode(code, options.mode);
+  return run_geometry(options, width, code);
+}
+
+}  // namespace
+
+SimulationPlan::SimulationPlan(const SimulationOptions& options, int width, const ShutterCode& code)
+    : code_name_(code.name),
+      gains_(code.gains),
+      mode_(options.mode),
+      velocity_(options.velocity_px_per_slot),
+      restore_velocity_(options.restore_velocity_px_per_slot.value_or(velocity_)),
+      dt_(options.dt),
+      margin_(options.rmse_margin_columns),
+      noisy_(options.noise != NoiseModel::kNone),
+      geometry_(checked_geometry(options, width, code)),
+      windows_(metric_windows(geometry_, margin_)),
+      observer_(width, code.gains, options.mode, observation_params(options, geometry_)),
+      restorer_(geometry_, code.gains, restore_velocity_, dt_) {
+  // The kernel the restoration inverts, K at the restore velocity v_r
+  // (docs/method.md §1), the divisor of the observed image, and their warnings.
+  kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
+  if (!kernel_.invertible) {
+    warnings_.push_back("code '" + code.name + "' is not invertible at velocity " +
+                        format_number(restore_velocity_) +
+                        ": min |K| = " + format_number(kernel_.min_abs) +
+                        " at xi = " + format_number(kernel_.min_abs_xi) +
+                        "; the restoration amplifies noise without bound and no finite "
+                        "error prediction exists");
   }
-  report.observed_divisor = report.kernel.k0;
-  if (report.observed_divisor == 0.0) {
-    report.observed_divisor = dt * gain_max_abs(code.gains);
-    report.warnings.push_back(
+  observed_divisor_ = kernel_.k0;
+  if (observed_divisor_ == 0.0) {
+    observed_divisor_ = dt_ * gain_max_abs(code.gains);
+    warnings_.push_back(
         "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max |gain| = " +
-        format_number(report.observed_divisor) + " instead");
+        format_number(observed_divisor_) + " instead");
+  }
+  // The prediction's M and W(j) (docs/method.md §6, §6b).
+  m_amplification_ = std::numeric_limits<double>::infinity();
+  if (kernel_.invertible) {
+    m_amplification_ =
+        mean_inverse_power(code.gains, restore_velocity_, dt_, geometry_.mirror_width);
+    if (noisy_) {
+      noise_weights_ = noise_energy_weights(geometry_, code.gains, restore_velocity_, dt_,
+                                            windows_.rmse_first, windows_.rmse_end);
+    }
   }
 }
 
-// The plan of a run: geometry and metric windows (docs/method.md §4, §5),
-// the memory guard, the kernel and its warnings. Nothing is allocated yet.
-SimulationReport plan(const SimulationOptions& options, const Image& input, const ShutterCode& code,
-                      const ObservedRowSink* observed_sink) {
-  SimulationReport report;
-  report.options = options;
-  report.options.trial_callback = nullptr;
-  report.code_name = code.name;
-  report.gains = code.gains;
-  report.width = input.width;
-  report.height = input.height;
-  report.channels = input.channels;
+bool SimulationPlan::fits(const SimulationOptions& options, int width,
+                          const ShutterCode& code) const {
   const double v = options.velocity_px_per_slot;
-  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
-  // The blur length B covers both velocities.
-  report.geometry = Geometry::compute(input.width, code.length(),
-                                      std::max(std::abs(v), std::abs(v_r)), options.dt);
-  const MetricWindows windows = metric_windows(report.geometry, options.rmse_margin_columns);
-  check_memory(options, input, report.geometry, observed_sink);
-  report.rmse_first = windows.rmse_first;
-  report.rmse_end = windows.rmse_end;
-  report.rmse_ci_first = windows.ci_first;
-  report.rmse_ci_end = windows.ci_end;
-  analyze_restoration_kernel(code, v_r, report);
-  return report;
+  // Compared as bits: -0.0 and 0.0 are different velocities to the filters.
+  const auto same = [](double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+  };
+  return code.name == code_name_ && code.gains.size() == gains_.size() &&
+         std::equal(gains_.begin(), gains_.end(), code.gains.begin(), same) &&
+         options.mode == mode_ && same(v, velocity_) &&
+         same(options.restore_velocity_px_per_slot.value_or(v), restore_velocity_) &&
+         same(options.dt, dt_) && width == geometry_.width &&
+         options.rmse_margin_columns == margin_ &&
+         (options.noise == NoiseModel::kNone || noisy_ || !kernel_.invertible);
 }
+
+std::size_t SimulationPlan::bytes() const {
+  const std::size_t bins = static_cast<std::size_t>(geometry_.width) / 2 + 1;
+  const std::size_t filters = (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins;
+  return sizeof(*this) +
+         sizeof(std::complex<double>) *
+             (filters + static_cast<std::size_t>(geometry_.mirror_width)) +
+         sizeof(double) * (noise_weights_.size() + gains_.size());
+}
+
+namespace {
 
 // RMSE and RMSE_CI of one restoration over the report's windows
 // (docs/method.md §5).
@@ -196,10 +244,13 @@ struct TrialSums {
 // Without noise every trial is the same run: run it once. False when an
 // observed value is not finite.
 bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& options,
-                    const Image& input, SimulationReport& report, ObservedRowSink* observed) {
-  const bool observed_finite = pipeline.restore_all(std::nullopt, report.restored, observed);
+                    const Image& input, SimulationReport& report, ObservedRowSink* observed,
+                    ReadoutClipping& clipping) {
+  const bool observed_finite =
+      pipeline.restore_all(std::nullopt, report.restored, observed, &clipping);
   report.metrics = measure(report, input, report.restored);
   report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
+  report.trial_metrics.assign(static_cast<std::size_t>(options.trials), report.metrics);
   if (options.trial_callback) options.trial_callback(options.trials, options.trials);
   return observed_finite;
 }
@@ -220,6 +271,7 @@ bool run_trials(const RowPipeline& pipeline, const SimulationOptions& options, c
         pipeline.restore_all(seed, restored, t == 0 ? observed : nullptr) && observed_finite;
     const Metrics m = measure(report, input, restored);
     if (t == 0) report.metrics = m;
+    report.trial_metrics.push_back(m);
     sums.add(m);
     if (options.trial_callback) options.trial_callback(t + 1, n);
   }
@@ -248,16 +300,68 @@ void check_finite(const SimulationReport& report, const ShutterCode& code, bool 
                     format_number(report.options.snr) + " are too extreme");
 }
 
+// A full well or an ADC that clips readouts (docs/method.md §10): the
+// simulation says so, and that the prediction is approximate.
+void add_clipping_warnings(const NoiseFreeRun& run, SimulationReport& report) {
+  const auto total = [&]() {
+    const std::size_t readouts_per_pixel =
+        report.options.mode == ShutterMode::kAnalog
+            ? 1
+            : static_cast<std::size_t>(std::count_if(report.gains.begin(), report.gains.end(),
+                                                     [](double g) { return g != 0.0; }));
+    return std::to_string(
+        readouts_per_pixel * static_cast<std::size_t>(report.geometry.observed_width) *
+        static_cast<std::size_t>(report.height) * static_cast<std::size_t>(report.channels));
+  };
+  if (run.saturated_readouts > 0) {
+    report.warnings.push_back(
+        std::to_string(run.saturated_readouts) + " of " + total() +
+        " readouts saturate (mean charge at or above the full well or the ADC's top, "
+        "docs/method.md §10): the observation is clipped and the predicted RMSE is approximate");
+  }
+  if (run.near_zero_readouts > 0) {
+    report.warnings.push_back(
+        std::to_string(run.near_zero_readouts) + " of " + total() +
+        " readouts lie within 3 standard deviations of 0, where the ADC clips negative "
+        "readouts (docs/method.md §10): the predicted RMSE is approximate");
+  }
+}
+
 }  // namespace
 
-SimulationReport Simulate(const SimulationOptions& options, const Image& input,
-                          const ShutterCode& code, ObservedRowSink* observed_sink) {
-  check_inputs(options, input, code);
-  // Plan: geometry, metric windows, memory guard, kernel and warnings.
-  SimulationReport report = plan(options, input, code, observed_sink);
+namespace {
+
+// The report's fields the plan gives: geometry, windows, kernel, warnings.
+SimulationReport planned_report(const SimulationPlan& plan, const SimulationOptions& options,
+                                const Image& input, const ShutterCode& code) {
+  SimulationReport report;
+  report.options = options;
+  report.options.trial_callback = nullptr;
+  report.code_name = code.name;
+  report.gains = code.gains;
+  report.width = input.width;
+  report.height = input.height;
+  report.channels = input.channels;
+  report.geometry = plan.geometry();
+  report.rmse_first = plan.windows().rmse_first;
+  report.rmse_end = plan.windows().rmse_end;
+  report.rmse_ci_first = plan.windows().ci_first;
+  report.rmse_ci_end = plan.windows().ci_end;
+  report.kernel = plan.kernel();
+  report.observed_divisor = plan.observed_divisor();
+  report.warnings = plan.warnings();
+  return report;
+}
+
+// The run once the inputs are checked and the memory guard passed.
+SimulationReport run_planned(const SimulationPlan& plan, const SimulationOptions& options,
+                             const Image& input, const ShutterCode& code,
+                             ObservedRowSink* observed_sink) {
+  SimulationReport report = planned_report(plan, options, input, code);
 
   // Row pipeline: observe -> noise -> restore, row by row.
-  const RowPipeline pipeline(input, code, options, report.geometry, report.observed_divisor);
+  const RowPipeline pipeline(input, plan.observer(), plan.restorer(), options, report.geometry,
+                             report.observed_divisor);
   if (pipeline.zero_bins() > 0) {
     report.zero_bins = pipeline.zero_bins();
     report.warnings.push_back(std::to_string(report.zero_bins) +
@@ -277,8 +381,11 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   NoiseFreeRun noise_free;
   bool observed_finite = true;
   if (options.noise == NoiseModel::kNone) {
-    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink);
+    ReadoutClipping clipping;
+    observed_finite = run_noise_free(pipeline, options, input, report, observed_sink, clipping);
     noise_free.rmse = report.metrics.rmse;
+    noise_free.saturated_readouts = clipping.saturated;
+    noise_free.near_zero_readouts = clipping.near_zero;
   } else {
     noise_free = pipeline.noise_free_pass(report.rmse_first, report.rmse_end);
     observed_finite = run_trials(pipeline, options, input, report, observed_sink);
@@ -287,8 +394,36 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
   // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.
-  report.prediction = predict(report, input, noise_free);
+  report.prediction = predict(report, input, noise_free, plan);
+  add_clipping_warnings(noise_free, report);
   return report;
+}
+
+}  // namespace
+
+SimulationReport Simulate(const SimulationOptions& options, const Image& input,
+                          const ShutterCode& code, ObservedRowSink* observed_sink) {
+  check_inputs(options, input, code);
+  // Geometry and metric windows (docs/method.md §4, §5) and the memory
+  // guard before anything is allocated; then the plan: kernel and warnings.
+  const Geometry geometry = run_geometry(options, input.width, code);
+  metric_windows(geometry, options.rmse_margin_columns);
+  check_memory(options, input, geometry, observed_sink);
+  const SimulationPlan plan(options, input.width, code);
+  return run_planned(plan, options, input, code, observed_sink);
+}
+
+SimulationReport Simulate(const SimulationPlan& plan, const SimulationOptions& options,
+                          const Image& input, const ShutterCode& code,
+                          ObservedRowSink* observed_sink) {
+  check_inputs(options, input, code);
+  if (!plan.fits(options, input.width, code)) {
+    throw_usage_error("the simulation plan of code '" + code.name +
+                      "' was made for another code, mode, velocity, dt, RMSE margin, noise or "
+                      "image width than this run");
+  }
+  check_memory(options, input, plan.geometry(), observed_sink);
+  return run_planned(plan, options, input, code, observed_sink);
 }
 
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
@@ -305,17 +440,16 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t input = w * h * c * sizeof(double);
   const std::size_t outputs =
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
-  // RMSE_CI (metrics.h): 16 bytes a pixel and a sorter buffer of half a byte
-  // a pixel, at least 2 MiB; 20 bytes and two buffers when a and b are sorted
-  // at the same time (windows of at most kParallelSortPixels).
+  // RMSE_CI (metrics.h): 16 bytes a pixel and two sorter buffers of half a
+  // byte a pixel, at least 2 MiB (one per sorting thread); 20 bytes when a
+  // and b are sorted at the same time (windows of at most kParallelSortPixels).
   const std::size_t ci_pixels = ci_width * h;
   const std::size_t sorter = std::max<std::size_t>(ci_pixels / 2, std::size_t{2} << 20);
   // Plus the group bookkeeping of the tie expectation: two bits a pixel and
   // 8 bytes per distinct ground-truth value (at most 65536 of them).
   const std::size_t groups = ci_pixels / 4 + 8 * std::size_t{65536};
   const std::size_t midway =
-      (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels + 2 * sorter : 16 * ci_pixels + sorter) +
-      groups;
+      (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels : 16 * ci_pixels) + 2 * sorter + groups;
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
   return input + outputs + std::max(midway, encoding);
@@ -344,6 +478,18 @@ std::string SimulationReport::FullReport() const {
               : std::string())
       << ", dt " << format_number(options.dt) << ", snr " << format_number(options.snr)
       << ", noise " << to_string(options.noise) << ", seed " << options.seed << "\n";
+  if (options.sensor.enabled()) {  // docs/method.md §10
+    const SensorModel& s = options.sensor;
+    out << "  sensor           read noise " << format_number(s.read_noise_electrons)
+        << " e-, dark current " << format_number(s.dark_current_electrons_per_slot)
+        << " e-/slot, full well "
+        << (s.full_well_electrons ? format_number(*s.full_well_electrons) + " e-" : "none")
+        << ", ADC "
+        << (s.adc_bits != 0 ? std::to_string(s.adc_bits) + " bits, " +
+                                  format_number(s.adc_gain_electrons_per_count) + " e-/count"
+                            : "none")
+        << "\n";
+  }
   out << "  geometry         B = " << geometry.blur_length << ", observed crop "
       << geometry.observed_width << ", deconvolution grid " << geometry.mirror_width << ", output "
       << geometry.output_width << "\n";
@@ -365,7 +511,8 @@ std::string SimulationReport::FullReport() const {
   if (prediction.finite) {
     out << "  predicted        RMSE " << format_number(prediction.rmse) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.noise)
-        << "^2), the exact expectation\n";
+        << (prediction.exact ? "^2), the exact expectation\n"
+                             : "^2), approximate: the sensor clips readouts\n");
     out << "  stationary       RMSE " << format_number(prediction.rmse_stationary) << " = sqrt("
         << format_number(prediction.rmse_noise_free) << "^2 + " << format_number(prediction.sigma)
         << "^2), SNR at level 100 " << format_number(prediction.snr_level100) << "\n";

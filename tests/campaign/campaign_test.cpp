@@ -197,6 +197,160 @@ TEST(Campaign, RowsCarryProvenanceAndMatchSimulate) {
   EXPECT_EQ(cell(row, "trials"), "2");
 }
 
+// The kernel cache changes nothing in the rows and computes each kernel
+// once per code and velocity: the snr values share it.
+TEST(Campaign, PlanCacheGivesTheRowsOfSimulateAlone) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const Image image = read_png(c.images[0].path);
+  SimulationPlanCache plans;
+  for (long long i = 0; i < c.setting_count(); ++i) {
+    const Setting s = setting_at(c, i);
+    EXPECT_EQ(run_setting(c, s, image, {1, 0, "v"}, &plans), run_setting(c, s, image, {1, 0, "v"}))
+        << i;
+  }
+  // 2 codes x 2 velocities, 3 snr values each; the raskar code is too wide
+  // for the crop and builds none.
+  EXPECT_EQ(plans.built(), 2);
+  EXPECT_EQ(plans.reused(), 4);
+  const CampaignRunSummary summary = RunCampaign(c, (tmp / "out").string(), {});
+  EXPECT_EQ(summary.plans_built, 2);
+  EXPECT_EQ(summary.plans_reused, 4);
+}
+
+std::vector<std::vector<std::string>> csv_rows(const fs::path& path) {
+  return parse_csv(test::read_file(path), path.string());
+}
+
+// Per-trial rows: each trial's seed and metrics; the setting's row is their
+// mean; results.csv is the same as without them.
+TEST(Campaign, PerTrialRowsAreTheTrialsOfEachSetting) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.trials = 3;
+  const ResolvedCampaign plain = resolve_campaign(spec);
+  spec.per_trial = true;
+  const ResolvedCampaign c = resolve_campaign(spec);
+  EXPECT_NE(c.sha256, plain.sha256);
+  EXPECT_EQ(plain.canonical_json.find("per_trial"), std::string::npos);
+  RunCampaign(plain, (tmp / "plain").string(), {});
+  RunCampaign(c, (tmp / "trials").string(), {});
+  EXPECT_FALSE(fs::exists(tmp / "plain" / kCampaignTrialsCsv));
+  EXPECT_EQ(test::read_file(tmp / "plain" / kCampaignResultsCsv),
+            test::read_file(tmp / "trials" / kCampaignResultsCsv));
+  const auto results = csv_rows(tmp / "trials" / kCampaignResultsCsv);
+  const auto trials = csv_rows(tmp / "trials" / kCampaignTrialsCsv);
+  ASSERT_EQ(trials.front().size(), trial_columns().size());
+  EXPECT_EQ(trials.front().back(), "psnr");
+  const auto column = [](const char* name) {
+    for (std::size_t i = 0; i < trial_columns().size(); ++i) {
+      if (std::string(trial_columns()[i].name) == name) return i;
+    }
+    return std::size_t{0};
+  };
+  std::size_t next = 1;
+  for (std::size_t r = 1; r < results.size(); ++r) {
+    const ResultRow& row = results[r];
+    if (row[campaign_column_index("status")] != kStatusOk) continue;
+    double sum = 0.0;
+    for (int t = 0; t < 3; ++t, ++next) {
+      ASSERT_LT(next, trials.size());
+      const auto& trial = trials[next];
+      EXPECT_EQ(trial[column("code")], row[campaign_column_index("code")]);
+      EXPECT_EQ(trial[column("snr")], row[campaign_column_index("snr")]);
+      EXPECT_EQ(trial[column("trial")], std::to_string(t));
+      EXPECT_EQ(trial[column("trial_seed")],
+                std::to_string(std::stoull(row[campaign_column_index("seed")]) + t));
+      sum += std::stod(trial[column("rmse")]);
+    }
+    EXPECT_EQ(std::stod(row[campaign_column_index("rmse_mean")]), sum / 3) << r;
+  }
+  EXPECT_EQ(next, trials.size());
+  EXPECT_EQ(test::lines_of(test::read_file(tmp / "trials" / kCampaignTrialsJsonl)).size(),
+            trials.size() - 1);
+}
+
+std::string trial_files_of(const fs::path& dir) {
+  return test::read_file(dir / kCampaignTrialsCsv) + test::read_file(dir / kCampaignTrialsJsonl) +
+         test::read_file(dir / kCampaignJournal);
+}
+
+TEST(Campaign, PerTrialRowsResumeAndMergeToTheBytesOfOneRun) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.per_trial = true;
+  const ResolvedCampaign c = resolve_campaign(spec);
+  RunCampaign(c, (tmp / "single").string(), {});
+  // Resume from a journal cut in the middle of a line.
+  const std::string journal = test::read_file(tmp / "single" / kCampaignJournal);
+  fs::create_directories(tmp / "cut");
+  test::write_file(tmp / "cut" / kCampaignJournal, journal.substr(0, journal.size() / 2));
+  const CampaignRunSummary resumed = RunCampaign(c, (tmp / "cut").string(), {});
+  EXPECT_GT(resumed.resumed, 0);
+  EXPECT_GT(resumed.ran, 0);
+  EXPECT_EQ(trial_files_of(tmp / "cut"), trial_files_of(tmp / "single"));
+  // Shards and merge.
+  std::vector<std::string> parts;
+  for (int i = 1; i <= 3; ++i) {
+    CampaignRunOptions options;
+    options.shard = {i, 3};
+    parts.push_back((tmp / ("part" + std::to_string(i))).string());
+    RunCampaign(c, parts.back(), options);
+  }
+  MergeCampaignParts(parts, (tmp / "merged").string());
+  EXPECT_EQ(trial_files_of(tmp / "merged"), trial_files_of(tmp / "single"));
+  EXPECT_EQ(test::read_file(tmp / "merged" / kCampaignResultsCsv),
+            test::read_file(tmp / "single" / kCampaignResultsCsv));
+}
+
+// The sensor (docs/method.md §10): the read noise is an axis, the other
+// parts fixed; both are in the hash, the seeds and the rows, and a campaign
+// without a sensor keeps the canonical form (hash, seeds) it had before.
+TEST(Campaign, SensorIsInTheHashTheSettingsAndTheRows) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  const ResolvedCampaign plain = resolve_campaign(spec);
+  EXPECT_FALSE(plain.has_sensor());
+  EXPECT_EQ(plain.canonical_json.find("sensor"), std::string::npos);
+  EXPECT_EQ(setting_description(plain, setting_at(plain, 0)).find("read_noise"), std::string::npos);
+
+  spec.read_noise = "0,6";
+  spec.sensor.dark_current_electrons_per_slot = 0.5;
+  spec.sensor.adc_bits = 14;
+  spec.sensor.adc_gain_electrons_per_count = 2.0;
+  const ResolvedCampaign c = resolve_campaign(spec);
+  EXPECT_TRUE(c.has_sensor());
+  EXPECT_EQ(c.setting_count(), 2 * plain.setting_count());
+  EXPECT_NE(c.sha256, plain.sha256);
+  EXPECT_EQ(campaign_from_canonical_json(c.canonical_json).sha256, c.sha256);
+  // The read noise varies fastest; the other values are those of plain's setting 0.
+  const Setting quiet = setting_at(c, 0);
+  const Setting noisy = setting_at(c, 1);
+  EXPECT_EQ(setting_options(c, quiet).sensor.read_noise_electrons, 0.0);
+  EXPECT_EQ(setting_options(c, noisy).sensor.read_noise_electrons, 6.0);
+  EXPECT_EQ(setting_options(c, noisy).sensor.adc_bits, 14);
+  EXPECT_EQ(setting_options(c, noisy).velocity_px_per_slot,
+            setting_options(plain, setting_at(plain, 0)).velocity_px_per_slot);
+  EXPECT_NE(setting_seed(c, quiet), setting_seed(c, noisy));
+  const Image image = read_png(c.images[0].path);
+  const ResultRow row = run_setting(c, noisy, image, {1, 0, "test-version"});
+  EXPECT_EQ(cell(row, "status"), "ok") << cell(row, "message");
+  EXPECT_EQ(cell(row, "read_noise"), "6");
+  EXPECT_EQ(cell(row, "dark_current"), "0.5");
+  EXPECT_EQ(cell(row, "full_well"), "");
+  EXPECT_EQ(cell(row, "adc_bits"), "14");
+  EXPECT_EQ(cell(row, "adc_gain"), "2");
+  const SimulationReport r = Simulate(setting_options(c, noisy), image, c.codes[0].code);
+  EXPECT_EQ(std::stod(cell(row, "predicted_rmse")), r.prediction.rmse);
+  EXPECT_EQ(cell(row, "predicted_exact"), r.prediction.exact ? "true" : "false");
+
+  spec.sensor.dark_current_electrons_per_slot = 0.25;  // a fixed part changes the hash
+  EXPECT_NE(resolve_campaign(spec).sha256, c.sha256);
+  spec.sensor.full_well_electrons = -3.0;
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"sensor.full_well_electrons = -3: must be finite and > 0"}));
+}
+
 std::string results_of(const fs::path& dir) {
   return test::read_file(dir / kCampaignResultsCsv) + test::read_file(dir / kCampaignResultsJsonl) +
          test::read_file(dir / kCampaignManifest);

@@ -107,6 +107,44 @@ TEST_F(CampaignCli, KillNineAndResumeGivesTheBytesOfAnUninterruptedRun) {
   EXPECT_EQ(test::list_directory(killed), test::list_directory(whole));
 }
 
+std::string trial_outputs(const fs::path& dir) {
+  return outputs(dir) + test::read_file(dir / "trials.csv") + test::read_file(dir / "trials.jsonl");
+}
+
+// Per-trial rows: killed with -9 and resumed, or run in shards and merged,
+// the same bytes as one uninterrupted run.
+TEST_F(CampaignCli, PerTrialRowsSurviveKillNineAndMergeToTheBytesOfOneRun) {
+  const std::string args = args_ + " --per-trial";
+  const fs::path whole = tmp_ / "whole", killed = tmp_ / "killed";
+  const auto full = run_fssim(args + " -o " + quote(whole));
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  // 2 codes x 10 velocities x 6 snr values; the rows that ran have 2 trials.
+  const auto trials = test::lines_of(test::read_file(whole / "trials.csv"));
+  EXPECT_EQ(trials.front().substr(trials.front().rfind(",trial,")),
+            ",trial,trial_seed,rmse,rmse_ci,psnr");
+  EXPECT_EQ((trials.size() - 1) % 2, 0u);
+  EXPECT_GT(trials.size(), 1u);
+  ASSERT_TRUE(kill_after(args + " -o " + quote(killed), killed, 30)) << "finished before the kill";
+  EXPECT_FALSE(fs::exists(killed / "trials.csv"));
+  const auto resumed = run_fssim(args + " -o " + quote(killed));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(trial_outputs(killed), trial_outputs(whole));
+  std::string parts;
+  for (int i = 1; i <= 3; ++i) {
+    const fs::path part = tmp_ / ("part" + std::to_string(i));
+    const auto r = run_fssim(args + " --shard " + std::to_string(i) + "/3 -o " + quote(part));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    parts += " " + quote(part);
+  }
+  const auto merged = run_fssim("campaign merge -o " + quote(tmp_ / "merged") + parts);
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_EQ(trial_outputs(tmp_ / "merged"), trial_outputs(whole));
+  // Without --per-trial it is another campaign: refused in that directory.
+  const auto changed = run_fssim(args_ + " -o " + quote(whole));
+  EXPECT_EQ(changed.exit_code, 2);
+  EXPECT_NE(changed.err.find("holds another campaign"), std::string::npos) << changed.err;
+}
+
 TEST_F(CampaignCli, AChangedSpecificationIntoTheSameDirectoryIsRefused) {
   const fs::path out = tmp_ / "out";
   ASSERT_EQ(run_fssim(args_ + " -o " + quote(out)).exit_code, 0);

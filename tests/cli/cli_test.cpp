@@ -380,8 +380,72 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"RestoreVelocityNan", "--input {input} --restore-velocity nan",
                   "--restore-velocity"},
         UsageCase{"MarginNegative", "--input {input} --rmse-margin -1", "--rmse-margin"},
-        UsageCase{"UnknownCodeName", "--input {input} --code nosuchcode", "nosuchcode"}),
+        UsageCase{"UnknownCodeName", "--input {input} --code nosuchcode", "nosuchcode"},
+        // the sensor (docs/method.md §10), by the library's rules
+        UsageCase{"ReadNoiseNegative", "--input {input} --read-noise -1",
+                  "--read-noise: value -1 must be finite and >= 0"},
+        UsageCase{"ReadNoiseNan", "--input {input} --read-noise nan", "--read-noise"},
+        UsageCase{"DarkCurrentNegative", "--input {input} --dark-current -0.5",
+                  "--dark-current: value -0.5 must be finite and >= 0"},
+        UsageCase{"FullWellZero", "--input {input} --full-well 0",
+                  "--full-well: value 0 must be finite and > 0"},
+        UsageCase{"AdcBitsTooMany", "--input {input} --adc-bits 33",
+                  "--adc-bits: value 33 must lie in [1, 32]"},
+        UsageCase{"AdcBitsNotAnInteger", "--input {input} --adc-bits 1.5", "--adc-bits"},
+        UsageCase{"AdcGainWithoutBits", "--input {input} --adc-gain 2",
+                  "--adc-gain: needs --adc-bits"},
+        UsageCase{"AdcGainZero", "--input {input} --adc-bits 8 --adc-gain 0",
+                  "--adc-gain: value 0 must be finite and > 0"},
+        UsageCase{"AggregatedWithFullWell", "--input {input} --noise aggregated --full-well 1e5",
+                  "--noise: value aggregated must be poisson or none with a full well or an ADC"},
+        UsageCase{"AggregatedWithAdc", "--input {input} --noise aggregated --adc-bits 12",
+                  "--noise: value aggregated must be poisson or none with a full well or an ADC"}),
     [](const ::testing::TestParamInfo<UsageCase>& info) { return info.param.name; });
+
+// ---------------------------------------------------------------------------
+// The sensor (docs/method.md §10): stdout, report.json and report.html say
+// what it was; a default run says nothing of it.
+
+TEST_F(CliRuns, SensorIsReportedOnlyWhenEnabled) {
+  const fs::path input = small_input();
+  const CommandResult plain =
+      run_fssim("--input " + quote(input) + " --outdir " + quote(dir_ / "plain"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_THAT(plain.out, Not(HasSubstr("Sensor")));
+  const std::string plain_json = test::read_file(dir_ / "plain" / "report.json");
+  EXPECT_THAT(plain_json, Not(HasSubstr("sensor")));
+  EXPECT_THAT(plain_json, Not(HasSubstr("\"exact\"")));
+
+  const CommandResult sensor = run_fssim("--input " + quote(input) +
+                                         " --read-noise 4 --dark-current 0.5 --adc-bits 14 "
+                                         "--adc-gain 3 --report --outdir " +
+                                         quote(dir_ / "sensor"));
+  ASSERT_EQ(sensor.exit_code, 0) << sensor.err;
+  EXPECT_THAT(sensor.out, HasSubstr("Sensor: read noise 4 e-, dark current 0.5 e-/slot, full well "
+                                    "none, ADC 14 bits, gain 3 e-/count\n"));
+  const std::string json = test::read_file(dir_ / "sensor" / "report.json");
+  EXPECT_THAT(json, HasSubstr("\"sensor\": {"));
+  EXPECT_THAT(json, HasSubstr("\"read_noise_electrons\": 4.0"));
+  EXPECT_THAT(json, HasSubstr("\"adc_bits\": 14"));
+  EXPECT_THAT(json, HasSubstr("\"full_well_electrons\": null"));
+  EXPECT_THAT(json, HasSubstr("\"exact\": true"));
+  EXPECT_THAT(test::read_file(dir_ / "sensor" / "report.html"), HasSubstr("read noise 4 e⁻"));
+  // the read noise adds to the predicted error
+  EXPECT_NE(plain.out, sensor.out);
+}
+
+TEST_F(CliRuns, SaturatingFullWellWarnsAndMarksThePredictionApproximate) {
+  const CommandResult r = run_fssim("--input " + quote(small_input()) +
+                                    " --full-well 12000 --report --outdir " + quote(dir_ / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("readouts saturate"));
+  EXPECT_THAT(r.out, HasSubstr(", approximate: the sensor clips readouts\n"));
+  const std::string json = test::read_file(dir_ / "out" / "report.json");
+  EXPECT_THAT(json, HasSubstr("\"exact\": false"));
+  EXPECT_THAT(json, HasSubstr("\"full_well_electrons\": 12000.0"));
+  EXPECT_THAT(test::read_file(dir_ / "out" / "report.html"),
+              HasSubstr("predicted RMSE (approximate: the sensor clips readouts)"));
+}
 
 // ---------------------------------------------------------------------------
 // (f) Runtime errors: exit 1, one line naming the file, no outputs.

@@ -432,6 +432,38 @@ TEST_F(CodeCli, SweepWritesOneRowPerSetting) {
   EXPECT_EQ(test::list_directory(dir_.path()), std::vector<std::string>{"sweep.csv"});
 }
 
+// The sweep runs on the campaign engine with the same seeds for every
+// setting (--seed, --seed + 1, ...: a run of fssim with them), and a row does
+// not depend on the other settings of the grid (nor on the kernel the engine
+// keeps from one snr value to the next).
+TEST_F(CodeCli, SweepRowsDoNotDependOnTheGrid) {
+  const auto sweep = [&](const std::string& snr, const char* name) {
+    const fs::path csv = dir_ / name;
+    const CommandResult r = run_fssim("sweep --input " + camera() +
+                                      " --code mip --velocity 0.8 --trials 2 --seed 11 --snr " +
+                                      snr + " -o " + quote(csv));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return lines_of(test::read_file(csv));
+  };
+  const std::vector<std::string> both = sweep("40:80:40", "both.csv");
+  const std::vector<std::string> low = sweep("40", "low.csv");
+  const std::vector<std::string> high = sweep("80", "high.csv");
+  ASSERT_EQ(both.size(), 3u);
+  ASSERT_EQ(low.size(), 2u);
+  ASSERT_EQ(high.size(), 2u);
+  EXPECT_EQ(both[1], low[1]);
+  EXPECT_EQ(both[2], high[1]);
+  EXPECT_NE(both[1], both[2]);
+  const CommandResult run = run_fssim("--input " + camera() +
+                                      " --code mip --velocity 0.8 --trials 2 --seed 11 --snr 80 " +
+                                      "--outdir " + quote(dir_ / "run"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(test::read_file(dir_ / "run/report.json"));
+  const std::vector<std::string> f = split(high[1], ',');
+  EXPECT_EQ(std::stod(f[3]), report["trials"]["rmse_mean"].get<double>());
+  EXPECT_EQ(std::stod(f[4]), report["trials"]["rmse_sd"].get<double>());
+}
+
 TEST_F(CodeCli, SweepWithAMarginAndANonInvertibleCode) {
   const fs::path csv = dir_ / "s.csv";
   const CommandResult r = run_fssim("sweep --input " + camera() +

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace fss {
@@ -54,6 +55,29 @@ TEST(ParallelFor, RethrowsTheExceptionOfABlock) {
                               if (begin <= 60 && 60 < end) throw std::runtime_error("block");
                             }),
                std::runtime_error);
+}
+
+TEST(ParallelForEach, EveryIndexExactlyOnce) {
+  for (const int threads : {0, 1, 2, 3, 64}) {
+    for (const int count : {0, 1, 2, 9, 1000}) {
+      std::vector<std::atomic<int>> hits(static_cast<std::size_t>(count));
+      parallel_for_each(count, threads, [&](int i) { ++hits[i]; });
+      for (int i = 0; i < count; ++i) {
+        EXPECT_EQ(hits[i], 1) << "index " << i << ", count " << count << ", threads " << threads;
+      }
+    }
+  }
+}
+
+TEST(ParallelForEach, RethrowsTheFirstExceptionByIndex) {
+  try {
+    parallel_for_each(50, 3, [](int i) {
+      if (i == 7 || i == 40) throw std::runtime_error("item " + std::to_string(i));
+    });
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "item 7");
+  }
 }
 
 // Address space for the process as it is plus `extra` bytes.

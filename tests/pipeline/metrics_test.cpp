@@ -539,6 +539,38 @@ TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
             rmse_contrast_invariant(a, 5, crop_columns(b, 5, 290), 5, 285, 1));
 }
 
+// Windows above the sorter's buffer (2^18 keys) are split in place and the
+// parts sorted on two threads; the passes over the ranks run in two ranges.
+// Both ground truths (counted and sorted) give the bits of one thread.
+TEST(RmseContrastInvariant, TwoThreadsOnALargeWindowGiveTheBitsOfOne) {
+  for (const bool integers : {true, false}) {
+    const Image a = random_image(720, 500, 1, 51, 0.0, 255.0, integers);
+    const Image b = random_image(720, 500, 1, 52, -30.0, 290.0, false);
+    const double one = rmse_contrast_invariant(a, b, 3, 717, 1);
+    EXPECT_GT(one, 0.0);
+    EXPECT_EQ(rmse_contrast_invariant(a, b, 3, 717, 2), one) << "integers " << integers;
+  }
+}
+
+// A ground truth of integers in [0, 65535] is grouped by a histogram, any
+// other by sorting: halving both images (exact in binary, and it halves every
+// midway value, difference and square root exactly) moves the odd levels off
+// the integers, so the second call sorts, and it must give exactly half.
+TEST(RmseContrastInvariant, IntegerGroundTruthCountedAsSorted) {
+  for (const double top : {255.0, 65535.0}) {
+    Image a = random_image(300, 200, 3, 41, 0.0, top, true);
+    a.data[7] = -0.0;  // the same level as +0
+    const Image b = random_image(300, 200, 3, 42, -30.0, top + 30.0, false);
+    Image half_a = a;
+    Image half_b = b;
+    for (double& v : half_a.data) v *= 0.5;
+    for (double& v : half_b.data) v *= 0.5;
+    const double counted = rmse_contrast_invariant(a, b, 10, 290, 1);
+    EXPECT_GT(counted, 0.0);
+    EXPECT_EQ(rmse_contrast_invariant(half_a, half_b, 10, 290, 1), 0.5 * counted);
+  }
+}
+
 // The radix sorter's short runs, buffered passes and in-place splits, with
 // values that share all but their lowest bits (the sort keys drop those, so
 // their exact order is restored afterwards), negatives, -0 and +0, huge and

@@ -443,6 +443,141 @@ TEST(Simulate, TrialsUseConsecutiveSeeds) {
   EXPECT_EQ(calls, (std::vector<std::pair<int, int>>{{1, 2}, {2, 2}}));
 }
 
+TEST(Simulate, TrialMetricsAreEachTrialsInSeedOrder) {
+  const Image input = test::make_test_image(480, 8, 1, 4);
+  SimulationOptions options;
+  options.seed = 5;
+  options.trials = 3;
+  const SimulationReport all = Simulate(options, input, code("raskar"));
+  ASSERT_EQ(all.trial_metrics.size(), 3u);
+  double sum = 0.0;
+  for (int t = 0; t < 3; ++t) {
+    SimulationOptions one = options;
+    one.trials = 1;
+    one.seed = 5 + t;
+    const SimulationReport single = Simulate(one, input, code("raskar"));
+    EXPECT_EQ(all.trial_metrics[t].rmse, single.metrics.rmse) << t;
+    EXPECT_EQ(all.trial_metrics[t].rmse_ci, single.metrics.rmse_ci) << t;
+    sum += all.trial_metrics[t].rmse;
+  }
+  EXPECT_EQ(all.trials.rmse_mean, sum / 3);
+  // Without noise every trial is the noise-free run.
+  options.noise = NoiseModel::kNone;
+  const SimulationReport none = Simulate(options, input, code("raskar"));
+  ASSERT_EQ(none.trial_metrics.size(), 3u);
+  for (const Metrics& m : none.trial_metrics) EXPECT_EQ(m.rmse, none.metrics.rmse);
+}
+
+// ---------------------------------------------------------------------------
+// SimulationPlan
+
+void expect_same_report(const SimulationReport& a, const SimulationReport& b, const char* what) {
+  expect_same_image(a.observed, b.observed, what);
+  expect_same_image(a.restored, b.restored, what);
+  EXPECT_EQ(a.FullReport(), b.FullReport()) << what;
+  EXPECT_EQ(a.metrics.rmse_ci, b.metrics.rmse_ci) << what;
+  EXPECT_EQ(a.trials.rmse_sd, b.trials.rmse_sd) << what;
+  EXPECT_EQ(a.prediction.rmse, b.prediction.rmse) << what;
+  EXPECT_EQ(a.prediction.noise, b.prediction.noise) << what;
+  EXPECT_EQ(a.prediction.m_amplification, b.prediction.m_amplification) << what;
+  EXPECT_EQ(a.prediction.snr_level100, b.prediction.snr_level100) << what;
+  EXPECT_EQ(a.warnings, b.warnings) << what;
+  EXPECT_EQ(a.zero_bins, b.zero_bins) << what;
+}
+
+// One plan serves runs that differ in snr, seed, trials, threads and image
+// rows, and gives them the bytes of runs without it.
+TEST(SimulationPlan, GivesTheBytesOfARunWithoutIt) {
+  const Image input = test::make_test_image(300, 6, 3, 4);
+  const Image other = test::make_test_image(300, 4, 1, 9);
+  struct Case {
+    const char* name;
+    ShutterMode mode;
+    NoiseModel noise;
+    double velocity;
+    std::optional<double> restore;
+    double dt;
+    const char* code;
+  } cases[] = {
+      {"numerical poisson", ShutterMode::kNumerical, NoiseModel::kPoisson, 0.7, {}, 1.0, "raskar"},
+      {"integer shift", ShutterMode::kNumerical, NoiseModel::kPoisson, -1.0, {}, 1.0, "mip"},
+      {"aggregated", ShutterMode::kNumerical, NoiseModel::kAggregated, 1.3, {}, 0.5, "sinc"},
+      {"analog", ShutterMode::kAnalog, NoiseModel::kPoisson, 0.9, {}, 1.0, "snapshot"},
+      {"restore velocity", ShutterMode::kNumerical, NoiseModel::kPoisson, 1.0, 1.1, 1.0, "raskar"},
+      {"noise free", ShutterMode::kNumerical, NoiseModel::kNone, 0.5, {}, 1.0, "raskar"},
+      {"not invertible", ShutterMode::kAnalog, NoiseModel::kPoisson, 1.0, {}, 1.0, "accumulation"},
+  };
+  for (const Case& c : cases) {
+    SimulationOptions options;
+    options.mode = c.mode;
+    options.noise = c.noise;
+    options.velocity_px_per_slot = c.velocity;
+    options.restore_velocity_px_per_slot = c.restore;
+    options.dt = c.dt;
+    options.rmse_margin_columns = 10;
+    const SimulationPlan plan(options, input.width, code(c.code));
+    for (const double snr : {30.0, 100.0}) {
+      options.snr = snr;
+      options.seed = static_cast<std::uint64_t>(snr);
+      options.trials = snr > 50 ? 2 : 1;
+      options.threads = snr > 50 ? 1 : 2;
+      for (const Image* image : {&input, &other}) {
+        ASSERT_TRUE(plan.fits(options, image->width, code(c.code))) << c.name;
+        expect_same_report(Simulate(plan, options, *image, code(c.code)),
+                           Simulate(options, *image, code(c.code)), c.name);
+      }
+    }
+  }
+}
+
+TEST(SimulationPlan, RefusesARunItWasNotMadeFor) {
+  const Image input = test::make_test_image(300, 4, 1, 4);
+  SimulationOptions options;
+  options.rmse_margin_columns = 10;
+  const SimulationPlan plan(options, input.width, code("raskar"));
+  EXPECT_TRUE(plan.fits(options, 300, code("raskar")));
+  EXPECT_GT(plan.bytes(), 0u);
+  const auto refused = [&](const SimulationOptions& run, int width, const ShutterCode& k) {
+    EXPECT_FALSE(plan.fits(run, width, k));
+    const Image image = test::make_test_image(width, 4, 1, 4);
+    return test::throws_error([&] { Simulate(plan, run, image, k); }, ErrorKind::kUsage,
+                              {"simulation plan", "another code"});
+  };
+  SimulationOptions o = options;
+  o.velocity_px_per_slot = 0.5;
+  EXPECT_TRUE(refused(o, 300, code("raskar")));
+  o = options;
+  o.restore_velocity_px_per_slot = 1.2;
+  EXPECT_TRUE(refused(o, 300, code("raskar")));
+  o = options;
+  o.dt = 0.5;
+  EXPECT_TRUE(refused(o, 300, code("raskar")));
+  o = options;
+  o.mode = ShutterMode::kAnalog;
+  EXPECT_TRUE(refused(o, 300, code("snapshot")));
+  o = options;
+  o.rmse_margin_columns = 12;
+  EXPECT_TRUE(refused(o, 300, code("raskar")));
+  EXPECT_TRUE(refused(options, 320, code("raskar")));
+  EXPECT_TRUE(refused(options, 300, code("mip")));
+  ShutterCode renamed = code("raskar");
+  renamed.name = "copy";
+  EXPECT_TRUE(refused(options, 300, renamed));
+  // A noise-free plan has no W(j) for a noisy run; the other way round fits.
+  o = options;
+  o.noise = NoiseModel::kNone;
+  const SimulationPlan quiet(o, 300, code("raskar"));
+  EXPECT_FALSE(quiet.fits(options, 300, code("raskar")));
+  EXPECT_TRUE(plan.fits(o, 300, code("raskar")));
+  // A plan refuses what Simulate refuses.
+  o = options;
+  o.dt = -1;
+  EXPECT_TRUE(test::throws_error([&] { SimulationPlan(o, 300, code("raskar")); }, ErrorKind::kUsage,
+                                 {"dt"}));
+  EXPECT_TRUE(test::throws_error([&] { SimulationPlan(options, 100, code("raskar")); },
+                                 ErrorKind::kUsage, {"too narrow"}));
+}
+
 }  // namespace
 }  // namespace fss
 

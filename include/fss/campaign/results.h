@@ -3,17 +3,22 @@
 // JSON Lines forms.
 #pragma once
 
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "fss/campaign/spec.h"
 #include "fss/core/image.h"
+#include "fss/pipeline/simulate.h"
 
 namespace fss {
 
 // Version of the results schema: the columns below, their order and meaning.
-inline constexpr int kCampaignSchemaVersion = 1;
+inline constexpr int kCampaignSchemaVersion = 2;
 
 enum class ColumnKind { kText, kNumber, kBoolean };
 
@@ -26,6 +31,12 @@ struct ResultColumn {
 const std::vector<ResultColumn>& campaign_columns();
 // Index of a column by name; -1 if there is none.
 int campaign_column_index(std::string_view name);
+
+// The columns of trials.csv and trials.jsonl (a campaign with per_trial):
+// the setting columns of results.csv (image to trials, in their order),
+// then trial (0, 1, ...), trial_seed (seed + trial), rmse, rmse_ci and
+// psnr of that trial.
+const std::vector<ResultColumn>& trial_columns();
 
 // One row: campaign_columns().size() cells. Numbers are in shortest
 // round-trip form ("inf" where a prediction is infinite), empty where the
@@ -45,19 +56,53 @@ struct SettingRunOptions {
   int threads = 0;                   // SimulationOptions::threads
   std::size_t max_memory_bytes = 0;  // SimulationOptions::max_memory_bytes
   std::string fssim_version;         // the fssim_version column
+  // Every setting with this seed instead of its own (setting_seed): the
+  // rule of fssim sweep, whose curves are smooth for it. Never set by a
+  // campaign run.
+  std::optional<std::uint64_t> seed = std::nullopt;
+};
+
+// The plans (fss::SimulationPlan) of the settings a run goes through, kept
+// while they fit in kMaxBytes: a campaign computes each kernel once per
+// code, mode, velocity, restore velocity, dt and image width, not once per
+// snr value (settings are image-, code-, mode- and velocity-major).
+class SimulationPlanCache {
+ public:
+  static constexpr std::size_t kMaxBytes = std::size_t{256} << 20;
+  static constexpr std::size_t kMaxPlans = 4096;
+
+  // A kept plan that fits the run, or a new one (oldest plans dropped
+  // beyond the limits); valid until the next call. Throws what
+  // SimulationPlan's constructor throws.
+  const SimulationPlan& plan(const SimulationOptions& options, int width, const ShutterCode& code);
+  long long built() const { return built_; }
+  long long reused() const { return reused_; }
+
+ private:
+  std::deque<std::unique_ptr<const SimulationPlan>> plans_;
+  std::size_t bytes_ = 0;
+  long long built_ = 0;
+  long long reused_ = 0;
 };
 
 // Runs `setting` of `campaign` on `image` (the setting's image, decoded)
 // with fss::Simulate and returns its row. A setting that cannot run is a
 // row with its status and message; runtime and memory-limit errors are
-// thrown as fss::Error.
+// thrown as fss::Error. With `plans`, the kernel part comes from (and goes
+// to) that cache; the row is the same. With `trial_rows`, it receives the
+// setting's trial rows (trial_columns; none for a setting that did not run).
 ResultRow run_setting(const ResolvedCampaign& campaign, const Setting& setting, const Image& image,
-                      const SettingRunOptions& options);
+                      const SettingRunOptions& options, SimulationPlanCache* plans = nullptr,
+                      std::vector<ResultRow>* trial_rows = nullptr);
 
 // results.csv: the header line, then one line per row.
 std::string results_csv(const std::vector<ResultRow>& rows);
 // results.jsonl: one JSON object per row, keys in column order; numbers as
 // JSON numbers (null when empty or not finite), booleans as true/false.
 std::string results_jsonl(const std::vector<ResultRow>& rows);
+
+// trials.csv and trials.jsonl: the same forms with trial_columns().
+std::string trials_csv(const std::vector<ResultRow>& rows);
+std::string trials_jsonl(const std::vector<ResultRow>& rows);
 
 }  // namespace fss

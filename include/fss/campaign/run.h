@@ -8,7 +8,8 @@
 // next line is written. A rerun into the same DIR reads it and runs only the settings it
 // lacks (a torn last line, from a kill mid-write, is cut off); a different
 // campaign or shard is refused. Once every setting of the shard is in the
-// journal, results.csv, results.jsonl and campaign.json are written from it,
+// journal, results.csv, results.jsonl and campaign.json (and, for a campaign
+// with per_trial, trials.csv and trials.jsonl) are written from it,
 // each to a temporary file renamed into place: their bytes depend on the
 // specification and the fssim version only.
 #pragma once
@@ -55,6 +56,9 @@ struct CampaignRunSummary {
   long long ran = 0;            // run by this call
   long long resumed = 0;        // found in the journal
   std::vector<ResultRow> rows;  // the shard's rows in product order
+  // Kernels (SimulationPlan) computed and reused by this call.
+  long long plans_built = 0;
+  long long plans_reused = 0;
 };
 
 // Names of the files of a campaign directory.
@@ -62,6 +66,9 @@ inline constexpr const char* kCampaignJournal = "journal.jsonl";
 inline constexpr const char* kCampaignResultsCsv = "results.csv";
 inline constexpr const char* kCampaignResultsJsonl = "results.jsonl";
 inline constexpr const char* kCampaignManifest = "campaign.json";
+// With per_trial: one row per trial (trial_columns), settings in product order.
+inline constexpr const char* kCampaignTrialsCsv = "trials.csv";
+inline constexpr const char* kCampaignTrialsJsonl = "trials.jsonl";
 
 // Runs the settings of `options.shard` missing from dir's journal (dir is
 // created if needed) and writes the result files. Throws a usage fss::Error

@@ -48,6 +48,12 @@ struct CampaignSpec {
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
   int rmse_margin_columns = -1;  // -1: 3 B
+  bool per_trial = false;        // also one row per trial (trials.csv, trials.jsonl)
+  // The sensor (docs/method.md §10): the read noise is an axis (a value
+  // list, electrons RMS per readout), the other parts are fixed for the
+  // campaign; sensor.read_noise_electrons is not used.
+  std::string read_noise = "0";
+  SensorModel sensor;
 
   // False, with a message naming the field, its value and the rule, when a
   // field is malformed on its own (values a setting cannot run with, such as
@@ -85,6 +91,15 @@ struct ResolvedCampaign {
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
   int rmse_margin_columns = -1;
+  bool per_trial = false;
+  ValueList read_noises = {{0.0}, false};  // the read noise axis
+  SensorModel sensor;                      // the fixed parts; its read noise unused
+
+  // True when the campaign uses a sensor: a read noise other than {0} or
+  // a fixed part on. Only then do the canonical JSON and the settings'
+  // descriptions name the sensor, so that a campaign without one keeps its
+  // hash and its seeds.
+  bool has_sensor() const;
 
   // Canonical JSON of everything above (one line, keys sorted, numbers in
   // shortest round-trip form) and its SHA-256: two specifications that run
@@ -110,16 +125,19 @@ ResolvedCampaign campaign_from_canonical_json(const std::string& json);
 struct Setting {
   long long index = 0;  // position in the product's order
   int image = 0, code = 0, mode = 0, velocity = 0, restore_velocity = 0, snr = 0, dt = 0;
+  int read_noise = 0;
 };
 
 // The setting at position `index` of the product, in the order images,
-// codes, modes, velocities, restore velocities, snrs, dts (the last varies
-// fastest).
+// codes, modes, velocities, restore velocities, snrs, dts, read noises
+// (the last varies fastest).
 Setting setting_at(const ResolvedCampaign& campaign, long long index);
 
 // The setting's canonical description: the digests of its image and code
 // and its values, as one line of JSON; trials, noise and margin are the
 // campaign's and are left out, so that more trials extend a setting's seeds.
+// With a sensor (ResolvedCampaign::has_sensor) it also holds the setting's
+// read noise and the fixed sensor parts.
 std::string setting_description(const ResolvedCampaign& campaign, const Setting& setting);
 
 // The setting's seed: splitmix64 of the campaign seed plus the first 64

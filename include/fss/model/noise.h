@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "fss/model/sensor.h"
+
 namespace fss {
 
 // splitmix64 (Steele, Lea and Flood): advances `state` by kSplitmix64Gamma
@@ -78,6 +80,19 @@ class PoissonRowSampler {
   // out[x] += gain * PoissonSNR(e[x]) for every x.
   void accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                   std::span<double> out);
+  // The same with a sensor (docs/method.md §10): out[x] += gain *
+  // readout.read(P[x], R[x]) / lambda2, P[x] ~ Poisson(max(e[x], 0) lambda2 +
+  // dark) drawn exactly as accumulate() draws it (photo and dark electrons
+  // are one Poisson: a sum of independent Poissons), R[x] a standard normal
+  // from the row's kReadNoise lane (box_muller_portable: the read noise is
+  // not rounded without an ADC, so its bits must not depend on the
+  // processor). Used only when the sensor is enabled.
+  void accumulate_readout(std::span<const double> e, const RowNoiseId& id, double gain,
+                          const SensorReadout& readout, std::span<double> out);
+  // out[x] += scale * N[x], N standard normals from the row's kReadNoise lane
+  // (box_muller_portable), as accumulate_readout draws its read noise: the
+  // numerical mode's read noise summed over the frames of a linear sensor.
+  void add_read_noise(const RowNoiseId& id, double scale, std::span<double> out);
 
  private:
   double lambda2_;
@@ -85,6 +100,7 @@ class PoissonRowSampler {
   std::vector<double> u1_;
   std::vector<double> u2_;
   std::vector<double> normals_;
+  std::vector<double> read_normals_;
 };
 
 // The lanes of a row's random streams, RandomStream(seed, channel, frame,
@@ -100,11 +116,17 @@ class PoissonRowSampler {
 //                     the Box-Muller batch).
 //   kAggregateKnuth   per (seed, channel, frame k, row): AggregatedRowSampler's
 //                     Knuth uniforms for frame k, in pixel order.
+//   kReadNoise        per (seed, channel, frame k or 0 (analog), row): the
+//                     sensor's read noise (accumulate_readout), one normal
+//                     per pixel, pixel x gets output x of the Box-Muller
+//                     batch. Drawn only when the read noise is on, so the
+//                     other lanes' variates are those of a run without it.
 enum class NoiseLane : std::uint64_t {
   kFrameNormal = 0,
   kFrameKnuth = 1,
   kAggregateNormal = 2,
   kAggregateKnuth = 3,
+  kReadNoise = 4,
 };
 
 // Exact variance of PoissonSNR(e) as the samplers draw it, in units of e^2:
@@ -192,8 +214,14 @@ class AggregatedRowSampler {
   // Frame id.frame of row (id.seed, id.channel, id.row): out[x] +=
   // gain * PoissonSNR(e[x]) where lambda < 50, accumulated into M and V
   // otherwise. e and out have the row's width, the same for every frame.
+  // With a `readout` (a linear sensor: dark current and read noise only,
+  // docs/method.md §10), aggregated exactly: each lambda gains the dark
+  // charge (a sum of Poissons is one Poisson), and every pixel's
+  // M -= alpha dark (the dark-frame correction) and V += alpha^2 sigma_r^2
+  // (a sum of independent normals is one normal); the full well and the ADC
+  // are not applied (Simulate refuses them with aggregated noise).
   void add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
-                 std::span<double> out);
+                 std::span<double> out, const SensorReadout* readout = nullptr);
   // out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from the row's
   // kAggregateNormal lane (id.frame is ignored), then M = V = 0. Draws
   // nothing when no pixel had a normal-branch frame.
@@ -210,6 +238,8 @@ class AggregatedRowSampler {
   void replay(const AggregatedRowPlan& plan, const RowNoiseId& id, std::span<double> out);
 
  private:
+  // A linear sensor's frame of gain alpha: M -= alpha dark, V += alpha^2 sigma_r^2.
+  void add_readout_terms(double gain, const SensorReadout& readout);
   // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
   void add_normals(std::span<const double> mean, std::span<const double> variance,
                    const RowNoiseId& id, std::span<double> out);

@@ -14,6 +14,7 @@
 // (dark-frame correction) and the result divided by lambda2 to gray levels.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -59,5 +60,28 @@ double readout_variance_electrons2(const SensorModel& sensor, double exposure_sl
 // default sensor this is 100 Q (100 / snr^2), Q = noise_gain (prediction.h).
 double level100_observation_variance(std::span<const double> gains, double dt, ShutterMode mode,
                                      double snr, const SensorModel& sensor);
+
+// One readout's sensor parameters in electrons, the form the samplers use
+// (noise.h): a SensorModel at a given exposure.
+struct SensorReadout {
+  double dark_electrons = 0.0;  // d * exposure: mean dark charge, subtracted after the readout
+  double read_noise_electrons = 0.0;  // sigma_r
+  // Largest charge kept before read noise: the full well (infinite without one).
+  double full_well_electrons = std::numeric_limits<double>::infinity();
+  double adc_gain_electrons_per_count = 0.0;  // G; 0: no ADC
+  double adc_max_counts = 0.0;                // 2^b - 1
+
+  bool adc() const { return adc_gain_electrons_per_count > 0.0; }
+  // The largest mean charge the readout passes unclipped: min(F, (2^b - 1) G).
+  double clip_electrons() const;
+  // The readout of a charge (electrons, with dark charge) and its read noise
+  // draw r ~ N(0, 1), minus the dark mean (docs/method.md §10):
+  //   q = min(charge, F) + sigma_r r;  ADC: q = min(round+(q / G), 2^b - 1) G
+  //   (round+ is 0 for q <= 0);  result q - d * exposure.
+  double read(double charge, double r) const;
+};
+
+// The readout of `sensor` at `exposure_slots` (readout_exposure_slots).
+SensorReadout sensor_readout(const SensorModel& sensor, double exposure_slots);
 
 }  // namespace fss

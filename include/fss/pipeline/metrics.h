@@ -56,9 +56,13 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 // pixel, b's sorted keys and pixel of each rank, a bit per rank on each
 // side), plus 8 bytes per distinct value of a's window (2 KiB for 8-bit
 // images), plus the sorter's buffer (half a byte a pixel, at least 2 MiB).
+// A window of a holding only integers in [0, 65535] (8- and 16-bit ground
+// truth) is ranked by a histogram of its values instead of a sort.
 // With more than one thread and a window of at most kParallelSortPixels
 // pixels, a and b are sorted at the same time (20 bytes and 1 bit a pixel
-// at the peak, two buffers); the result is the same. A window above 2^32 pixels a channel is a
+// at the peak, two buffers); above it, b's sort uses two threads (two
+// buffers), and so do the passes over the ranks in either case; the result
+// is the same. A window above 2^32 pixels a channel is a
 // usage error.
 inline constexpr std::size_t kParallelSortPixels = std::size_t{1} << 22;
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end, int threads = 1);

@@ -4,6 +4,7 @@
 
 #include <complex>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/model/noise.h"
+#include "fss/model/sensor.h"
 
 namespace fss {
 
@@ -21,9 +23,32 @@ struct ObservationParams {
   // Numerical mode: each pixel's normal-branch frames drawn as one normal
   // (AggregatedRowSampler, docs/method.md §6c) instead of one by one.
   bool aggregate_noise = false;
+  // The sensor (docs/method.md §10); a default one is the paper's photon
+  // noise, every output bit unchanged.
+  SensorModel sensor;
+  // Columns [first, end) of the row whose readouts the noise-free pass
+  // checks for clipping (ReadoutClipping); end -1: the whole row.
+  int clipping_first_column = 0;
+  int clipping_end_column = -1;
   // Used only by the whole-image reference paths (src/pipeline/reference_paths.h).
   std::uint64_t seed = 0;
   int threads = 0;
+};
+
+// Readouts of a noise-free pass whose mean charge (photo plus dark electrons)
+// a nonlinear sensor clips, where the exact prediction's linear model does
+// not hold (docs/method.md §10): `saturated` reach min(F, (2^b - 1) G), the
+// full well or the ADC's top; `near_zero` (ADC only) lie within 3 standard
+// deviations of 0, sqrt(charge + sigma_r^2), where the ADC clips negative
+// readouts. Counted only for a sensor with a full well or an ADC.
+struct ReadoutClipping {
+  std::uint64_t saturated = 0;
+  std::uint64_t near_zero = 0;
+  ReadoutClipping& operator+=(const ReadoutClipping& other) {
+    saturated += other.saturated;
+    near_zero += other.near_zero;
+    return *this;
+  }
 };
 
 // The observation of one row at a time, from the row's DFT: the first stage
@@ -53,6 +78,11 @@ class RowObserver {
 
   int width() const { return width_; }
 
+  // This observer with the snr, noise model, sensor and clipping columns of
+  // `params` (its velocity and dt must be this observer's): the filters (the
+  // part that costs) are shared, not computed again (SimulationPlan, simulate.h).
+  RowObserver with_noise(const ObservationParams& params) const;
+
   // Loads the row to observe into the scratch: a real row (width values),
   // transformed here, or its DFT (width / 2 + 1 bins) when already known.
   void load_row(const double* row, Scratch& scratch) const;
@@ -66,8 +96,16 @@ class RowObserver {
   // variance of the noisy observation, Var(o) (docs/method.md §6b):
   // numerical sum_k alpha_k^2 Var(PoissonSNR(e_k)), analog Var(PoissonSNR(e)),
   // Var as poisson_snr_variance (noise.h).
-  void observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
-               std::span<double> out, std::span<double> variance = {}) const;
+  // With an enabled sensor (docs/method.md §10) each readout (a frame, or the
+  // analog exposure) is read as SensorReadout::read; the expectation is
+  // max(e, 0) for a linear sensor, and, with a full well or an ADC, the mean
+  // charge clipped, (min(max(e, 0) lambda2 + dark, clip) - dark) / lambda2,
+  // without the ADC's rounding (counted as variance G^2 / 12); the variance
+  // adds readout_variance_electrons2 / lambda2^2 per readout, and the dark
+  // charge moves the Poisson's branch test to lambda + dark >= 50. Returns the
+  // clipped readouts of a noise-free pass (zero for a noisy one).
+  ReadoutClipping observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
+                          std::span<double> out, std::span<double> variance = {}) const;
 
   // Aggregated noise (numerical mode): the next noisy observe() with this
   // scratch also records the row's plan (AggregatedRowPlan, noise.h) into
@@ -81,6 +119,8 @@ class RowObserver {
               Scratch& scratch, std::span<double> out) const;
 
  private:
+  // The noise part of the state: snr, sensor readouts, clipping columns.
+  void set_noise(const ObservationParams& params);
   // e = IDFT(spectrum * filter) / width into scratch.workspace.real().
   std::span<const double> filtered(const std::vector<std::complex<double>>& filter,
                                    Scratch& scratch) const;
@@ -94,6 +134,10 @@ class RowObserver {
   // e_k from the row last loaded into `scratch` (numerical mode).
   template <typename PerSlot>
   void for_each_slot(Scratch& scratch, const PerSlot& per_slot) const;
+  // out += E[o] of one readout of gain alpha: alpha max(e, 0) (linear
+  // sensor), else the clipped mean charge, counting clipped readouts.
+  void add_expectation(std::span<const double> e, double alpha, double lambda2,
+                       std::span<double> out, ReadoutClipping& clipping) const;
 
   int width_;
   std::vector<double> gains_;
@@ -103,8 +147,22 @@ class RowObserver {
   bool aggregate_ = false;  // numerical mode with aggregated noise
   bool shift_ = false;      // numerical mode with an integer v dt
   long long step_ = 0;      // v dt when shift_
-  // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when alpha_k = 0)
-  std::vector<std::vector<std::complex<double>>> filters_;
+  // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when
+  // alpha_k = 0); shared by the copies of with_noise.
+  std::shared_ptr<const std::vector<std::vector<std::complex<double>>>> filters_;
+  bool sensor_ = false;        // the sensor is enabled
+  bool sensor_linear_ = true;  // and has neither a full well nor an ADC
+  SensorReadout readout_;      // of one readout of this mode
+  // Numerical mode, per-frame sampler, linear sensor: the frames are read
+  // without read noise (frame_readout_) and the read noise of all frames is
+  // one normal per pixel of deviation sigma_r sqrt(sum_k alpha_k^2), the
+  // same distribution (a sum of independent normals), one draw instead of L.
+  bool sum_read_noise_ = false;
+  SensorReadout frame_readout_;
+  double summed_read_sd_ = 0.0;    // sigma_r sqrt(sum_k alpha_k^2), electrons
+  double readout_variance_ = 0.0;  // readout_variance_electrons2, electrons^2
+  int clipping_first_ = 0;
+  int clipping_end_ = 0;
 };
 
 }  // namespace fss

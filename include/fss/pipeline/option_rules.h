@@ -40,6 +40,12 @@ std::string margin_rule(long long columns);
 // noise sums the frames of the numerical mode)".
 std::string noise_rule(bool aggregated, bool analog);
 
+// noise with a sensor: the aggregated noise adds the read noise and the dark
+// current exactly but cannot clip a frame it does not draw, so with a full
+// well or an ADC it "must be poisson or none with a full well or an ADC (the
+// aggregated noise does not draw each frame's charge)".
+std::string sensor_noise_rule(bool aggregated, bool sensor_linear);
+
 // trials: "must be >= 1".
 std::string trials_rule(long long trials);
 

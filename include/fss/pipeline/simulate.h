@@ -13,9 +13,12 @@
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
+#include "fss/model/sensor.h"
 #include "fss/pipeline/geometry.h"
+#include "fss/pipeline/observe.h"
 #include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/prediction.h"
+#include "fss/pipeline/restore.h"
 
 namespace fss {
 
@@ -51,6 +54,9 @@ struct SimulationOptions {
   double snr = 100.0;  // in [kMinScale, kMaxScale]
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
+  // Read noise, dark current, full well and ADC (docs/method.md §10); all off
+  // by default: the paper's photon noise, every output bit unchanged.
+  SensorModel sensor;
   // Columns left out at each side of the output for the RMSE; -1 means 3 B.
   int rmse_margin_columns = -1;
   // Independent noise realizations, seeds seed, seed + 1, ...; images and the
@@ -107,6 +113,9 @@ struct SimulationReport {
 
   Metrics metrics;         // of the first trial
   TrialStatistics trials;  // over all trials
+  // Each trial's metrics, trial t (seed + t) at index t; without noise every
+  // trial is the one noise-free run.
+  std::vector<Metrics> trial_metrics;
   Prediction prediction;
   std::vector<std::string> warnings;
 
@@ -124,6 +133,64 @@ struct SimulationReport {
   std::string FullReport() const;
 };
 
+// The part of a run that depends only on the code, the mode, the velocity,
+// the restore velocity, dt, the image width and the RMSE margin, not on the
+// image's rows, snr, seed, trials or threads: the geometry and metric
+// windows, the kernel analysis and its warnings, the observation filters,
+// the inverse filter, and the prediction's M and W(j) (docs/method.md §6,
+// §6b). Simulate builds one per call unless given one; a caller that runs
+// one code at one velocity for several snr values, seeds or images of one
+// width (a campaign) builds it once and gives it to each call: the results
+// are the same bytes.
+class SimulationPlan {
+ public:
+  // Throws the usage fss::Error Simulate would for these options and code on
+  // an image `width` pixels wide (invalid options, a code the mode cannot
+  // use, an image too narrow).
+  SimulationPlan(const SimulationOptions& options, int width, const ShutterCode& code);
+
+  // True when a run of `options` with `code` on an image `width` wide can use
+  // this plan: same code (name and gains), mode, velocities, dt, width and
+  // margin, and W(j) at hand when the run has noise.
+  bool fits(const SimulationOptions& options, int width, const ShutterCode& code) const;
+
+  const Geometry& geometry() const { return geometry_; }
+  const MetricWindows& windows() const { return windows_; }
+  // The kernel at the restore velocity, as SimulationReport::kernel.
+  const KernelAnalysis& kernel() const { return kernel_; }
+  double observed_divisor() const { return observed_divisor_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  // The observer (at the snr of the options it was made with; the
+  // pipeline takes the run's snr) and the restorer of the row pipeline.
+  const RowObserver& observer() const { return observer_; }
+  const RowRestorer& restorer() const { return restorer_; }
+  // M (infinite when not invertible) and W(j) (empty without noise or when
+  // not invertible), for predict.
+  double m_amplification() const { return m_amplification_; }
+  const std::vector<double>& noise_weights() const { return noise_weights_; }
+  // Memory the plan holds, in bytes (filters, inverse filter, weights).
+  std::size_t bytes() const;
+
+ private:
+  std::string code_name_;
+  std::vector<double> gains_;
+  ShutterMode mode_;
+  double velocity_;
+  double restore_velocity_;
+  double dt_;
+  int margin_;
+  bool noisy_;
+  Geometry geometry_;
+  MetricWindows windows_;
+  KernelAnalysis kernel_;
+  double observed_divisor_ = 1.0;
+  std::vector<std::string> warnings_;
+  RowObserver observer_;
+  RowRestorer restorer_;
+  double m_amplification_ = 0.0;
+  std::vector<double> noise_weights_;
+};
+
 // Throws the usage fss::Error Simulate would for a code the mode cannot use:
 // no gains, only zero gains, or (analog) a gain outside [0, 1].
 void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
@@ -136,6 +203,13 @@ void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
 // doubles.
 SimulationReport Simulate(const SimulationOptions& options, const Image& input,
                           const ShutterCode& code, ObservedRowSink* observed_sink = nullptr);
+
+// The same run with the kernel part of `plan`, built for these options,
+// code and image width (SimulationPlan::fits; a usage fss::Error
+// otherwise): the same report, byte for byte.
+SimulationReport Simulate(const SimulationPlan& plan, const SimulationOptions& options,
+                          const Image& input, const ShutterCode& code,
+                          ObservedRowSink* observed_sink = nullptr);
 
 // Estimated peak memory of Simulate plus write_outputs, in bytes, the input
 // image included: the input, the observed (as doubles, or as 8-bit samples

@@ -291,8 +291,7 @@ double poisson_snr_variance(double e, double lambda2) {
 
 PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
-void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
-                                   std::span<double> out) {
+std::size_t PoissonRowSampler::load_intensities(std::span<const double> e, double dark) {
   const std::size_t n = e.size();
   lambda_.resize(n);
   std::size_t knuth_pixels = 0;
@@ -301,26 +300,33 @@ void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& 
     const double* __restrict intensity = e.data();
     double* __restrict lambda = lambda_.data();
     const double lambda2 = lambda2_;
+    const double dark_electrons = dark;
     std::size_t count = 0;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark_electrons;
       count += lambda[x] < kKnuthLimit ? 1 : 0;
     }
     knuth_pixels = count;
   });
+  return knuth_pixels;
+}
 
-  // One normal per pixel, normal x for pixel x (pixels on Knuth's branch
-  // leave theirs unused).
+void PoissonRowSampler::draw_charge(const RowNoiseId& id, std::size_t knuth_pixels) {
+  const std::size_t n = lambda_.size();
   draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
-
-  // Knuth's branch where lambda < 50, uniforms in pixel order; the variate
-  // takes the place of the pixel's unused normal.
-  if (knuth_pixels > 0) {
-    RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
-    for (std::size_t x = 0; x < n; ++x) {
-      if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
-    }
+  if (knuth_pixels == 0) return;
+  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
+  for (std::size_t x = 0; x < n; ++x) {
+    if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
   }
+}
+
+void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
+                                   std::span<double> out) {
+  const std::size_t n = e.size();
+  // One normal per pixel, normal x for pixel x; Knuth's branch where
+  // lambda < 50 takes the place of the pixel's unused normal.
+  draw_charge(id, load_intensities(e, 0.0));
   // Normal branch elsewhere: P = round(lambda + sqrt(lambda) N);
   // out += gain P / lambda2.
   const double scale = gain / lambda2_;
@@ -340,30 +346,9 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
                                            double gain, const SensorReadout& readout,
                                            std::span<double> out) {
   const std::size_t n = e.size();
-  lambda_.resize(n);
-  std::size_t knuth_pixels = 0;
-  run_vectorized([&]() __attribute__((always_inline)) {
-    // lambda = max(e, 0) lambda2 + dark: photo and dark electrons, one Poisson
-    const double* __restrict intensity = e.data();
-    double* __restrict lambda = lambda_.data();
-    const double lambda2 = lambda2_;
-    const double dark = readout.dark_electrons;
-    std::size_t count = 0;
-    for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark;
-      count += lambda[x] < kKnuthLimit ? 1 : 0;
-    }
-    knuth_pixels = count;
-  });
   // The charge P, drawn as accumulate() draws it: normals from lane 0, and
   // Knuth's variates from lane 1 in place of the unused normals.
-  draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
-  if (knuth_pixels > 0) {
-    RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
-    for (std::size_t x = 0; x < n; ++x) {
-      if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
-    }
-  }
+  draw_charge(id, load_intensities(e, readout.dark_electrons));
   // The read noise's normals from lane 4 (zeros without read noise).
   if (readout.read_noise_electrons != 0.0) {
     draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), n, u1_, u2_, read_normals_,

@@ -95,6 +95,13 @@ class PoissonRowSampler {
   void add_read_noise(const RowNoiseId& id, double scale, std::span<double> out);
 
  private:
+  // lambda_[x] = max(e[x], 0) lambda2 + dark (photo and dark electrons, one
+  // Poisson); returns the number of pixels on Knuth's branch (lambda < 50).
+  std::size_t load_intensities(std::span<const double> e, double dark);
+  // normals_[x] = pixel x's normal (kFrameNormal lane), replaced by its
+  // Knuth variate (kFrameKnuth lane, pixel order) where lambda_[x] < 50.
+  void draw_charge(const RowNoiseId& id, std::size_t knuth_pixels);
+
   double lambda2_;
   std::vector<double> lambda_;
   std::vector<double> u1_;

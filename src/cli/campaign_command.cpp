@@ -290,18 +290,23 @@ fss::CampaignSpec CampaignCommand::Spec() const {
   if (use("--rmse-margin")) spec.rmse_margin_columns = rmse_margin_;
   if (use("--per-trial")) spec.per_trial = per_trial_;
   if (use("--read-noise")) spec.read_noise = read_noise_;
-  const auto given = [this](const char* name) { return app().count(name) > 0; };
-  if (given("--dark-current")) spec.sensor.dark_current_electrons_per_slot = dark_current_;
-  if (given("--full-well")) spec.sensor.full_well_electrons = full_well_;
-  if (given("--adc-bits")) spec.sensor.adc_bits = adc_bits_;
-  if (given("--adc-gain")) {
-    if (spec.sensor.adc_bits == 0) {
-      fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
-    }
-    spec.sensor.adc_gain_electrons_per_count = adc_gain_;
-  }
+  ApplySensorOptions(spec.sensor);
   spec.noise = parse_noise(noise);
   return spec;
+}
+
+void CampaignCommand::ApplySensorOptions(fss::SensorModel& sensor) const {
+  // Only the options given: the file's values, or the defaults, stay otherwise.
+  const auto given = [this](const char* name) { return app().count(name) > 0; };
+  if (given("--dark-current")) sensor.dark_current_electrons_per_slot = dark_current_;
+  if (given("--full-well")) sensor.full_well_electrons = full_well_;
+  if (given("--adc-bits")) sensor.adc_bits = adc_bits_;
+  if (given("--adc-gain")) {
+    if (sensor.adc_bits == 0) {
+      fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
+    }
+    sensor.adc_gain_electrons_per_count = adc_gain_;
+  }
 }
 
 int CampaignCommand::RunCampaign() const {

@@ -20,6 +20,8 @@ class CampaignCommand : public Command {
  private:
   void AddSpecOptions();
   fss::CampaignSpec Spec() const;
+  // The fixed sensor options given on the command line, over `sensor`.
+  void ApplySensorOptions(fss::SensorModel& sensor) const;
   int RunCampaign() const;
   int Merge() const;
   int Check() const;

@@ -74,12 +74,12 @@ void check_memory_from_header(const std::string& input, const fss::SimulationOpt
   const std::size_t needed = fss::estimate_working_memory_bytes(
       size->width, size->height, size->channels, geometry, options.trials, sheet ? nullptr : &sink);
   if (needed > options.max_memory_bytes) {
+    const auto sizes = fss::format_bytes_distinct(static_cast<double>(needed),
+                                                  static_cast<double>(options.max_memory_bytes));
     fss::throw_limit_error("input '" + input + "': a run on this " + std::to_string(size->width) +
                            " x " + std::to_string(size->height) + " x " +
-                           std::to_string(size->channels) + " image needs about " +
-                           fss::format_bytes(static_cast<double>(needed)) +
-                           " of memory, more than the memory limit of " +
-                           fss::format_bytes(static_cast<double>(options.max_memory_bytes)));
+                           std::to_string(size->channels) + " image needs about " + sizes.first +
+                           " of memory, more than the memory limit of " + sizes.second);
   }
 }
 
@@ -198,7 +198,7 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const std::string& code_name = flags_.code_name();
 
   context->activity = "reading code '" + code_name + "'";
-  const fss::ShutterCode code = fss::load_code(code_name);
+  const fss::ShutterCode code = fss::load_code(code_name, "--code");
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
   check_memory_from_header(input_, options, code, output_options.sheet);

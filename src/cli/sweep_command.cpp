@@ -43,7 +43,7 @@ std::string too_narrow_reason(int width, int length, double velocity, double dt,
   const double motion = std::ceil(std::abs(velocity) * dt * length);
   if (!(motion < width)) {
     *blur_length = -1;
-    return "the blur spans " + format_number(motion) + " pixels, more than the image width " +
+    return "the blur spans " + format_exact(motion) + " pixels, more than the image width " +
            std::to_string(width);
   }
   const int b = std::max(length, static_cast<int>(motion));
@@ -91,7 +91,7 @@ class SweepRunner {
 
 std::string SweepRunner::TooNarrowRow(double velocity, double snr, const std::string& reason,
                                       int blur_length) {
-  std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": " << reason
+  std::cerr << "fssim: warning: velocity " << format_exact(velocity) << ": " << reason
             << "; row marked too-narrow (see --rmse-margin)\n";
   curves_.x.push_back(by_velocity_ ? velocity : snr);
   curves_.measured.push_back(std::nan(""));
@@ -129,17 +129,16 @@ std::string SweepRunner::Row(double velocity, double snr) {
          (r.kernel.invertible ? "ok" : "not-invertible") + "\n";
 }
 
-[[noreturn]] void refuse_snr(const std::string& text, const std::string& rule, double snr) {
-  fss::throw_usage_error("--snr '" + text + "': every value " + rule + ", got " +
-                         format_number(snr));
-}
-
 // Every value of --snr 'TEXT' as the simulator's rule has it (> 0, within
-// the library's range).
+// the library's range). The message shows TEXT as typed, and for a range
+// the value that breaks the rule.
 void check_snr_values(const std::vector<double>& snrs, const std::string& text) {
   for (const double snr : snrs) {
     const std::string rule = snr > 0.0 ? fss::scale_rule(snr) : "must be > 0";
-    if (!rule.empty()) refuse_snr(text, rule, snr);
+    if (rule.empty()) continue;
+    if (snrs.size() == 1) fss::throw_usage_error("--snr '" + text + "': the value " + rule);
+    fss::throw_usage_error("--snr '" + text + "': every value " + rule + ", the range holds " +
+                           format_exact(snr));
   }
 }
 
@@ -217,7 +216,7 @@ void SweepCommand::CheckPaths() const {
 int SweepCommand::Sweep() const {
   const Grid grid = ParseGrid();
   CheckPaths();
-  const fss::ShutterCode code = fss::load_code(flags_.code_name());
+  const fss::ShutterCode code = fss::load_code(flags_.code_name(), "--code");
   const fss::SimulationOptions options = flags_.Options();
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes);
   // Refuse a code the mode cannot use before any row runs (Simulate would, at

@@ -148,23 +148,23 @@ bool OptimizeOptions::IsValid(std::string* error) const {
                 std::to_string(kMaxOptimizedCodeLength) + "]");
   }
   if (!(std::isfinite(dt) && dt > 0.0)) {
-    return fail("dt = " + format_number(dt) + ": must be finite and > 0");
+    return fail("dt = " + format_exact(dt) + ": must be finite and > 0");
   }
   if (!design_band_is_valid(velocity_px_per_slot, dt)) {
-    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
-                " with dt = " + format_number(dt) +
+    return fail("velocity_px_per_slot = " + format_exact(velocity_px_per_slot) +
+                " with dt = " + format_exact(dt) +
                 ": must satisfy 0 < |velocity| dt < 2 (at v = 0 no motion needs undoing; from "
                 "|v| dt = 2 on every code has K = 0 on the band)");
   }
   if (!(std::isfinite(snr) && snr > 0.0)) {
-    return fail("snr = " + format_number(snr) + ": must be finite and > 0");
+    return fail("snr = " + format_exact(snr) + ": must be finite and > 0");
   }
   if (!(std::isfinite(min_light_slots) && min_light_slots >= 0.0 && min_light_slots <= length)) {
-    return fail("min_light_slots = " + format_number(min_light_slots) +
+    return fail("min_light_slots = " + format_exact(min_light_slots) +
                 ": must lie in [0, length = " + std::to_string(length) + "]");
   }
   if (min_light_slots > 0.0 && mode == ShutterMode::kNumerical && !binary) {
-    return fail("min_light_slots = " + format_number(min_light_slots) +
+    return fail("min_light_slots = " + format_exact(min_light_slots) +
                 ": a light budget applies to analog or binary gains only (numerical frames "
                 "always gather L slots of light)");
   }

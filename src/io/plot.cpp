@@ -17,6 +17,7 @@
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
 #include "fss/model/transfer.h"
+#include "fss/pipeline/simulate.h"
 
 namespace fss {
 namespace {
@@ -279,17 +280,18 @@ void check_size(const PlotOptions& options) {
   }
 }
 
+// The simulator's check of a code (check_code_for_mode, numerical: any real
+// gains): no gains, too many, only zeros, or a scale sums and |K| overflow.
 void check_gains(const std::vector<double>& gains, const std::string& name) {
-  if (gains.empty()) throw_usage_error("cannot plot code '" + name + "': it has no gains");
-  for (const double g : gains) {
-    if (!std::isfinite(g))
-      throw_usage_error("cannot plot code '" + name + "': a gain is not finite");
-  }
+  check_code_for_mode(ShutterCode{name, gains}, ShutterMode::kNumerical);
 }
 
 void check_motion(double velocity, double dt) {
-  if (!std::isfinite(velocity) || !std::isfinite(dt) || !(dt > 0.0)) {
-    throw_usage_error("cannot plot |K|: velocity must be finite and dt > 0");
+  const std::string rule =
+      !std::isfinite(velocity) ? "velocity " + velocity_rule(velocity) : "dt " + scale_rule(dt);
+  if (rule.size() > 3) {
+    throw_usage_error("cannot plot |K| at velocity " + format_exact(velocity) + ", dt " +
+                      format_exact(dt) + ": " + rule);
   }
 }
 

@@ -184,11 +184,11 @@ void check_decodable(const PngHeader& header, std::size_t size, const std::strin
   const std::size_t needed =
       png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
   if (max_bytes > 0 && needed > max_bytes) {
+    const auto sizes =
+        format_bytes_distinct(static_cast<double>(needed), static_cast<double>(max_bytes));
     throw_limit_error("input '" + name + "' is " + std::to_string(header.width) + " x " +
-                      std::to_string(header.height) + " pixels: decoding it needs " +
-                      format_bytes(static_cast<double>(needed)) +
-                      ", more than the memory limit of " +
-                      format_bytes(static_cast<double>(max_bytes)));
+                      std::to_string(header.height) + " pixels: decoding it needs " + sizes.first +
+                      ", more than the memory limit of " + sizes.second);
   }
 }
 

@@ -312,11 +312,11 @@ void check_decodable(const TiffLayout& layout, std::size_t size, const std::stri
   }
   const std::size_t needed = decode_bytes(layout);
   if (max_bytes > 0 && needed > max_bytes) {
+    const auto sizes =
+        format_bytes_distinct(static_cast<double>(needed), static_cast<double>(max_bytes));
     throw_limit_error("input '" + name + "' is " + std::to_string(layout.width) + " x " +
-                      std::to_string(layout.height) + " pixels: decoding it needs " +
-                      format_bytes(static_cast<double>(needed)) +
-                      ", more than the memory limit of " +
-                      format_bytes(static_cast<double>(max_bytes)));
+                      std::to_string(layout.height) + " pixels: decoding it needs " + sizes.first +
+                      ", more than the memory limit of " + sizes.second);
   }
 }
 
@@ -356,7 +356,7 @@ void store_row(const TiffLayout& layout, const ChunkRow& row, Image* image,
   for (int i = 0; i < row.count; ++i) {
     const double value = sample_value(row.source + i * row.stride, layout.kind);
     if (!std::isfinite(value)) {
-      throw_runtime_error(quoted(name) + " holds a non-finite sample (" + format_number(value) +
+      throw_runtime_error(quoted(name) + " holds a non-finite sample (" + format_exact(value) +
                           ") at row " + std::to_string(row.y) + ", column " +
                           std::to_string(row.x0 + i));
     }

@@ -125,7 +125,10 @@ struct SimulationReport {
 };
 
 // Throws the usage fss::Error Simulate would for a code the mode cannot use:
-// no gains, only zero gains, or (analog) a gain outside [0, 1].
+// no gains, more than kMaxCodeLength, only zero gains, a largest |gain|
+// outside [1e-100, 1e100] (scale_rule: sums and |K| must stay finite), or
+// (analog) a gain outside [0, 1]. The one check of a code: simulate, sweep,
+// campaign, code analyze and the plots (spectra) apply it.
 void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
 
 // Runs the simulation of `code` on `input`. Throws a usage fss::Error for a

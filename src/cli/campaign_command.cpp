@@ -170,8 +170,9 @@ int CampaignCommand::RunCampaign() const {
               output_.c_str());
   if (figures_) {
     if (options.shard.count > 1) {
-      std::cerr << "fssim: warning: --figures of a shard are left out; give --figures to "
-                   "'campaign merge'\n";
+      fss::write_stderr(
+          "fssim: warning: --figures of a shard are left out; give --figures to "
+          "'campaign merge'\n");
     } else {
       DrawFigures(campaign, summary.rows, output_);
     }

@@ -91,8 +91,8 @@ class SweepRunner {
 
 std::string SweepRunner::TooNarrowRow(double velocity, double snr, const std::string& reason,
                                       int blur_length) {
-  std::cerr << "fssim: warning: velocity " << format_exact(velocity) << ": " << reason
-            << "; row marked too-narrow (see --rmse-margin)\n";
+  fss::write_stderr("fssim: warning: velocity " + format_exact(velocity) + ": " + reason +
+                    "; row marked too-narrow (see --rmse-margin)\n");
   curves_.x.push_back(by_velocity_ ? velocity : snr);
   curves_.measured.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));
@@ -136,9 +136,10 @@ void check_snr_values(const std::vector<double>& snrs, const std::string& text) 
   for (const double snr : snrs) {
     const std::string rule = snr > 0.0 ? fss::scale_rule(snr) : "must be > 0";
     if (rule.empty()) continue;
-    if (snrs.size() == 1) fss::throw_usage_error("--snr '" + text + "': the value " + rule);
-    fss::throw_usage_error("--snr '" + text + "': every value " + rule + ", the range holds " +
-                           format_exact(snr));
+    std::string message = "--snr '" + text + "': ";
+    message += snrs.size() == 1 ? "the value " + rule
+                                : "every value " + rule + ", the range holds " + format_exact(snr);
+    fss::throw_usage_error(message);
   }
 }
 

@@ -1,5 +1,7 @@
 #include "core/stderr_capture.h"
 
+#include "fss/core/error.h"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -9,11 +11,22 @@
 
 namespace fss::detail {
 
-namespace {
-
+// Held by a capture from start to end, and by write_stderr.
 std::mutex g_capture_mutex;
 
-}  // namespace
+}  // namespace fss::detail
+
+namespace fss {
+
+void write_stderr(std::string_view text) {
+  const std::lock_guard<std::mutex> lock(detail::g_capture_mutex);
+  std::fwrite(text.data(), 1, text.size(), stderr);
+  std::fflush(stderr);
+}
+
+}  // namespace fss
+
+namespace fss::detail {
 
 StderrCapture::StderrCapture() : lock_(g_capture_mutex) {
   std::fflush(stderr);
@@ -41,7 +54,10 @@ StderrCapture::StderrCapture() : lock_(g_capture_mutex) {
 StderrCapture::~StderrCapture() { Finish(); }
 
 std::string StderrCapture::Finish() {
-  if (captured_ < 0) return {};
+  if (captured_ < 0) {
+    if (lock_.owns_lock()) lock_.unlock();
+    return {};
+  }
   std::fflush(stderr);
   // Descriptor 2 back as it was: the saved duplicate, or closed again.
   if (saved_ >= 0) {
@@ -62,6 +78,7 @@ std::string StderrCapture::Finish() {
   }
   close(captured_);
   captured_ = -1;
+  lock_.unlock();  // descriptor 2 is the stream again: write_stderr may go on
   return text;
 }
 

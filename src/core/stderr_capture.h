@@ -7,12 +7,14 @@
 
 namespace fss::detail {
 
+extern std::mutex g_capture_mutex;
+
 // While alive, file descriptor 2 is an anonymous in-memory file; Finish()
 // puts the original stream back and returns what was written meanwhile (the
 // destructor puts it back too). One capture at a time in the process: the
 // constructor waits for the previous one to end. Writers of other threads
-// that write to descriptor 2 during a capture are captured as well (the CLI
-// writes there only its terminal progress lines while plots are drawn).
+// that write to descriptor 2 during a capture are captured as well, except
+// through fss::write_stderr, which waits for the capture to end.
 // When no anonymous file can be made, nothing is captured.
 class StderrCapture {
  public:
@@ -21,7 +23,8 @@ class StderrCapture {
   StderrCapture(const StderrCapture&) = delete;
   StderrCapture& operator=(const StderrCapture&) = delete;
 
-  // Ends the capture and returns its bytes (empty after the first call).
+  // Ends the capture and returns its bytes (empty after the first call);
+  // write_stderr calls waiting for it go on then.
   std::string Finish();
 
  private:

@@ -337,7 +337,7 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
       groups;
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
-  return input + outputs + std::max(midway, encoding);
+  return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
 }
 
 Image groundtruth_image(const Image& input, const SimulationReport& report) {

@@ -3,6 +3,8 @@
 // the stream is the same before and after, also when it was closed.
 #include "core/stderr_capture.h"
 
+#include "fss/core/error.h"
+
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <plplot/plplot.h>
@@ -10,9 +12,11 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <thread>
 
 // PLplot's warning function (plplotP.h, its private header; exported by the library).
 extern "C" void plwarn(PLCHAR_VECTOR message);
@@ -38,6 +42,24 @@ TEST(StderrCapture, KeepsEveryWriterOffTheStream) {
   EXPECT_NE(captured.find("stdio\niostream\nwrite(2)\n"), std::string::npos) << captured;
   EXPECT_NE(captured.find("*** PLPLOT WARNING ***\na PLplot warning\n"), std::string::npos)
       << captured;
+}
+
+TEST(StderrCapture, WriteStderrWaitsForTheCaptureToEnd) {
+  // A warning written from another thread while a picture is drawn must
+  // reach stderr, not the capture (it once failed the plot with its text).
+  testing::internal::CaptureStderr();
+  std::string captured;
+  std::thread writer;
+  {
+    StderrCapture capture;
+    writer = std::thread([] { fss::write_stderr("fssim: warning: from another thread\n"); });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the writer waits meanwhile
+    std::fprintf(stderr, "library\n");
+    captured = capture.Finish();
+  }
+  writer.join();
+  EXPECT_EQ(captured, "library\n");
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "fssim: warning: from another thread\n");
 }
 
 TEST(StderrCapture, DestructorPutsTheStreamBack) {

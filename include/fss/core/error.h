@@ -49,6 +49,13 @@ std::string format_exact(double value);
 // messages; 17 digits give back the same double.
 std::string format_number(double value, int significant_digits = 6);
 
+// Writes `text` on the standard error stream (stdio's stderr, flushed), after
+// any picture being drawn: the plots capture descriptor 2 while they draw
+// (to keep PLplot's messages off it), and a message written meanwhile from
+// another thread would be captured with them. Front ends write their
+// warnings and errors through this; a write error shows in ferror(stderr).
+void write_stderr(std::string_view text);
+
 // `text` for a message: control bytes as \xNN (escape_control_characters),
 // cut after about `shown` characters with "..." so that a binary file or a
 // long argument still gives a short, one-line message.

@@ -140,8 +140,13 @@ void check_code_for_mode(const ShutterCode& code, ShutterMode mode);
 SimulationReport Simulate(const SimulationOptions& options, const Image& input,
                           const ShutterCode& code, ObservedRowSink* observed_sink = nullptr);
 
+// Memory of the process before any image: code, libraries (PLplot, cairo,
+// Fontconfig), stacks. fssim on a 600 x 8 image peaks at 22.4 MiB with its
+// plots (10.9 MiB without); counted in estimate_working_memory_bytes.
+inline constexpr std::size_t kBaselineMemoryBytes = std::size_t{32} << 20;
+
 // Estimated peak memory of Simulate plus write_outputs, in bytes, the input
-// image included: the input, the observed (as doubles, or as 8-bit samples
+// image and kBaselineMemoryBytes included: the input, the observed (as doubles, or as 8-bit samples
 // when its rows go to an `observed_sink`, as Simulate's) and restored outputs (one more restoration
 // buffer when trials > 1), and the larger of the RMSE_CI scratch (16 or 20 bytes a pixel of one
 // channel's window and the sorter's buffers, metrics.h) and the PNG encoding buffers. Rows in

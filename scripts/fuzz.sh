@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan + UBSan; CMake option FSS_FUZZ) and
+# Builds the libFuzzer targets (clang, ASan + UBSan; CMake option FSS_FUZZ):
+# PNG and TIFF decoding, code files, campaign files, and the range syntaxes
+# (value lists of campaigns, --velocity/--snr of sweep); and
 # runs each for FUZZ_SECONDS (default 60) from its seed corpus in
 # tests/fuzz/corpus/. Fails on any crash, leak, timeout, out-of-memory or
 # sanitizer report; prints the number of inputs each target executed.
@@ -7,7 +9,8 @@
 # target skips images of more than 2^24 pixels that a file could really hold,
 # the TIFF target refuses decodings over 256 MiB),
 # 20 s per input.
-# Usage: [FUZZ_SECONDS=N] scripts/fuzz.sh [build-dir]   (default: build-fuzz)
+# Usage: [FUZZ_SECONDS=N] [FUZZ_TARGETS="fuzz_range ..."] scripts/fuzz.sh [build-dir]
+#        (default build-dir: build-fuzz; default targets: all)
 # Inputs found interesting go to <build-dir>/corpus/<target>/ (the seed
 # corpus is only read); a crashing input is saved as <build-dir>/<target>-crash-*.
 set -euo pipefail
@@ -21,7 +24,7 @@ if ! command -v clang++ >/dev/null; then
 fi
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DFSS_FUZZ=ON -DFSS_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code
+cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code fuzz_campaign_file fuzz_range
 export ASAN_OPTIONS=detect_leaks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
@@ -29,6 +32,7 @@ status=0
 # run TARGET SEEDS MAX_LEN DICTIONARY
 run() {
   local target=$1 seeds=$2 max_len=$3 dict=$4
+  case " ${FUZZ_TARGETS:-$target} " in *" $target "*) ;; *) return 0 ;; esac
   local corpus="$build/corpus/$target" log="$build/$target.log"
   mkdir -p "$corpus"
   if "$build/tests/fuzz/$target" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=1024 \
@@ -48,4 +52,6 @@ run() {
 run fuzz_png tests/fuzz/corpus/png 65536 tests/fuzz/png.dict
 run fuzz_tiff tests/fuzz/corpus/tiff 65536 tests/fuzz/tiff.dict
 run fuzz_code tests/fuzz/corpus/code 4096 tests/fuzz/code.dict
+run fuzz_campaign_file tests/fuzz/corpus/campaign_file 4096 tests/fuzz/campaign_file.dict
+run fuzz_range tests/fuzz/corpus/range 1024 tests/fuzz/range.dict
 exit "$status"

@@ -24,7 +24,7 @@ bool CheckOptions::IsValid(std::string* error) const {
         std::pair{"k_standard_errors", k_standard_errors}}) {
     if (!(value >= 0.0) || !std::isfinite(value)) {
       if (error)
-        *error = std::string(name) + " = " + format_number(value) + ": must be finite and >= 0";
+        *error = std::string(name) + " = " + format_exact(value) + ": must be finite and >= 0";
       return false;
     }
   }
@@ -172,8 +172,8 @@ CheckCase Comparison::compare(std::size_t r, std::size_t e, const std::string& c
   }
   const double d = g - w;
   double tolerance = std::max(options.abs_tolerance, options.rel_tolerance * std::abs(w));
-  std::string rule = "abs " + format_number(options.abs_tolerance) + ", rel " +
-                     format_number(options.rel_tolerance);
+  std::string rule = "abs " + format_exact(options.abs_tolerance) + ", rel " +
+                     format_exact(options.rel_tolerance);
   if (options.k_standard_errors > 0.0 && column.size() > 5 &&
       column.compare(column.size() - 5, 5, "_mean") == 0) {
     const double se_r = standard_error(results, r, column),
@@ -181,7 +181,7 @@ CheckCase Comparison::compare(std::size_t r, std::size_t e, const std::string& c
     if (!std::isnan(se_r) && !std::isnan(se_e)) {
       const double k = options.k_standard_errors * std::hypot(se_r, se_e);
       tolerance = std::max(tolerance, k);
-      rule += ", " + format_number(options.k_standard_errors) + " SE = " + format_number(k);
+      rule += ", " + format_exact(options.k_standard_errors) + " SE = " + format_number(k);
     }
   }
   c.passed = std::abs(d) <= tolerance;  // false for a missing or non-finite result

@@ -34,7 +34,7 @@ double tidy(double value) {
 
 [[noreturn]] void refuse_item(const std::string& field, std::string_view item,
                               const std::string& why) {
-  throw_usage_error(field + " item '" + escape_control_characters(item) + "': " + why);
+  throw_usage_error(field + " item '" + shorten_for_message(item) + "': " + why);
 }
 
 // Appends the values of one range item "start:stop:step" or "start:stop:xF".

@@ -7,20 +7,18 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli_common.h"
 #include "fss/campaign/check.h"
 #include "fss/campaign/figures.h"
 #include "fss/campaign/run.h"
+#include "fss/campaign/spec.h"
 #include "fss/core/error.h"
 
 namespace fssim {
 
 namespace {
-
-using Json = nlohmann::json;
 
 std::string read_text(const std::string& path, const std::string& what) {
   std::ifstream in(path, std::ios::binary);
@@ -28,32 +26,6 @@ std::string read_text(const std::string& path, const std::string& what) {
   std::ostringstream bytes;
   bytes << in.rdbuf();
   return bytes.str();
-}
-
-// A JSON value of the campaign file as a list of strings.
-std::vector<std::string> string_list(const Json& value, const std::string& key) {
-  std::vector<std::string> out;
-  for (const Json& item : value.is_array() ? value : Json::array({value})) {
-    if (!item.is_string()) fss::throw_usage_error("campaign file: '" + key + "' takes strings");
-    out.push_back(item.get<std::string>());
-  }
-  return out;
-}
-
-// A value list of the campaign file: "1:2:0.5", 3, or [1, "2:4:1"].
-std::string value_list(const Json& value, const std::string& key) {
-  std::string out;
-  for (const Json& item : value.is_array() ? value : Json::array({value})) {
-    if (!out.empty()) out += ",";
-    if (item.is_number()) {
-      out += format_number(item.get<double>(), 17);
-    } else if (item.is_string()) {
-      out += item.get<std::string>();
-    } else {
-      fss::throw_usage_error("campaign file: '" + key + "' takes numbers or range strings");
-    }
-  }
-  return out;
 }
 
 std::vector<fss::ShutterMode> parse_modes(const std::vector<std::string>& names) {
@@ -70,93 +42,6 @@ fss::NoiseModel parse_noise(const std::string& name) {
   const auto noise = fss::noise_model_from_string(name);
   if (!noise) fss::throw_usage_error("--noise '" + name + "': not a noise model of fssim");
   return *noise;
-}
-
-// A list field of a campaign file into `spec`; false if `key` is not one.
-bool apply_list(const std::string& key, const Json& value, fss::CampaignSpec& spec) {
-  if (key == "input") {
-    spec.inputs = string_list(value, key);
-  } else if (key == "code") {
-    spec.codes = string_list(value, key);
-  } else if (key == "mode") {
-    spec.modes = parse_modes(string_list(value, key));
-  } else if (key == "velocity") {
-    spec.velocity = value_list(value, key);
-  } else if (key == "restore_velocity") {
-    spec.restore_velocity = value_list(value, key);
-  } else if (key == "snr") {
-    spec.snr = value_list(value, key);
-  } else if (key == "dt") {
-    spec.dt = value_list(value, key);
-  } else if (key == "read_noise") {
-    spec.read_noise = value_list(value, key);
-  } else {
-    return false;
-  }
-  return true;
-}
-
-// A fixed sensor field of a campaign file (docs/method.md §10); false if
-// `key` is not one. The values are checked by CampaignSpec::IsValid.
-bool apply_sensor(const std::string& key, const Json& value, fss::CampaignSpec& spec) {
-  if (key == "adc_bits") {
-    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 64) {
-      fss::throw_usage_error("campaign file: 'adc_bits' takes an integer in [1, 32], got " +
-                             value.dump());
-    }
-    spec.sensor.adc_bits = value.get<int>();
-    return true;
-  }
-  if (key != "dark_current" && key != "full_well" && key != "adc_gain") return false;
-  if (!value.is_number()) {
-    fss::throw_usage_error("campaign file: '" + key + "' takes a number, got " + value.dump());
-  }
-  const double number = value.get<double>();
-  if (key == "dark_current") spec.sensor.dark_current_electrons_per_slot = number;
-  if (key == "full_well") spec.sensor.full_well_electrons = number;
-  if (key == "adc_gain") spec.sensor.adc_gain_electrons_per_count = number;
-  return true;
-}
-
-// A scalar field of a campaign file; false if `key` is not one.
-bool apply_scalar(const std::string& key, const Json& value, fss::CampaignSpec& spec,
-                  std::string& noise) {
-  if (key == "trials" || key == "rmse_margin") {
-    // Out of int's range, a value breaks its rule anyway: -2, the rule's message.
-    const long long n = value.is_number_integer() ? value.get<long long>() : 0;
-    if (!value.is_number_integer() || n < -2 || n > (1LL << 30)) {
-      fss::throw_usage_error("campaign file: '" + key + "' takes an integer in range, got " +
-                             value.dump());
-    }
-    (key == "trials" ? spec.trials : spec.rmse_margin_columns) = static_cast<int>(n);
-  } else if (key == "seed") {
-    if (!value.is_number_unsigned()) {
-      fss::throw_usage_error("campaign file: 'seed' takes an integer >= 0");
-    }
-    spec.seed = value.get<std::uint64_t>();
-  } else if (key == "noise") {
-    if (!value.is_string()) fss::throw_usage_error("campaign file: 'noise' takes a string");
-    noise = value.get<std::string>();
-  } else if (key == "per_trial") {
-    if (!value.is_boolean())
-      fss::throw_usage_error("campaign file: 'per_trial' takes true or false");
-    spec.per_trial = value.get<bool>();
-  } else {
-    return apply_sensor(key, value, spec);
-  }
-  return true;
-}
-
-// The fields of a campaign file into `spec` (the command line overrides them).
-void apply_file(const Json& j, fss::CampaignSpec& spec, std::string& noise) {
-  for (const auto& [key, value] : j.items()) {
-    if (!apply_list(key, value, spec) && !apply_scalar(key, value, spec, noise)) {
-      fss::throw_usage_error("campaign file: unknown key '" + key +
-                             "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, "
-                             "seed, noise, rmse_margin, per_trial, read_noise, dark_current, "
-                             "full_well, adc_bits, adc_gain)");
-    }
-  }
 }
 
 // "campaign: 12/40 settings, 3.1/s, ETA 9 s" over itself on a terminal.
@@ -264,17 +149,7 @@ int CampaignCommand::Run() const {
 
 fss::CampaignSpec CampaignCommand::Spec() const {
   fss::CampaignSpec spec;
-  std::string noise = noise_;
-  if (!file_.empty()) {
-    Json j;
-    try {
-      j = Json::parse(read_text(file_, "campaign file"));
-    } catch (const Json::exception& e) {
-      fss::throw_usage_error("campaign file '" + file_ + "': " + e.what());
-    }
-    if (!j.is_object()) fss::throw_usage_error("campaign file '" + file_ + "': expected an object");
-    apply_file(j, spec, noise);
-  }
+  if (!file_.empty()) spec = fss::parse_campaign_file(read_text(file_, "campaign file"), file_);
   // Without a file every option counts; with one, only those given.
   const auto use = [this](const char* name) { return file_.empty() || app().count(name) > 0; };
   if (use("--input")) spec.inputs = inputs_;
@@ -286,12 +161,11 @@ fss::CampaignSpec CampaignCommand::Spec() const {
   if (use("--dt")) spec.dt = dt_;
   if (use("--trials")) spec.trials = trials_;
   if (use("--seed")) spec.seed = seed_;
-  if (use("--noise")) noise = noise_;
+  if (use("--noise")) spec.noise = parse_noise(noise_);
   if (use("--rmse-margin")) spec.rmse_margin_columns = rmse_margin_;
   if (use("--per-trial")) spec.per_trial = per_trial_;
   if (use("--read-noise")) spec.read_noise = read_noise_;
   ApplySensorOptions(spec.sensor);
-  spec.noise = parse_noise(noise);
   return spec;
 }
 
@@ -323,8 +197,9 @@ int CampaignCommand::RunCampaign() const {
               output_.c_str());
   if (figures_) {
     if (options.shard.count > 1) {
-      std::cerr << "fssim: warning: --figures of a shard are left out; give --figures to "
-                   "'campaign merge'\n";
+      fss::write_stderr(
+          "fssim: warning: --figures of a shard are left out; give --figures to "
+          "'campaign merge'\n");
     } else {
       DrawFigures(campaign, summary.rows, output_);
     }

@@ -183,8 +183,8 @@ std::string escape_invisible_and_invalid(std::string_view text) {
 }  // namespace
 
 void report_error(std::string_view message) {
-  std::cerr << "fssim: error: "
-            << escape_invisible_and_invalid(fss::escape_control_characters(message)) << std::endl;
+  fss::write_stderr("fssim: error: " +
+                    escape_invisible_and_invalid(fss::escape_control_characters(message)) + "\n");
 }
 
 void write_output(const std::string& path, std::string_view bytes,

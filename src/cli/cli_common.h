@@ -88,6 +88,7 @@ void write_output(const std::string& path, std::string_view bytes,
 // `status` 0 into kExitRuntime, reported on stderr where it still works.
 int check_standard_streams(int status);
 
+using fss::format_exact;           // fss/core/error.h
 using fss::format_number;          // fss/core/error.h
 using fss::write_file_atomically;  // fss/io/outputs.h
 

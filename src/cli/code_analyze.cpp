@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cli_common.h"
 #include "code_commands.h"
@@ -68,37 +69,52 @@ nlohmann::json analysis_json(const fss::ShutterCode& code, const fss::CodeAnalys
   return j;
 }
 
+// A figure as "%f" writes it where that shows its digits (0, or
+// 1e-3 <= |x| < 1e6: the paper's codes), else as "%.6g": 1e-48 is not
+// "0.000000" and 3e100 not a hundred digits.
+std::string decimal(double x) {
+  const double a = std::abs(x);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, a == 0.0 || (a >= 1e-3 && a < 1e6) ? "%f" : "%.6g", x);
+  return buffer;
+}
+
 void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
                     const std::string& mode) {
   std::printf("Code: %s (L = %d)\n", code.name.c_str(), a.length);
-  std::printf("Setting: %s mode, velocity %g, dt %g, snr %g\n", mode.c_str(), a.velocity, a.dt,
-              a.snr);
+  std::printf("Setting: %s mode, velocity %s, dt %s, snr %s\n", mode.c_str(),
+              format_exact(a.velocity).c_str(), format_exact(a.dt).c_str(),
+              format_exact(a.snr).c_str());
   if (a.sensor.enabled()) {
-    std::printf("Sensor: %s (%g photo-electrons per gray level per slot)\n",
-                fss::describe_design_sensor(a.sensor).c_str(), a.snr * a.snr / 100.0);
+    std::printf("Sensor: %s (%s photo-electrons per gray level per slot)\n",
+                fss::describe_design_sensor(a.sensor).c_str(),
+                format_exact(a.snr * a.snr / 100.0).c_str());
   }
-  std::printf("Sum of gains: %f\n", a.sum);
-  std::printf("Sum of squares: %f\n", a.square_sum);
-  std::printf("Normalized L1 norm: %f\n", a.normalized_l1);
-  std::printf("Min |K| on the band: %g at xi = %f\n", a.min_abs, a.min_abs_xi);
+  std::printf("Sum of gains: %s\n", decimal(a.sum).c_str());
+  std::printf("Sum of squares: %s\n", decimal(a.square_sum).c_str());
+  std::printf("Normalized L1 norm: %s\n", decimal(a.normalized_l1).c_str());
+  std::printf("Min |K| on the band: %g at xi = %s\n", a.min_abs, decimal(a.min_abs_xi).c_str());
   std::printf("Invertible: %s\n", a.invertible ? "yes" : "no (K vanishes on the band)");
-  std::printf("Q: %f\n", a.q);
+  std::printf("Q: %s\n", decimal(a.q).c_str());
   if (a.sensor.enabled()) {
-    std::printf("Readouts: %f, each adding %g e-^2\n", a.readouts, a.readout_variance_electrons2);
-    std::printf("Effective Q (photon noise and readouts): %f\n", a.effective_q);
+    std::printf("Readouts: %s, each adding %s e-^2\n", decimal(a.readouts).c_str(),
+                format_exact(a.readout_variance_electrons2).c_str());
+    std::printf("Effective Q (photon noise and readouts): %s\n", decimal(a.effective_q).c_str());
   }
   if (std::isfinite(a.m)) {
-    std::printf("M (mean of 1/|K|^2, %s): %f\n", grid_description(a.grid).c_str(), a.m);
+    std::printf("M (mean of 1/|K|^2, %s): %s\n", grid_description(a.grid).c_str(),
+                decimal(a.m).c_str());
   } else {
     std::printf("M (mean of 1/|K|^2, %s): infinite\n", grid_description(a.grid).c_str());
   }
   // Not a simulated image's predicted RMSE, which is the exact expectation (§6b).
   std::printf("Figure of merit (stationary approximation, image-independent):\n");
-  std::printf("SNR at level 100: %f\n", a.snr_level100);
-  std::printf("Snapshot SNR at level 100: %f\n", a.snapshot_snr_level100);
-  std::printf("Ratio to the snapshot: %f\n", a.ratio_to_snapshot);
+  std::printf("SNR at level 100: %s\n", decimal(a.snr_level100).c_str());
+  std::printf("Snapshot SNR at level 100: %s\n", decimal(a.snapshot_snr_level100).c_str());
+  std::printf("Ratio to the snapshot: %s\n", decimal(a.ratio_to_snapshot).c_str());
   if (std::isfinite(a.snr_level100_bound)) {
-    std::printf("Bound on the SNR at level 100 (any code, any length): %f\n", a.snr_level100_bound);
+    std::printf("Bound on the SNR at level 100 (any code, any length): %s\n",
+                decimal(a.snr_level100_bound).c_str());
   } else {
     std::printf("Bound on the SNR at level 100 (any code, any length): none at v = 0\n");
   }

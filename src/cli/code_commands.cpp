@@ -76,10 +76,10 @@ fss::SensorModel SensorFlags::Model(const std::string& command) const {
 
 void check_design_band(double velocity, double dt, const std::string& what) {
   if (!fss::design_band_is_valid(velocity, dt)) {
-    fss::throw_usage_error("--velocity " + format_number(velocity) + " with --dt " +
-                           format_number(dt) + ": " + what +
+    fss::throw_usage_error("--velocity " + format_exact(velocity) + " with --dt " +
+                           format_exact(dt) + ": " + what +
                            " needs 0 < |velocity| dt < 2, got |velocity| dt = " +
-                           format_number(std::abs(velocity) * dt));
+                           format_exact(std::abs(velocity) * dt));
   }
 }
 

@@ -32,12 +32,12 @@ void check_options(const fss::OptimizeOptions& options) {
   }
   if (options.min_light_slots == 0.0) return;
   if (options.mode == fss::ShutterMode::kNumerical && !options.binary) {
-    fss::throw_usage_error("--min-light " + format_number(options.min_light_slots) +
+    fss::throw_usage_error("--min-light " + format_exact(options.min_light_slots) +
                            ": a light budget needs --mode analog or --binary (numerical "
                            "frames always gather L slots of light)");
   }
   if (!(options.min_light_slots >= 0.0 && options.min_light_slots <= options.length)) {
-    fss::throw_usage_error("--min-light " + format_number(options.min_light_slots) +
+    fss::throw_usage_error("--min-light " + format_exact(options.min_light_slots) +
                            ": must lie in [0, --length " + std::to_string(options.length) + "]");
   }
 }

@@ -9,7 +9,7 @@
 namespace fssim {
 
 std::vector<double> parse_range(const std::string& text, const std::string& option) {
-  const std::string where = option + " '" + text + "'";
+  const std::string where = option + " '" + fss::shorten_for_message(text) + "'";
   const auto first = text.find(':');
   if (first == std::string::npos) {
     const double value = fss::parse_finite_number(text);

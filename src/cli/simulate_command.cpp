@@ -50,7 +50,7 @@ std::future<fss::RunPlots> start_plots(const fss::ShutterCode& code,
 // would refuse after decoding (the same estimate, with the fewest channels
 // the header allows): a huge image fails at once, before it is decoded.
 void check_memory_from_header(const std::string& input, const fss::SimulationOptions& options,
-                              const fss::ShutterCode& code, bool sheet) {
+                              const fss::ShutterCode& code, const fss::OutputOptions& outputs) {
   if (options.max_memory_bytes == 0) return;
   const std::optional<fss::PngHeaderSize> size = fss::read_png_header_size(input);
   if (!size) return;  // read_png says what is wrong
@@ -72,14 +72,16 @@ void check_memory_from_header(const std::string& input, const fss::SimulationOpt
   }
   const fss::ObservedPng8 sink(size->height, size->channels);  // allocates nothing yet
   const std::size_t needed = fss::estimate_working_memory_bytes(
-      size->width, size->height, size->channels, geometry, options.trials, sheet ? nullptr : &sink);
+      size->width, size->height, size->channels, geometry, options.trials,
+      outputs.sheet ? nullptr : &sink,
+      fss::output_encoding_bytes_per_sample(outputs, size->channels));
   if (needed > options.max_memory_bytes) {
+    const auto sizes = fss::format_bytes_distinct(static_cast<double>(needed),
+                                                  static_cast<double>(options.max_memory_bytes));
     fss::throw_limit_error("input '" + input + "': a run on this " + std::to_string(size->width) +
                            " x " + std::to_string(size->height) + " x " +
-                           std::to_string(size->channels) + " image needs about " +
-                           fss::format_bytes(static_cast<double>(needed)) +
-                           " of memory, more than the memory limit of " +
-                           fss::format_bytes(static_cast<double>(options.max_memory_bytes)));
+                           std::to_string(size->channels) + " image needs about " + sizes.first +
+                           " of memory, more than the memory limit of " + sizes.second);
   }
 }
 
@@ -87,9 +89,8 @@ void check_memory_from_header(const std::string& input, const fss::SimulationOpt
 void show_progress_on_terminal(fss::SimulationOptions& options) {
   if (options.trials <= 1 || !::isatty(STDERR_FILENO)) return;
   options.trial_callback = [](int done, int total) {
-    std::fprintf(stderr, "\rfssim: trial %d/%d", done, total);
-    if (done == total) std::fprintf(stderr, "\n");
-    std::fflush(stderr);
+    fss::write_stderr("\rfssim: trial " + std::to_string(done) + "/" + std::to_string(total) +
+                      (done == total ? "\n" : ""));
   };
 }
 
@@ -214,10 +215,10 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const std::string& code_name = flags_.code_name();
 
   context->activity = "reading code '" + code_name + "'";
-  const fss::ShutterCode code = fss::load_code(code_name);
+  const fss::ShutterCode code = fss::load_code(code_name, "--code");
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
-  check_memory_from_header(input_, options, code, output_options.sheet);
+  check_memory_from_header(input_, options, code, output_options);
   fss::ImageFileInfo input_info;
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes, &input_info);
   output_options.image_depth = resolve_png_depth(png_depth_, input_info);
@@ -236,7 +237,7 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const fss::SimulationReport report =
       fss::Simulate(options, image, code, observed_png8 ? &*observed_png8 : nullptr);
   for (const auto& warning : report.warnings) {
-    std::cerr << "fssim: warning: " << fss::escape_control_characters(warning) << "\n";
+    fss::write_stderr("fssim: warning: " + fss::escape_control_characters(warning) + "\n");
   }
   context->activity = "drawing the plots";
   if (plots.valid()) output_options.rendered_plots = plots.get();  // else drawn when written

@@ -69,8 +69,8 @@ double number(const fss::ResultRow& row, const char* column) {
 }
 
 std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::ResultRow& row) {
-  std::cerr << "fssim: warning: velocity " << format_number(velocity) << ": "
-            << cell(row, "message") << "; row marked too-narrow\n";
+  fss::write_stderr("fssim: warning: velocity " + format_exact(velocity) + ": " +
+                    cell(row, "message") + "; row marked too-narrow\n");
   curves_.x.push_back(by_velocity_ ? velocity : snr);
   curves_.measured.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));
@@ -106,17 +106,17 @@ std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& ro
          "\n";
 }
 
-[[noreturn]] void refuse_snr(const std::string& text, const std::string& rule, double snr) {
-  fss::throw_usage_error("--snr '" + text + "': every value " + rule + ", got " +
-                         format_number(snr));
-}
-
 // Every value of --snr 'TEXT' as the simulator's rule has it (> 0, within
-// the library's range).
+// the library's range). The message shows TEXT as typed, and for a range
+// the value that breaks the rule.
 void check_snr_values(const std::vector<double>& snrs, const std::string& text) {
   for (const double snr : snrs) {
     const std::string rule = snr > 0.0 ? fss::scale_rule(snr) : "must be > 0";
-    if (!rule.empty()) refuse_snr(text, rule, snr);
+    if (rule.empty()) continue;
+    std::string message = "--snr '" + text + "': ";
+    message += snrs.size() == 1 ? "the value " + rule
+                                : "every value " + rule + ", the range holds " + format_exact(snr);
+    fss::throw_usage_error(message);
   }
 }
 
@@ -213,7 +213,7 @@ fss::ResolvedCampaign SweepCommand::Campaign(const Grid& grid, const fss::Shutte
 int SweepCommand::Sweep() const {
   const Grid grid = ParseGrid();
   CheckPaths();
-  const fss::ShutterCode code = fss::load_code(flags_.code_name());
+  const fss::ShutterCode code = fss::load_code(flags_.code_name(), "--code");
   const fss::SimulationOptions options = flags_.Options();
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes);
   // Refuse a code the mode cannot use before any row runs (Simulate would, at

@@ -1,7 +1,10 @@
 #include "fss/core/error.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace fss {
 
@@ -26,11 +29,61 @@ std::string format_bytes(double bytes) {
   return buffer;
 }
 
+std::pair<std::string, std::string> format_bytes_distinct(double needed, double limit) {
+  std::pair<std::string, std::string> texts = {format_bytes(needed), format_bytes(limit)};
+  if (texts.first != texts.second || needed == limit) return texts;
+  // One unit for both (the same text means the same unit): more decimals
+  // until they differ; whole bytes need at most 13 below 1024^4.
+  static const char* const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  int unit = 0;
+  double scale = 1.0;
+  while (needed / scale >= 1024.0 && unit < 4) {
+    scale *= 1024.0;
+    ++unit;
+  }
+  char a[64], b[64];
+  for (int decimals = 2; decimals <= 13; ++decimals) {
+    std::snprintf(a, sizeof a, "%.*f %s", decimals, needed / scale, units[unit]);
+    std::snprintf(b, sizeof b, "%.*f %s", decimals, limit / scale, units[unit]);
+    if (std::string_view(a) != b) break;
+  }
+  return {a, b};
+}
+
+std::string format_exact(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  // The shortest digits that read back (std::to_chars), laid out as %g lays
+  // out P = max(digits, 6) of them: exponent form for X < -4 or X >= P.
+  char text[64];
+  const auto sci = std::to_chars(text, text + sizeof text, value, std::chars_format::scientific);
+  const std::string_view scientific(text, static_cast<std::size_t>(sci.ptr - text));
+  const std::size_t e = scientific.find('e');
+  int exponent = 0;
+  std::from_chars(scientific.data() + e + (scientific[e + 1] == '+' ? 2 : 1), sci.ptr, exponent);
+  const auto digits = static_cast<int>(std::count_if(
+      scientific.begin(), scientific.begin() + static_cast<std::ptrdiff_t>(e),
+      [](char c) { return c >= '0' && c <= '9'; }));
+  if (exponent < -4 || exponent >= std::max(digits, 6)) return std::string(scientific);
+  const auto fixed = std::to_chars(text, text + sizeof text, value, std::chars_format::fixed);
+  return std::string(text, fixed.ptr);
+}
+
 std::string format_number(double value, int significant_digits) {
   if (std::isnan(value)) return "nan";
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, value);
   return buffer;
+}
+
+std::string shorten_for_message(std::string_view text, std::size_t shown) {
+  std::string out;
+  std::size_t used = 0;
+  for (; used < text.size() && out.size() < shown; ++used) {
+    out += escape_control_characters(text.substr(used, 1));
+  }
+  if (used < text.size()) out += "...";
+  return out;
 }
 
 std::string escape_control_characters(std::string_view text) {

@@ -23,13 +23,13 @@ namespace {
 // the setting here.
 void check_analysis_setting(double velocity, double dt, double snr, int grid) {
   if (!std::isfinite(velocity)) {
-    throw_usage_error("velocity " + format_number(velocity) + " must be a finite number");
+    throw_usage_error("velocity " + format_exact(velocity) + " must be a finite number");
   }
   if (!(std::isfinite(dt) && dt > 0.0)) {
-    throw_usage_error("dt " + format_number(dt) + " must be finite and > 0");
+    throw_usage_error("dt " + format_exact(dt) + " must be finite and > 0");
   }
   if (!(std::isfinite(snr) && snr > 0.0)) {
-    throw_usage_error("snr " + format_number(snr) + " must be finite and > 0");
+    throw_usage_error("snr " + format_exact(snr) + " must be finite and > 0");
   }
   if (grid < 0 || grid > kMaxAnalysisGridPoints) {
     throw_usage_error("grid " + std::to_string(grid) + " must lie in [0, " +
@@ -72,6 +72,26 @@ void describe_sensor(std::span<const double> g, CodeAnalysis* a) {
       readout_variance_electrons2(a->sensor, readout_exposure_slots(g.size(), a->dt, a->mode));
   a->effective_q = effective_noise_gain(g, a->dt, a->mode, a->snr, a->sensor);
   a->effective_noise_figure = a->effective_q * a->m;
+}
+
+// Every figure of `a` finite (M and Q M too when K has no zero), else the
+// setting left double precision: a usage error naming code, dt and snr.
+void check_analysis_finite(const ShutterCode& code, const CodeAnalysis& a) {
+  bool finite = true;
+  for (const double value : {a.sum, a.square_sum, a.normalized_l1, a.k0, a.min_abs, a.q,
+                             a.snr_level100, a.snapshot_snr_level100, a.ratio_to_snapshot}) {
+    finite = finite && std::isfinite(value);
+  }
+  if (a.invertible) {
+    finite = finite && std::isfinite(a.m) && a.m > 0.0 && std::isfinite(a.noise_figure) &&
+             a.noise_figure > 0.0 && a.snr_level100 > 0.0;
+  }
+  if (!finite) {
+    throw_usage_error("the analysis of code '" + code.name +
+                      "' left the range of double-precision numbers: its gains (|gain| up to " +
+                      format_exact(gain_max_abs(code.gains)) + "), dt " + format_exact(a.dt) +
+                      " and snr " + format_exact(a.snr) + " are too extreme together");
+  }
 }
 
 }  // namespace
@@ -190,6 +210,7 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
           : 1.0;
   const double bound = noise_figure_lower_bound(velocity, dt) * readout_factor;
   a.snr_level100_bound = bound == 0.0 ? kInfinity : snr / std::sqrt(bound);
+  check_analysis_finite(code, a);
   return a;
 }
 

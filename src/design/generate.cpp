@@ -36,9 +36,9 @@ void check_design_arguments(const char* family, int length, double velocity, dou
   }
   if (!design_band_is_valid(velocity, dt)) {
     throw_usage_error("the " + std::string(family) + " code is designed on the band |theta| <= " +
-                      "pi |v| dt, which needs 0 < |v| dt < 2; velocity " + format_number(velocity) +
-                      " and dt " + format_number(dt) +
-                      " give |v| dt = " + format_number(std::abs(velocity) * dt));
+                      "pi |v| dt, which needs 0 < |v| dt < 2; velocity " + format_exact(velocity) +
+                      " and dt " + format_exact(dt) +
+                      " give |v| dt = " + format_exact(std::abs(velocity) * dt));
   }
 }
 
@@ -134,13 +134,13 @@ bool GenerateOptions::IsValid(std::string* error) const {
   if (!code_length_and_dt_are_valid(length, kMaxGeneratedCodeLength, dt, error)) return false;
   const auto fail = [error](const std::string& message) { return invalid(error, message); };
   if (!std::isfinite(velocity_px_per_slot)) {
-    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
+    return fail("velocity_px_per_slot = " + format_exact(velocity_px_per_slot) +
                 ": must be a finite number");
   }
   if ((family == CodeFamily::kSinc || family == CodeFamily::kMip) &&
       !design_band_is_valid(velocity_px_per_slot, dt)) {
-    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
-                " with dt = " + format_number(dt) + ": the " + to_string(family) +
+    return fail("velocity_px_per_slot = " + format_exact(velocity_px_per_slot) +
+                " with dt = " + format_exact(dt) + ": the " + to_string(family) +
                 " code needs 0 < |velocity| dt < 2 (its design band is |theta| <= pi |v| dt)");
   }
   return true;

@@ -148,13 +148,13 @@ bool OptimizeOptions::IsValid(std::string* error) const {
   if (!code_length_and_dt_are_valid(length, kMaxOptimizedCodeLength, dt, error)) return false;
   const auto fail = [error](const std::string& message) { return invalid(error, message); };
   if (!design_band_is_valid(velocity_px_per_slot, dt)) {
-    return fail("velocity_px_per_slot = " + format_number(velocity_px_per_slot) +
-                " with dt = " + format_number(dt) +
+    return fail("velocity_px_per_slot = " + format_exact(velocity_px_per_slot) +
+                " with dt = " + format_exact(dt) +
                 ": must satisfy 0 < |velocity| dt < 2 (at v = 0 no motion needs undoing; from "
                 "|v| dt = 2 on every code has K = 0 on the band)");
   }
   if (!(std::isfinite(snr) && snr > 0.0)) {
-    return fail("snr = " + format_number(snr) + ": must be finite and > 0");
+    return fail("snr = " + format_exact(snr) + ": must be finite and > 0");
   }
   std::string sensor_error;
   if (!sensor.IsValid(&sensor_error)) return fail("sensor." + sensor_error);
@@ -163,11 +163,11 @@ bool OptimizeOptions::IsValid(std::string* error) const {
                 ": the figure of merit of a code is linear in the charge and has no full well");
   }
   if (!(std::isfinite(min_light_slots) && min_light_slots >= 0.0 && min_light_slots <= length)) {
-    return fail("min_light_slots = " + format_number(min_light_slots) +
+    return fail("min_light_slots = " + format_exact(min_light_slots) +
                 ": must lie in [0, length = " + std::to_string(length) + "]");
   }
   if (min_light_slots > 0.0 && mode == ShutterMode::kNumerical && !binary) {
-    return fail("min_light_slots = " + format_number(min_light_slots) +
+    return fail("min_light_slots = " + format_exact(min_light_slots) +
                 ": a light budget applies to analog or binary gains only (numerical frames "
                 "always gather L slots of light)");
   }

@@ -25,7 +25,7 @@ inline bool code_length_and_dt_are_valid(int length, int max_length, double dt,
                               std::to_string(max_length) + "]");
   }
   if (!(std::isfinite(dt) && dt > 0.0)) {
-    return invalid(error, "dt = " + format_number(dt) + ": must be finite and > 0");
+    return invalid(error, "dt = " + format_exact(dt) + ": must be finite and > 0");
   }
   return true;
 }

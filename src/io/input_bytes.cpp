@@ -37,10 +37,11 @@ std::vector<std::uint8_t> read_input_bytes(const std::filesystem::path& path,
 void check_decoding_memory(const std::string& name, std::uint64_t width, std::uint64_t height,
                            std::size_t needed, std::size_t max_bytes) {
   if (max_bytes > 0 && needed > max_bytes) {
-    throw_limit_error(
-        "input '" + name + "' is " + std::to_string(width) + " x " + std::to_string(height) +
-        " pixels: decoding it needs " + format_bytes(static_cast<double>(needed)) +
-        ", more than the memory limit of " + format_bytes(static_cast<double>(max_bytes)));
+    const auto sizes =
+        format_bytes_distinct(static_cast<double>(needed), static_cast<double>(max_bytes));
+    throw_limit_error("input '" + name + "' is " + std::to_string(width) + " x " +
+                      std::to_string(height) + " pixels: decoding it needs " + sizes.first +
+                      ", more than the memory limit of " + sizes.second);
   }
 }
 

@@ -54,17 +54,28 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
 
 }  // namespace
 
-std::size_t output_encoding_bytes_per_sample(const OutputOptions& options) {
+std::size_t output_encoding_bytes_per_sample(const OutputOptions& options, int channels) {
   std::size_t bytes = 0;
   if (options.image_depth == PngDepth::k16) bytes += 8;
   if (options.float_outputs) bytes += 3 * 2 * sizeof(float);
+  if (options.sheet) {
+    // The ground truth crop and the residual as doubles (8 + 8), the RGBA
+    // picture of three panels (12 bytes a pixel), its samples and their PNG
+    // (3 + 3 at most).
+    bytes += 8 + 8 +
+             (12 + static_cast<std::size_t>(std::max(channels, 1)) - 1) /
+                 static_cast<std::size_t>(std::max(channels, 1)) +
+             3 + 3;
+  }
+  // report.html: the PNGs of the page in base64 and the page itself.
+  if (options.html_report) bytes += 8;
   return bytes;
 }
 
 void check_outputs_memory(const SimulationOptions& simulation, const Image& input,
                           const ShutterCode& code, const OutputOptions& options,
                           const ObservedRowSink* observed_sink) {
-  const std::size_t extra = output_encoding_bytes_per_sample(options);
+  const std::size_t extra = output_encoding_bytes_per_sample(options, input.channels);
   if (simulation.max_memory_bytes == 0 || extra == 0 || !simulation.IsValid(nullptr)) return;
   const double v = simulation.velocity_px_per_slot;
   const double v_r = simulation.restore_velocity_px_per_slot.value_or(v);
@@ -78,12 +89,12 @@ void check_outputs_memory(const SimulationOptions& simulation, const Image& inpu
   const std::size_t needed = estimate_working_memory_bytes(
       input.width, input.height, input.channels, geometry, simulation.trials, observed_sink, extra);
   if (needed > simulation.max_memory_bytes) {
+    const auto sizes = format_bytes_distinct(static_cast<double>(needed),
+                                             static_cast<double>(simulation.max_memory_bytes));
     throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
                       std::to_string(input.height) + " x " + std::to_string(input.channels) +
-                      " image with its float or 16-bit outputs needs about " +
-                      format_bytes(static_cast<double>(needed)) +
-                      " of memory, more than the memory limit of " +
-                      format_bytes(static_cast<double>(simulation.max_memory_bytes)));
+                      " image with its float or 16-bit outputs needs about " + sizes.first +
+                      " of memory, more than the memory limit of " + sizes.second);
   }
 }
 

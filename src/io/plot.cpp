@@ -12,10 +12,12 @@
 #include <string_view>
 #include <utility>
 
+#include "core/stderr_capture.h"
 #include "core/text_util.h"
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
 #include "fss/model/transfer.h"
+#include "fss/pipeline/simulate.h"
 
 namespace fss {
 namespace {
@@ -81,7 +83,60 @@ constexpr PLINT kPalette[kPaletteSize][3] = {
 // The cairo driver draws at 72 dots per inch; PLplot sizes text in mm.
 constexpr double kPixelsPerMm = 72.0 / 25.4;
 
-// Draws `draw` over `rgba` (width x height RGBA, rows top down).
+// What the libraries under PLplot printed during a picture, as one line:
+// its non-empty lines joined by "; ", PLplot's "*** PLPLOT WARNING ***"
+// banners left out, control characters escaped, at most about 400 bytes.
+std::string library_output_line(std::string_view text) {
+  std::string line;
+  while (!text.empty()) {
+    const std::size_t end = std::min(text.find('\n'), text.size());
+    std::string_view part = text.substr(0, end);
+    text.remove_prefix(std::min(end + 1, text.size()));
+    while (!part.empty() && (part.back() == '\r' || part.back() == ' ')) part.remove_suffix(1);
+    if (part.empty() || part.find("*** PLPLOT") == 0) continue;
+    if (!line.empty()) line += "; ";
+    line += part;
+  }
+  constexpr std::size_t kMaxBytes = 400;
+  if (line.size() > kMaxBytes) line = line.substr(0, kMaxBytes) + "...";
+  return escape_control_characters(line);
+}
+
+// One PLplot stream drawing over `rgba` until the end of the scope.
+class PlplotStream {
+ public:
+  PlplotStream(int width, int height, std::vector<std::uint8_t>& rgba) {
+    plsabort(collect_plplot_message);
+    plsexit(refuse_plplot_exit);
+    plgstrm(&previous_);
+    PLINT stream = 0;
+    plmkstrm(&stream);
+    if (stream < 0) throw_runtime_error("PLplot has no free stream");
+    plsdev("memcairo");
+    plsmema(width, height, rgba.data());
+    plspause(0);
+    plscmap0n(kPaletteSize);
+    for (int i = 0; i < kPaletteSize; ++i) {
+      plscol0(i, kPalette[i][0], kPalette[i][1], kPalette[i][2]);
+    }
+    plinit();
+    pladv(0);
+  }
+  ~PlplotStream() {
+    plend1();
+    plsstrm(previous_);
+  }
+  PlplotStream(const PlplotStream&) = delete;
+  PlplotStream& operator=(const PlplotStream&) = delete;
+
+ private:
+  PLINT previous_ = 0;
+};
+
+// Draws `draw` over `rgba` (width x height RGBA, rows top down). PLplot's
+// recoverable errors and anything a library prints on stderr meanwhile
+// (PLplot's warnings, GLib's) fail the picture with that text, and never
+// reach stderr.
 void render(int width, int height, std::vector<std::uint8_t>& rgba,
             const std::function<void()>& draw) {
   std::lock_guard<std::mutex> lock(g_plplot_mutex);
@@ -92,36 +147,19 @@ void render(int width, int height, std::vector<std::uint8_t>& rgba,
         "plplot-driver-cairo, or run with --no-plots)");
   }
   std::string messages;
-  g_plplot_messages = &messages;
-  plsabort(collect_plplot_message);
-  plsexit(refuse_plplot_exit);
-  PLINT previous = 0;
-  plgstrm(&previous);
-  PLINT stream = 0;
-  plmkstrm(&stream);
-  if (stream < 0) {
-    g_plplot_messages = nullptr;
-    throw_runtime_error("PLplot has no free stream");
+  struct Collect {
+    explicit Collect(std::string* messages) { g_plplot_messages = messages; }
+    ~Collect() { g_plplot_messages = nullptr; }
+    Collect(const Collect&) = delete;
+    Collect& operator=(const Collect&) = delete;
+  } collect(&messages);
+  detail::StderrCapture capture;
+  {
+    const PlplotStream stream(width, height, rgba);
+    draw();
   }
-  struct EndStream {
-    PLINT previous;
-    ~EndStream() {
-      plend1();
-      plsstrm(previous);
-      g_plplot_messages = nullptr;
-    }
-  } end_stream{previous};
-
-  plsdev("memcairo");
-  plsmema(width, height, rgba.data());
-  plspause(0);
-  plscmap0n(kPaletteSize);
-  for (int i = 0; i < kPaletteSize; ++i) {
-    plscol0(i, kPalette[i][0], kPalette[i][1], kPalette[i][2]);
-  }
-  plinit();
-  pladv(0);
-  draw();
+  const std::string printed = library_output_line(capture.Finish());
+  if (!printed.empty()) messages += (messages.empty() ? "" : "; ") + printed;
   if (!messages.empty()) throw_runtime_error("PLplot: " + messages);
 }
 
@@ -242,17 +280,18 @@ void check_size(const PlotOptions& options) {
   }
 }
 
+// The simulator's check of a code (check_code_for_mode, numerical: any real
+// gains): no gains, too many, only zeros, or a scale sums and |K| overflow.
 void check_gains(const std::vector<double>& gains, const std::string& name) {
-  if (gains.empty()) throw_usage_error("cannot plot code '" + name + "': it has no gains");
-  for (const double g : gains) {
-    if (!std::isfinite(g))
-      throw_usage_error("cannot plot code '" + name + "': a gain is not finite");
-  }
+  check_code_for_mode(ShutterCode{name, gains}, ShutterMode::kNumerical);
 }
 
 void check_motion(double velocity, double dt) {
-  if (!std::isfinite(velocity) || !std::isfinite(dt) || !(dt > 0.0)) {
-    throw_usage_error("cannot plot |K|: velocity must be finite and dt > 0");
+  const std::string rule =
+      !std::isfinite(velocity) ? "velocity " + velocity_rule(velocity) : "dt " + scale_rule(dt);
+  if (rule.size() > 3) {
+    throw_usage_error("cannot plot |K| at velocity " + format_exact(velocity) + ", dt " +
+                      format_exact(dt) + ": " + rule);
   }
 }
 

@@ -22,15 +22,15 @@ std::string difference(const RunPlots& plots, const SimulationReport& report) {
   }
   if (plots.gains != report.gains) return "other gains of code '" + plots.code_name + "'";
   if (plots.velocity_px_per_slot != o.velocity_px_per_slot) {
-    return "velocity " + format_number(plots.velocity_px_per_slot) + ", the run's is " +
-           format_number(o.velocity_px_per_slot);
+    return "velocity " + format_exact(plots.velocity_px_per_slot) + ", the run's is " +
+           format_exact(o.velocity_px_per_slot);
   }
   if (plots.restore_velocity_px_per_slot != restore_velocity) {
-    return "restore velocity " + format_number(plots.restore_velocity_px_per_slot) +
-           ", the run's is " + format_number(restore_velocity);
+    return "restore velocity " + format_exact(plots.restore_velocity_px_per_slot) +
+           ", the run's is " + format_exact(restore_velocity);
   }
   if (plots.dt != o.dt) {
-    return "dt " + format_number(plots.dt) + ", the run's is " + format_number(o.dt);
+    return "dt " + format_exact(plots.dt) + ", the run's is " + format_exact(o.dt);
   }
   return "";
 }

@@ -351,7 +351,7 @@ void store_row(const TiffLayout& layout, const ChunkRow& row, Image* image,
   for (int i = 0; i < row.count; ++i) {
     const double value = sample_value(row.source + i * row.stride, layout.kind);
     if (!std::isfinite(value)) {
-      throw_runtime_error(quoted(name) + " holds a non-finite sample (" + format_number(value) +
+      throw_runtime_error(quoted(name) + " holds a non-finite sample (" + format_exact(value) +
                           ") at row " + std::to_string(row.y) + ", column " +
                           std::to_string(row.x0 + i));
     }

@@ -125,7 +125,7 @@ std::optional<ShutterCode> builtin_code(std::string_view name) {
   return std::nullopt;
 }
 
-ShutterCode load_code(const std::string& name_or_path) {
+ShutterCode load_code(const std::string& name_or_path, const std::string& named_as) {
   if (auto code = builtin_code(name_or_path)) return *code;
   std::error_code ec;
   const std::filesystem::path path(name_or_path);
@@ -134,7 +134,7 @@ ShutterCode load_code(const std::string& name_or_path) {
   if (!exists) {
     std::string names;
     for (const auto& n : builtin_code_names()) names += (names.empty() ? "" : ", ") + n;
-    throw_usage_error("--code '" + name_or_path + "' is neither a built-in code (" + names +
+    throw_usage_error(named_as + " '" + name_or_path + "' is neither a built-in code (" + names +
                       ") nor an existing file");
   }
   if (std::filesystem::is_directory(path, ec)) {

@@ -27,12 +27,9 @@ std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); 
 double checked_lambda2(double snr) {
   const double lambda2 = snr * snr / 100.0;
   if (!(std::isfinite(lambda2) && lambda2 >= DBL_MIN)) {
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "snr = %g is out of range: snr^2 / 100 must be a finite, nonzero double "
-                  "(snr between 1.5e-153 and 1.3e155)",
-                  snr);
-    throw_usage_error(text);
+    throw_usage_error("snr = " + format_exact(snr) +
+                      " is out of range: snr^2 / 100 must be a finite, nonzero double "
+                      "(snr between 1.5e-153 and 1.3e155)");
   }
   return lambda2;
 }

@@ -13,7 +13,7 @@ namespace {
 bool nonnegative_finite(double value) { return std::isfinite(value) && value >= 0.0; }
 
 bool fail(std::string* error, const std::string& field, double value, const std::string& rule) {
-  if (error != nullptr) *error = field + " = " + format_number(value, 17) + ": " + rule;
+  if (error != nullptr) *error = field + " = " + format_exact(value) + ": " + rule;
   return false;
 }
 }  // namespace

@@ -15,9 +15,9 @@ std::string compute_geometry(int width, int code_length, double velocity, double
   // B = max(L, ceil(|v| dt L))
   const double motion = std::ceil(std::abs(velocity) * dt * code_length);
   if (!(motion < static_cast<double>(width))) {
-    return "the blur of velocity " + format_number(velocity) + " over " +
-           std::to_string(code_length) + " slots of dt " + format_number(dt) + " spans " +
-           format_number(motion) + " pixels, more than the image width " + std::to_string(width);
+    return "the blur of velocity " + format_exact(velocity) + " over " +
+           std::to_string(code_length) + " slots of dt " + format_exact(dt) + " spans " +
+           format_exact(motion) + " pixels, more than the image width " + std::to_string(width);
   }
   g->width = width;
   g->blur_length = std::max(code_length, static_cast<int>(motion));

@@ -36,21 +36,21 @@ bool SimulationOptions::IsValid(std::string* error) const {
     if (error) *error = std::string(field) + " = " + value + ": " + rule;
     return true;
   };
-  if (broken("velocity_px_per_slot", format_number(velocity_px_per_slot),
+  if (broken("velocity_px_per_slot", format_exact(velocity_px_per_slot),
              velocity_rule(velocity_px_per_slot))) {
     return false;
   }
   if (restore_velocity_px_per_slot &&
-      broken("restore_velocity_px_per_slot", format_number(*restore_velocity_px_per_slot),
+      broken("restore_velocity_px_per_slot", format_exact(*restore_velocity_px_per_slot),
              velocity_rule(*restore_velocity_px_per_slot))) {
     return false;
   }
   // The sign of either scale is reported before the range of either.
   for (const bool positive : {false, true}) {
-    if (scale_is_positive(dt) == positive && broken("dt", format_number(dt), scale_rule(dt))) {
+    if (scale_is_positive(dt) == positive && broken("dt", format_exact(dt), scale_rule(dt))) {
       return false;
     }
-    if (scale_is_positive(snr) == positive && broken("snr", format_number(snr), scale_rule(snr))) {
+    if (scale_is_positive(snr) == positive && broken("snr", format_exact(snr), scale_rule(snr))) {
       return false;
     }
   }
@@ -76,16 +76,29 @@ void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
                       " gains, more than " + std::to_string(kMaxCodeLength) +
                       " (the longest code fssim analyses)");
   }
-  if (gain_max_abs(code.gains) == 0.0) {
+  for (std::size_t k = 0; k < code.gains.size(); ++k) {
+    if (!std::isfinite(code.gains[k])) {
+      throw_usage_error("code '" + code.name + "': gain " + std::to_string(k) + " is " +
+                        format_exact(code.gains[k]) + ", gains must be finite");
+    }
+  }
+  const double largest = gain_max_abs(code.gains);
+  if (largest == 0.0) {
     throw_usage_error("code '" + code.name +
                       "' has only zero gains: its transfer function is 0 and nothing is observed");
+  }
+  // sup |alpha| in [1e-100, 1e100] (L <= 1024): sum alpha, sum alpha^2 and
+  // |K| stay finite and nonzero, as dt and snr do within the same range.
+  if (const std::string rule = scale_rule(largest); !rule.empty()) {
+    throw_usage_error("code '" + code.name + "': its largest |gain| " + format_exact(largest) +
+                      " is out of range: it " + rule + " (scale the gains)");
   }
   if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < code.gains.size(); ++k) {
       const double g = code.gains[k];
       if (!(g >= 0.0 && g <= 1.0)) {
         throw_usage_error("code '" + code.name + "' cannot be used in analog mode: gain " +
-                          std::to_string(k) + " is " + format_number(g) +
+                          std::to_string(k) + " is " + format_exact(g) +
                           ", analog gains must lie in [0, 1] (use --mode numerical)");
       }
     }
@@ -111,11 +124,12 @@ void check_memory(const SimulationOptions& options, const Image& input, const Ge
   const std::size_t needed = estimate_working_memory_bytes(
       input.width, input.height, input.channels, g, options.trials, observed_sink);
   if (needed > options.max_memory_bytes) {
+    const auto sizes = format_bytes_distinct(static_cast<double>(needed),
+                                             static_cast<double>(options.max_memory_bytes));
     throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
                       std::to_string(input.height) + " x " + std::to_string(input.channels) +
-                      " image needs about " + format_bytes(static_cast<double>(needed)) +
-                      " of memory, more than the memory limit of " +
-                      format_bytes(static_cast<double>(options.max_memory_bytes)));
+                      " image needs about " + sizes.first +
+                      " of memory, more than the memory limit of " + sizes.second);
   }
 }
 
@@ -155,7 +169,7 @@ SimulationPlan::SimulationPlan(const SimulationOptions& options, int width, cons
   kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
   if (!kernel_.invertible) {
     warnings_.push_back("code '" + code.name + "' is not invertible at velocity " +
-                        format_number(restore_velocity_) +
+                        format_exact(restore_velocity_) +
                         ": min |K| = " + format_number(kernel_.min_abs) +
                         " at xi = " + format_number(kernel_.min_abs_xi) +
                         "; the restoration amplifies noise without bound and no finite "
@@ -293,11 +307,11 @@ void check_finite(const SimulationReport& report, const ShutterCode& code, bool 
     if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
   }
   throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
-                    format_number(report.metrics.rmse) + "): the gains of code '" + code.name +
-                    "' (|gain| from " + format_number(smallest) + " to " +
-                    format_number(gain_max_abs(code.gains)) + "), dt " +
-                    format_number(report.options.dt) + " or snr " +
-                    format_number(report.options.snr) + " are too extreme");
+                    format_exact(report.metrics.rmse) + "): the gains of code '" + code.name +
+                    "' (|gain| from " + format_exact(smallest) + " to " +
+                    format_exact(gain_max_abs(code.gains)) + "), dt " +
+                    format_exact(report.options.dt) + " or snr " +
+                    format_exact(report.options.snr) + " are too extreme");
 }
 
 // A full well or an ADC that clips readouts (docs/method.md §10): the
@@ -452,7 +466,7 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
       (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels : 16 * ci_pixels) + 2 * sorter + groups;
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
-  return input + outputs + std::max(midway, encoding);
+  return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
 }
 
 Image groundtruth_image(const Image& input, const SimulationReport& report) {

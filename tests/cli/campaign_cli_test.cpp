@@ -190,6 +190,12 @@ TEST_F(CampaignCli, CampaignFileAndOptionsGiveTheSameCampaign) {
   const auto bad = run_fssim("campaign -f " + quote(file) + " -o " + quote(tmp_ / "b"));
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("unknown key 'inputs'"), std::string::npos) << bad.err;
+  // A field of the file is named as the file names it, not as an option.
+  test::write_file(file, "{\"mode\": [\"digital\"], \"noise\": \"loud\"}");
+  const auto mode = run_fssim("campaign -f " + quote(file) + " -o " + quote(tmp_ / "b"));
+  EXPECT_EQ(mode.exit_code, 2);
+  EXPECT_EQ(mode.err, "fssim: error: campaign file '" + file.string() +
+                          "': mode 'digital': expected numerical or analog\n");
 }
 
 TEST_F(CampaignCli, UsageErrors) {

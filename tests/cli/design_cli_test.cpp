@@ -632,8 +632,76 @@ TEST(DesignCli, EveryCommandChecksDtAsTheSimulatorDoes) {
 TEST(DesignCli, SweepChecksEverySnrValueWithTheSimulatorsRule) {
   const CommandResult r = run_fssim("sweep --input x.png -o x.csv --snr 1e-300");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err,
-            "fssim: error: --snr '1e-300': every value must lie in [1e-100, 1e100], got 1e-300\n");
+  EXPECT_EQ(r.err, "fssim: error: --snr '1e-300': the value must lie in [1e-100, 1e100]\n");
+  // The option as typed, not "snr = 1e+300"; of a range, the value that breaks the rule.
+  const CommandResult big = run_fssim("sweep --input x.png -o x.csv --snr 1e300");
+  EXPECT_EQ(big.err, "fssim: error: --snr '1e300': the value must lie in [1e-100, 1e100]\n");
+  const CommandResult range = run_fssim("sweep --input x.png -o x.csv --snr 0:1:0.25");
+  EXPECT_EQ(range.err,
+            "fssim: error: --snr '0:1:0.25': every value must be > 0, the range holds 0\n");
+}
+
+// The simulator's check of a code in every command (check_code_for_mode):
+// gains whose sums or |K| leave double precision are refused, not printed
+// as "Sum of gains: inf".
+TEST(DesignCli, EveryCommandRefusesGainsBeyondDoublePrecision) {
+  test::TempDir dir;
+  test::write_file(dir / "huge.txt", "1e308 1e308 1e308\n");
+  test::write_file(dir / "tiny.txt", "1e-320 0 1e-320\n");
+  for (const char* name : {"huge.txt", "tiny.txt"}) {
+    const std::string code = quote(dir / name);
+    const std::string value = name[0] == 'h' ? "1e+308" : "1e-320";
+    const std::string rule = "': its largest |gain| " + value +
+                             " is out of range: it must lie in [1e-100, 1e100] (scale the gains)\n";
+    for (const std::string& command : {"code analyze " + code, "code analyze " + code + " --json -",
+                                       "spectra -o " + quote(dir / "s.png") + " " + code}) {
+      const CommandResult r = run_fssim(command);
+      EXPECT_EQ(r.exit_code, 2) << command;
+      EXPECT_EQ(r.out, "") << command;
+      EXPECT_EQ(r.err, "fssim: error: code '" + (dir / name).string() + rule) << command;
+    }
+    const CommandResult sweep =
+        run_fssim("sweep -i " + camera() + " -o " + quote(dir / "s.csv") + " --code " + code);
+    EXPECT_EQ(sweep.exit_code, 2);
+    EXPECT_EQ(sweep.err, "fssim: error: code '" + (dir / name).string() + rule);
+  }
+  EXPECT_FALSE(fs::exists(dir / "s.png") || fs::exists(dir / "s.csv"));
+}
+
+// A code within the rule whose analysis still leaves double precision (dt
+// and the gains at the ends of their ranges) is refused as well.
+TEST(DesignCli, AnalyzeRefusesFiguresBeyondDoublePrecision) {
+  test::TempDir dir;
+  test::write_file(dir / "small.txt", "1e-100 0 1e-100 1e-100\n");
+  // |K| about 1e-200: |K|^2 underflows to 0 and M would print as infinite
+  // for a code whose K has no zero.
+  const CommandResult r = run_fssim("code analyze " + quote(dir / "small.txt") + " --dt 1e-100");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "fssim: error: the analysis of code '" + (dir / "small.txt").string() +
+                       "' left the range of double-precision numbers: its gains (|gain| up to "
+                       "1e-100), dt 1e-100 and snr 100 are too extreme together\n");
+  EXPECT_EQ(run_fssim("code analyze " + quote(dir / "small.txt")).exit_code, 0);
+}
+
+// Values in messages are exact (shortest round trip), and a positional
+// argument is not named as an option.
+TEST(DesignCli, MessagesShowValuesExactlyAndNamesAsTyped) {
+  test::TempDir dir;
+  test::write_file(dir / "a.txt", "0.5 1.0000001 0\n");
+  const CommandResult analog = run_fssim("code analyze " + quote(dir / "a.txt") + " --mode analog");
+  EXPECT_EQ(analog.err, "fssim: error: code '" + (dir / "a.txt").string() +
+                            "' cannot be used in analog mode: gain 1 is 1.0000001, analog gains "
+                            "must lie in [0, 1] (use --mode numerical)\n");
+  const CommandResult spectra = run_fssim("spectra -o " + quote(dir / "s.png") + " nosuchcode");
+  EXPECT_EQ(spectra.exit_code, 2);
+  EXPECT_THAT(spectra.err, StartsWith("fssim: error: code 'nosuchcode' is neither a built-in"));
+  const CommandResult analyze = run_fssim("code analyze nosuchcode");
+  EXPECT_THAT(analyze.err, StartsWith("fssim: error: code 'nosuchcode' is neither a built-in"));
+  const CommandResult sweep = run_fssim("sweep -i x.png -o x.csv --code nosuchcode");
+  EXPECT_THAT(sweep.err, StartsWith("fssim: error: --code 'nosuchcode' is neither a built-in"));
+  const CommandResult setting = run_fssim("code analyze raskar --velocity 0.30000000000000004");
+  EXPECT_THAT(setting.out, HasSubstr("velocity 0.30000000000000004, dt 1, snr 100\n"));
 }
 
 }  // namespace

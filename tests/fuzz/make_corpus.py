@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the seed corpus of the fuzz targets: tests/fuzz/corpus/{png,tiff,code}/.
+"""Writes the seed corpus of the fuzz targets: tests/fuzz/corpus/{png,tiff,code,campaign_file,range}/.
 
 The files are committed; this script documents how they were made and remakes
 them (python3 standard library only): python3 tests/fuzz/make_corpus.py
@@ -307,8 +307,46 @@ def write_codes(directory):
             f.write(text)
 
 
+def write_texts(directory, files):
+    for name, text in files.items():
+        with open(os.path.join(directory, name), "w", newline="") as f:
+            f.write(text)
+
+
+def write_campaign_files(directory):
+    write_texts(directory, {
+        "full.json": '{"input": ["images/*.png", "a.png"], "code": ["raskar", "codes/x.txt"], '
+                     '"mode": ["numerical", "analog"], "velocity": "0.5:2:0.5", '
+                     '"restore_velocity": [1, "1.1:1.3:0.1"], "snr": [10, "10:1000:x10"], '
+                     '"dt": 1, "trials": 3, "seed": 18446744073709551615, "noise": "aggregated", '
+                     '"rmse_margin": -1}\n',
+        "minimal.json": '{"input": "a.png", "code": "raskar"}',
+        "numbers.json": '{"velocity": [1e-100, -0.0, 1E+2, 3], "snr": 1e100, "dt": [0.1, 2]}',
+        "bad-type.json": '{"trials": 1.5, "seed": -1}',
+        "unknown-key.json": '{"inputs": ["a.png"]}',
+        "not-object.json": '[1, 2, 3]',
+        "truncated.json": '{"velocity": "1:2',
+    })
+
+
+def write_ranges(directory):
+    # The first byte chooses the parser: even, the campaign's value list;
+    # odd, the command line's range.
+    write_texts(directory, {
+        "list.txt": "\x001,2.5,-3,1e-5",
+        "arithmetic.txt": "\x000:1:0.1,5",
+        "geometric.txt": "\x001:1000:x10",
+        "geometric-upper.txt": "\x000.5:4:X2,7",
+        "cli-single.txt": "\x01+1.5",
+        "cli-range.txt": "\x010.5:3:0.25",
+        "cli-bad.txt": "\x011:2",
+        "empty-item.txt": "\x001,,2",
+    })
+
+
 if __name__ == "__main__":
-    for kind, writer in (("png", write_pngs), ("tiff", write_tiffs), ("code", write_codes)):
+    for kind, writer in (("png", write_pngs), ("tiff", write_tiffs), ("code", write_codes),
+                         ("campaign_file", write_campaign_files), ("range", write_ranges)):
         directory = os.path.join(HERE, "corpus", kind)
         os.makedirs(directory, exist_ok=True)
         writer(directory)

@@ -167,12 +167,12 @@ TEST(PlotCode, BadArgumentsAreUsageErrors) {
                                    {"plot size"}));
   }
   EXPECT_TRUE(test::throws_error([] { plot_code_png({}, "empty"); }, ErrorKind::kUsage,
-                                 {"code 'empty': it has no gains"}));
+                                 {"code 'empty' has no gains"}));
   EXPECT_TRUE(test::throws_error(
       [] {
         plot_code_png({1.0, std::nan("")}, "nan");
       },
-      ErrorKind::kUsage, {"code 'nan': a gain is not finite"}));
+      ErrorKind::kUsage, {"code 'nan': gain", "is nan, gains must be finite"}));
 }
 
 // ---------------------------------------------------------------------------

@@ -728,7 +728,8 @@ TEST(IsValid, BoundsDtSnrAndTheMargin) {
 }
 
 TEST(Simulate, ResultsOutsideDoublePrecisionAreAnErrorNotANaN) {
-  // Gains this small make K underflow: the restoration divides by 0.
+  // Gains this small make K underflow (the restoration would divide by 0):
+  // check_code_for_mode refuses them before any work, by the scale rule.
   const ShutterCode tiny{"tiny", std::vector<double>(52, 1e-320)};
   for (const bool to_sink : {false, true}) {
     SimulationOptions options;
@@ -737,7 +738,7 @@ TEST(Simulate, ResultsOutsideDoublePrecisionAreAnErrorNotANaN) {
         [&] {
           Simulate(options, test::make_test_image(480, 4, 1), tiny, to_sink ? &sink : nullptr);
         },
-        ErrorKind::kUsage, {"range of double-precision"}));
+        ErrorKind::kUsage, {"code 'tiny': its largest |gain| 1e-320 is out of range"}));
   }
 }
 

@@ -61,6 +61,14 @@ struct CampaignSpec {
   bool IsValid(std::string* error) const;
 };
 
+// Parses the text of a campaign file (docs/campaign.md): a JSON object with
+// the keys input, code, mode, velocity, restore_velocity, snr, dt, trials,
+// seed, noise and rmse_margin; fields it does not name keep their defaults.
+// Value lists are kept as text (numbers in shortest round-trip form) for
+// CampaignSpec::IsValid. Throws a usage fss::Error naming the file (`name`)
+// for malformed JSON, an unknown key or a value of the wrong type.
+CampaignSpec parse_campaign_file(std::string_view text, const std::string& name);
+
 // One image of a campaign: its name (the path as expanded), path and digest.
 struct CampaignImage {
   std::string name;

@@ -41,8 +41,11 @@ struct OutputOptions {
 // Bytes a sample of the output crop that the outputs `options` asks for take
 // while they are made, beyond the default ones (estimate_working_memory_bytes,
 // simulate.h): 16-bit PNGs double the 8 of the four image PNGs; each float
-// TIFF holds 4 and is copied once into its output file.
-std::size_t output_encoding_bytes_per_sample(const OutputOptions& options);
+// TIFF holds 4 and is copied once into its output file; sheet.png holds the
+// ground truth and the residual (8 + 8), an RGBA picture (12 / channels),
+// its samples and their PNG (3 + 3); report.html 8 (the page's PNGs in
+// base64, copied).
+std::size_t output_encoding_bytes_per_sample(const OutputOptions& options, int channels = 1);
 
 // Throws the kLimit error Simulate throws, with the memory of the outputs
 // `options` asks for counted as well (output_encoding_bytes_per_sample, and

@@ -44,9 +44,10 @@ inline constexpr int kMaxCodeLength = 1024;
 inline constexpr std::size_t kMaxCodeFileBytes = std::size_t{16} << 20;
 
 // A built-in name, or else the path of a code file. Throws a usage fss::Error
-// when it is neither, a runtime one when the file cannot be read, is larger
-// than kMaxCodeFileBytes or does not parse.
-ShutterCode load_code(const std::string& name_or_path);
+// when it is neither (naming it as `named_as`: "--code 'x' is neither ...",
+// or "code 'x'" for a positional argument), a runtime one when the file
+// cannot be read, is larger than kMaxCodeFileBytes or does not parse.
+ShutterCode load_code(const std::string& name_or_path, const std::string& named_as = "code");
 
 // The reference program's code.txt format: one gain per line followed by ';'.
 std::string format_code_txt(const ShutterCode& code);

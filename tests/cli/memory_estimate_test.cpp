@@ -1,0 +1,97 @@
+// The memory estimate against the measured peak (issue 12): for gray and RGB
+// images, both modes and the options that add memory (--sheet, --report,
+// --trials), the estimate fssim states when it refuses a run
+// (estimate_working_memory_bytes with the outputs' bytes) must be at or
+// above the peak resident memory of the same run (getrusage of the child).
+#include <fcntl.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fss/io/png_io.h"
+#include "support/test_util.h"
+
+extern char** environ;
+
+namespace fss {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Peak resident memory, in bytes, of fssim run with `arguments` (split at
+// spaces), or -1 when it could not run or did not exit 0.
+double peak_bytes(const std::string& arguments) {
+  std::vector<std::string> words = {FSSIM_BINARY_PATH};
+  std::istringstream in(arguments);
+  for (std::string word; in >> word;) words.push_back(word);
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  pid_t child = 0;
+  const int spawned = posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1.0;
+  int status = 0;
+  rusage usage{};
+  if (wait4(child, &status, 0, &usage) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    return -1.0;
+  }
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // ru_maxrss is in KiB
+}
+
+// The estimate in fssim's refusal under --max-memory 1 ("needs about 162.7
+// MiB"), less half of its last digit: a lower bound of the exact estimate.
+double stated_estimate_bytes(const std::string& arguments) {
+  const test::CommandResult r = test::run_fssim(arguments + " --max-memory 1");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  std::smatch m;
+  if (!std::regex_search(r.err, m, std::regex(R"(needs about ([0-9.]+) (bytes|KiB|MiB|GiB))"))) {
+    ADD_FAILURE() << "no estimate in: " << r.err;
+    return 0.0;
+  }
+  const double units[] = {1.0, 1024.0, 1024.0 * 1024.0, 1024.0 * 1024.0 * 1024.0};
+  const std::string unit = m[2];
+  const double scale = units[unit == "bytes" ? 0 : unit == "KiB" ? 1 : unit == "MiB" ? 2 : 3];
+  return (std::stod(m[1]) - 0.05) * scale;
+}
+
+class MemoryEstimate : public ::testing::TestWithParam<int> {};
+
+TEST_P(MemoryEstimate, IsAtOrAboveTheMeasuredPeak) {
+  const int channels = GetParam();
+  test::TempDir dir;
+  const fs::path input = dir / "input.png";
+  // Large enough that the images, not the libraries, make the peak.
+  const std::vector<std::uint8_t> png = encode_png8(test::make_test_image(1600, 1000, channels));
+  test::write_file(input, std::string(png.begin(), png.end()));
+  for (const char* mode : {"numerical", "analog"}) {
+    for (const char* options :
+         {"", "--sheet", "--report", "--trials 3", "--sheet --report --trials 3", "--no-plots"}) {
+      const std::string arguments = "-i " + input.string() + " -o " + (dir / "out").string() +
+                                    " --threads 2 --mode " + mode + " " + options;
+      const double estimate = stated_estimate_bytes(arguments);
+      const double peak = peak_bytes(arguments + " --max-memory 0");
+      ASSERT_GT(peak, 0.0) << arguments;
+      std::printf("memory estimate: %d channel(s), %-9s %-28s estimate %7.1f MiB, peak %7.1f MiB\n",
+                  channels, mode, options, estimate / 1048576.0, peak / 1048576.0);
+      EXPECT_GE(estimate, peak) << arguments;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(GrayAndRgb, MemoryEstimate, ::testing::Values(1, 3));
+
+}  // namespace
+}  // namespace fss

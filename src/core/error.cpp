@@ -29,6 +29,12 @@ std::string format_bytes(double bytes) {
   return buffer;
 }
 
+void throw_memory_limit_error(const std::string& subject, std::size_t needed, std::size_t limit) {
+  const auto sizes = format_bytes_distinct(static_cast<double>(needed), static_cast<double>(limit));
+  throw_limit_error(subject + " needs about " + sizes.first +
+                    " of memory, more than the memory limit of " + sizes.second);
+}
+
 std::pair<std::string, std::string> format_bytes_distinct(double needed, double limit) {
   std::pair<std::string, std::string> texts = {format_bytes(needed), format_bytes(limit)};
   if (texts.first != texts.second || needed == limit) return texts;
@@ -61,9 +67,9 @@ std::string format_exact(double value) {
   const std::size_t e = scientific.find('e');
   int exponent = 0;
   std::from_chars(scientific.data() + e + (scientific[e + 1] == '+' ? 2 : 1), sci.ptr, exponent);
-  const auto digits = static_cast<int>(std::count_if(
-      scientific.begin(), scientific.begin() + static_cast<std::ptrdiff_t>(e),
-      [](char c) { return c >= '0' && c <= '9'; }));
+  const auto digits = static_cast<int>(
+      std::count_if(scientific.begin(), scientific.begin() + static_cast<std::ptrdiff_t>(e),
+                    [](char c) { return c >= '0' && c <= '9'; }));
   if (exponent < -4 || exponent >= std::max(digits, 6)) return std::string(scientific);
   const auto fixed = std::to_chars(text, text + sizeof text, value, std::chars_format::fixed);
   return std::string(text, fixed.ptr);

@@ -89,12 +89,10 @@ void check_outputs_memory(const SimulationOptions& simulation, const Image& inpu
   const std::size_t needed = estimate_working_memory_bytes(
       input.width, input.height, input.channels, geometry, simulation.trials, observed_sink, extra);
   if (needed > simulation.max_memory_bytes) {
-    const auto sizes = format_bytes_distinct(static_cast<double>(needed),
-                                             static_cast<double>(simulation.max_memory_bytes));
-    throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
-                      std::to_string(input.height) + " x " + std::to_string(input.channels) +
-                      " image with its float or 16-bit outputs needs about " + sizes.first +
-                      " of memory, more than the memory limit of " + sizes.second);
+    throw_memory_limit_error(
+        "a run on this " + std::to_string(input.width) + " x " + std::to_string(input.height) +
+            " x " + std::to_string(input.channels) + " image with its float or 16-bit outputs",
+        needed, simulation.max_memory_bytes);
   }
 }
 

@@ -36,16 +36,7 @@ bool is_separator(char c) {
 
 // A token as shown in a message: control bytes as \xNN, cut after 40
 // characters, so that a binary file gives a short, one-line message.
-std::string printable_token(std::string_view token) {
-  constexpr std::size_t kShown = 40;
-  std::string out;
-  std::size_t used = 0;
-  for (; used < token.size() && out.size() < kShown; ++used) {
-    out += escape_control_characters(token.substr(used, 1));
-  }
-  if (used < token.size()) out += "...";
-  return out;
-}
+std::string printable_token(std::string_view token) { return shorten_for_message(token, 40); }
 
 // One gain of a code file; `where` names the file and line for messages.
 double parse_gain(std::string_view token, const std::string& where) {

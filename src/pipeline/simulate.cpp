@@ -124,12 +124,10 @@ void check_memory(const SimulationOptions& options, const Image& input, const Ge
   const std::size_t needed = estimate_working_memory_bytes(
       input.width, input.height, input.channels, g, options.trials, observed_sink);
   if (needed > options.max_memory_bytes) {
-    const auto sizes = format_bytes_distinct(static_cast<double>(needed),
-                                             static_cast<double>(options.max_memory_bytes));
-    throw_limit_error("a run on this " + std::to_string(input.width) + " x " +
-                      std::to_string(input.height) + " x " + std::to_string(input.channels) +
-                      " image needs about " + sizes.first +
-                      " of memory, more than the memory limit of " + sizes.second);
+    throw_memory_limit_error("a run on this " + std::to_string(input.width) + " x " +
+                                 std::to_string(input.height) + " x " +
+                                 std::to_string(input.channels) + " image",
+                             needed, options.max_memory_bytes);
   }
 }
 

@@ -38,6 +38,11 @@ std::string format_bytes(double bytes);
 // MiB", never "10.0 MiB" twice): the pair for "needs A, over the limit of B".
 std::pair<std::string, std::string> format_bytes_distinct(double needed, double limit);
 
+// Throws the limit fss::Error "<subject> needs about <needed> of memory, more
+// than the memory limit of <limit>" (sizes by format_bytes_distinct).
+[[noreturn]] void throw_memory_limit_error(const std::string& subject, std::size_t needed,
+                                           std::size_t limit);
+
 // A number exactly: the shortest digits that read back as the same double,
 // laid out as printf("%g") lays out numbers ("1.0000001", "0.1", "1e+300",
 // "100000", "1e-320"; "nan", "inf", "-inf"). The one formatter of values in

@@ -37,6 +37,12 @@ double tidy(double value) {
   throw_usage_error(field + " item '" + shorten_for_message(item) + "': " + why);
 }
 
+// The values of a range stop at `stop`: a count of steps is rounded down,
+// with this slack for the rounding of (stop - start) / step ("0:1:0.1" has
+// 11 values), so that no value lies half a step beyond stop ("1:2:0.6" is 1,
+// 1.6) or overflows ("2:1e308:x10" ends at 2e307).
+constexpr double kRangeSlack = 1e-9;
+
 // Appends the values of one range item "start:stop:step" or "start:stop:xF".
 void append_range(std::string_view item, const std::string& field, ValueList& list) {
   const auto first = item.find(':');
@@ -59,17 +65,19 @@ void append_range(std::string_view item, const std::string& field, ValueList& li
     if (!(start > 0.0) || !(step > 1.0)) {
       refuse_item(field, item, "a geometric range needs start > 0 and a factor > 1");
     }
-    count = std::floor(std::log(stop / start) / std::log(step) + 0.5) + 1.0;
+    count = std::floor(std::log(stop / start) / std::log(step) + kRangeSlack) + 1.0;
   } else {
     if (!(step > 0.0)) refuse_item(field, item, "step must be > 0");
-    count = std::floor((stop - start) / step + 0.5) + 1.0;
+    count = std::floor((stop - start) / step + kRangeSlack) + 1.0;
   }
   if (!(count + static_cast<double>(list.values.size()) <= kMaxCampaignValues)) {
     refuse_item(field, item, "more than " + std::to_string(kMaxCampaignValues) + " values");
   }
   list.geometric = list.geometric || geometric;
   for (int i = 0; i < static_cast<int>(count); ++i) {
-    list.values.push_back(tidy(geometric ? start * std::pow(step, i) : start + i * step));
+    const double value = tidy(geometric ? start * std::pow(step, i) : start + i * step);
+    if (!std::isfinite(value)) refuse_item(field, item, "its values leave the range of doubles");
+    list.values.push_back(value);
   }
 }
 

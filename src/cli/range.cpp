@@ -31,14 +31,21 @@ std::vector<double> parse_range(const std::string& text, const std::string& opti
   }
   if (!(step > 0.0)) fss::throw_usage_error(where + ": step must be > 0");
   if (stop < start) fss::throw_usage_error(where + ": stop must not be below start");
-  const double count = std::floor((stop - start) / step + 0.5) + 1.0;
+  // Rounded down, with slack for the rounding of (stop - start) / step: no
+  // value beyond stop ("1:2:0.6" is 1, 1.6), none that overflows.
+  const double count = std::floor((stop - start) / step + 1e-9) + 1.0;
   if (!(count <= kMaxRangePoints)) {
     fss::throw_usage_error(where + ": more than " + std::to_string(kMaxRangePoints) +
                            " values; use a larger step");
   }
   std::vector<double> values;
   values.reserve(static_cast<std::size_t>(count));
-  for (int i = 0; i < static_cast<int>(count); ++i) values.push_back(start + i * step);
+  for (int i = 0; i < static_cast<int>(count); ++i) {
+    values.push_back(start + i * step);
+    if (!std::isfinite(values.back())) {
+      fss::throw_usage_error(where + ": its values leave the range of doubles");
+    }
+  }
   return values;
 }
 

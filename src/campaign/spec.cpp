@@ -37,11 +37,10 @@ double tidy(double value) {
   throw_usage_error(field + " item '" + shorten_for_message(item) + "': " + why);
 }
 
-// The values of a range stop at `stop`: a count of steps is rounded down,
-// with this slack for the rounding of (stop - start) / step ("0:1:0.1" has
-// 11 values), so that no value lies half a step beyond stop ("1:2:0.6" is 1,
-// 1.6) or overflows ("2:1e308:x10" ends at 2e307).
-constexpr double kRangeSlack = 1e-9;
+// A value within half a step of stop counts, as in sweep's ranges, so that
+// rounding never drops stop ("0:1:0.1" has 11 values); a value that then
+// leaves the doubles ("2:1e308:x10" would end at 2e308) is refused.
+constexpr double kRangeSlack = 0.5;
 
 // Appends the values of one range item "start:stop:step" or "start:stop:xF".
 void append_range(std::string_view item, const std::string& field, ValueList& list) {

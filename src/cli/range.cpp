@@ -31,9 +31,8 @@ std::vector<double> parse_range(const std::string& text, const std::string& opti
   }
   if (!(step > 0.0)) fss::throw_usage_error(where + ": step must be > 0");
   if (stop < start) fss::throw_usage_error(where + ": stop must not be below start");
-  // Rounded down, with slack for the rounding of (stop - start) / step: no
-  // value beyond stop ("1:2:0.6" is 1, 1.6), none that overflows.
-  const double count = std::floor((stop - start) / step + 1e-9) + 1.0;
+  // A value within half a step of stop counts (rounding never drops stop).
+  const double count = std::floor((stop - start) / step + 0.5) + 1.0;
   if (!(count <= kMaxRangePoints)) {
     fss::throw_usage_error(where + ": more than " + std::to_string(kMaxRangePoints) +
                            " values; use a larger step");

@@ -11,6 +11,9 @@
 # The runs take about a minute on two cores. report.json names the build
 # (fssim_version, with its git commit): that one line is removed before the
 # file is hashed, so that two commits with the same behaviour compare equal.
+# KEEP=DIR keeps every case's outputs in DIR (for a closer look at a
+# difference: scripts/compare_outputs.py compares two such folders by pixels
+# and numbers).
 # A record is only comparable on the same machine kind (PNG plots depend on the
 # installed PLplot, cairo and zlib).
 set -euo pipefail
@@ -90,6 +93,10 @@ for entry in "${cases[@]}"; do
   (cd "$dir" && find . -type f -print0 | sort -z | xargs -0 sha256sum | sed "s|^|$name |") >>"$manifest"
 done
 
+if [ -n "${KEEP:-}" ]; then
+  mkdir -p "$KEEP"
+  cp -a "$work/cases/." "$KEEP/"
+fi
 if [ "$action" = record ]; then
   cp "$manifest" "$record"
   echo "output_matrix: recorded ${#cases[@]} cases, $(wc -l <"$record") lines, in $record"

@@ -47,29 +47,6 @@ RandomStream::RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint6
   for (auto& word : state_) word = splitmix64(key);
 }
 
-std::uint64_t RandomStream::next() {
-  // xoshiro256** (Blackman and Vigna).
-  const std::uint64_t result = rotl(state_[1] * 5, 7) * 9;
-  const std::uint64_t t = state_[1] << 17;
-  state_[2] ^= state_[0];
-  state_[3] ^= state_[1];
-  state_[1] ^= state_[2];
-  state_[0] ^= state_[3];
-  state_[2] ^= t;
-  state_[3] = rotl(state_[3], 45);
-  return result;
-}
-
-// The 53-bit integers are converted as signed: one instruction, where an
-// unsigned 64-bit conversion takes several on x86-64.
-double RandomStream::uniform() {
-  return static_cast<double>(static_cast<std::int64_t>(next() >> 11)) * 0x1.0p-53;
-}
-
-double RandomStream::uniform_open_zero() {
-  return static_cast<double>(static_cast<std::int64_t>((next() >> 11) + 1)) * 0x1.0p-53;
-}
-
 double RandomStream::standard_normal() {
   if (has_spare_) {
     has_spare_ = false;
@@ -100,17 +77,6 @@ double poisson_variate(double lambda, RandomStream& stream) {
   // Normal approximation, rounded; a negative value (probability < 1e-12 at
   // lambda = 50) is clamped to 0.
   return round_nonnegative(lambda + std::sqrt(lambda) * stream.standard_normal());
-}
-
-double round_nonnegative(double x) {
-  // Branch-free so that loops over it vectorize. (x + 2^52) - 2^52 rounds x
-  // in [0, 2^52) to the nearest integer, ties to even (default rounding
-  // mode); a tie rounded down is moved up, giving round()'s ties away from
-  // zero. From 2^52 on, x is already an integer.
-  const double nearest = (x + 0x1p52) - 0x1p52;
-  const double rounded = nearest - x == -0.5 ? nearest + 1.0 : nearest;
-  const double big = x >= 0x1p52 ? x : rounded;
-  return x > 0.0 ? big : 0.0;
 }
 
 PoissonSNR::PoissonSNR(double snr) : lambda2_(checked_lambda2(snr)) {}

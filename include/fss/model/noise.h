@@ -26,6 +26,7 @@ class RandomStream {
   RandomStream(std::uint64_t seed, std::uint64_t channel, std::uint64_t frame, std::uint64_t row,
                std::uint64_t lane = 0);
 
+  // Inline (below): the row samplers draw one or two per pixel.
   std::uint64_t next();
   // Uniform on [0, 1), 53 random bits.
   double uniform();
@@ -276,7 +277,43 @@ void box_muller_batch(const double* u1, const double* u2, double* z, std::size_t
 // box_muller_batch. The aggregated sampler's normals, which are not rounded.
 void box_muller_portable(const double* u1, const double* u2, double* z, std::size_t pairs);
 
-// round(x) for x > 0 (halves away from zero), 0 for x <= 0; inline-friendly.
-double round_nonnegative(double x);
+// round(x) for x > 0 (halves away from zero), 0 for x <= 0. Inline and
+// branch-free, so that the samplers' loops over it vectorize: (x + 2^52) -
+// 2^52 rounds x in [0, 2^52) to the nearest integer, ties to even (default
+// rounding mode); a tie rounded down is moved up, giving round()'s ties away
+// from zero. From 2^52 on, x is already an integer.
+[[gnu::always_inline]] inline double round_nonnegative(double x) {
+  const double nearest = (x + 0x1p52) - 0x1p52;
+  const double rounded = nearest - x == -0.5 ? nearest + 1.0 : nearest;
+  const double big = x >= 0x1p52 ? x : rounded;
+  return x > 0.0 ? big : 0.0;
+}
+
+namespace detail {
+inline std::uint64_t rotate_left(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+}  // namespace detail
+
+inline std::uint64_t RandomStream::next() {
+  // xoshiro256** (Blackman and Vigna).
+  const std::uint64_t result = detail::rotate_left(state_[1] * 5, 7) * 9;
+  const std::uint64_t t = state_[1] << 17;
+  state_[2] ^= state_[0];
+  state_[3] ^= state_[1];
+  state_[1] ^= state_[2];
+  state_[0] ^= state_[3];
+  state_[2] ^= t;
+  state_[3] = detail::rotate_left(state_[3], 45);
+  return result;
+}
+
+// The 53-bit integers are converted as signed: one instruction, where an
+// unsigned 64-bit conversion takes several on x86-64.
+inline double RandomStream::uniform() {
+  return static_cast<double>(static_cast<std::int64_t>(next() >> 11)) * 0x1.0p-53;
+}
+
+inline double RandomStream::uniform_open_zero() {
+  return static_cast<double>(static_cast<std::int64_t>((next() >> 11) + 1)) * 0x1.0p-53;
+}
 
 }  // namespace fss

@@ -7,24 +7,11 @@
 #include "fss/core/error.h"
 #include "fss/core/fft.h"
 #include "fss/model/transfer.h"
+#include "fss/pipeline/restore.h"
 
 namespace fss {
 
 namespace {
-
-// k = IDFT(1 / K) on the n-point grid, 1 / K taken as 0 where K = 0 (as the
-// restoration does): the inverse filter applied to a unit impulse at 0,
-// whose DFT is 1 at every bin.
-std::vector<double> inverse_filter_kernel(std::span<const double> gains, double velocity, double dt,
-                                          int n) {
-  std::vector<Complex> inverse = transfer_function_bins(gains, velocity, dt, n);
-  for (Complex& k : inverse) k = k == Complex(0.0) ? Complex(0.0) : 1.0 / k;
-  const RowFFT& fft = RowFFT::for_size(n);
-  RowFFT::Workspace workspace(n);
-  std::fill(workspace.spectrum().begin(), workspace.spectrum().end(), Complex(1.0));
-  fft.inverse_filtered(workspace, inverse);
-  return {workspace.real().begin(), workspace.real().end()};
-}
 
 void check_arguments(const Geometry& g, std::span<const double> gains, int first, int end) {
   if (g.observed_width < 1 || g.mirror_width != 2 * g.observed_width || g.output_width < 1) {
@@ -49,7 +36,7 @@ std::vector<double> noise_energy_weights(const Geometry& geometry, std::span<con
   const int n = geometry.mirror_width;
   const int wa = geometry.observed_width;
   // The kernel twice over, so that (i mod n) is i for every i in [0, 2n).
-  std::vector<double> k = inverse_filter_kernel(gains, restore_velocity, dt, n);
+  std::vector<double> k = inverse_filter_impulse_response(gains, restore_velocity, dt, n);
   k.insert(k.end(), k.begin(), k.end());
   // Output column x is deconvolved column x' = x + 2h, in [0, n).
   const int x_first = window_first + 2 * geometry.half_blur;

@@ -107,7 +107,8 @@ namespace {
 
 // Var(o) of the noise-free pass, sum_k alpha_k^2 V(e_k) with V(e) =
 // Var(PoissonSNR(e)) (poisson_snr_variance, docs/method.md §6b), into a row
-// the caller gives; every call does nothing for a noisy pass or an empty row.
+// the caller gives; every call does nothing without an expectation or for an
+// empty row.
 // With integer v dt (shifts), V(e_0) is computed once and slot k adds it
 // shifted like its exposure; otherwise each slot adds V of its own exposure.
 //
@@ -116,9 +117,9 @@ namespace {
 // both are 0 without one (x + 0 is x: the same bits).
 class VarianceRow {
  public:
-  VarianceRow(bool noisy, double snr, std::span<double> variance, std::vector<double>& unit,
-              double dark_electrons, double readout_variance)
-      : active_(!noisy && !variance.empty()),
+  VarianceRow(bool no_expectation, double snr, std::span<double> variance,
+              std::vector<double>& unit, double dark_electrons, double readout_variance)
+      : active_(!no_expectation && !variance.empty()),
         lambda2_(active_ ? PoissonSNR(snr).lambda2() : 0.0),
         dark_(dark_electrons),
         readout_(active_ ? readout_variance / (lambda2_ * lambda2_) : 0.0),
@@ -208,53 +209,68 @@ void add_clipped_expectation(std::span<const double> e, double alpha, double lam
 ReadoutClipping RowObserver::observe(bool noisy, std::uint64_t seed, int channel, int row,
                                      Scratch& scratch, std::span<double> out,
                                      std::span<double> variance) const {
+  return noisy ? observe(seed, channel, row, scratch, Outputs{out, {}, {}})
+               : observe(seed, channel, row, scratch, Outputs{{}, out, variance});
+}
+
+ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, Scratch& scratch,
+                                     const Outputs& outputs) const {
   const auto c = static_cast<std::uint64_t>(channel);
   const auto y = static_cast<std::uint64_t>(row);
-  std::fill(out.begin(), out.end(), 0.0);
+  const std::span<double> noisy = outputs.noisy;
+  const std::span<double> expected = outputs.expectation;
+  std::fill(noisy.begin(), noisy.end(), 0.0);
+  std::fill(expected.begin(), expected.end(), 0.0);
   // the exact prediction's per-pixel variance
-  VarianceRow var(noisy, snr_, variance, scratch.unit_variance, readout_.dark_electrons,
-                  readout_variance_);
+  VarianceRow var(expected.empty(), snr_, outputs.variance, scratch.unit_variance,
+                  readout_.dark_electrons, readout_variance_);
   ReadoutClipping clipping;
   const double lambda2 = scratch.aggregated.lambda2();
   if (mode_ == ShutterMode::kAnalog) {
     const std::span<const double> e = filtered((*filters_)[0], scratch);
-    if (noisy) {
+    if (!noisy.empty()) {
       const RowNoiseId id{seed, c, 0, y};
-      sensor_ ? scratch.sampler.accumulate_readout(e, id, 1.0, readout_, out)
-              : scratch.sampler.accumulate(e, id, 1.0, out);  // o = PoissonSNR(e)
-      return clipping;
+      sensor_ ? scratch.sampler.accumulate_readout(e, id, 1.0, readout_, noisy)
+              : scratch.sampler.accumulate(e, id, 1.0, noisy);  // o = PoissonSNR(e)
     }
+    if (expected.empty()) return clipping;
     if (sensor_linear_) {
-      for (int x = 0; x < width_; ++x) out[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
+      for (int x = 0; x < width_; ++x) expected[x] = std::max(e[x], 0.0);  // E[o] = max(e, 0)
     } else {
-      add_expectation(e, 1.0, lambda2, out, clipping);
+      add_expectation(e, 1.0, lambda2, expected, clipping);
     }
     var.add_slot(e, {}, 0, 1.0);
     return clipping;
   }
-  // o = sum_k alpha_k PoissonSNR(e_k), or its expectation sum_k alpha_k max(e_k, 0)
-  const SensorReadout* readout = sensor_ ? &readout_ : nullptr;
-  auto add_slot = [&](std::size_t k, std::span<const double> e, const SlotShift& shift) {
-    const double alpha = gains_[k];
-    if (noisy && aggregate_) {
-      scratch.aggregated.add_frame(e, {seed, c, k, y}, alpha, out, readout);  // finished below
-    } else if (noisy && sensor_) {
-      scratch.sampler.accumulate_readout(e, {seed, c, k, y}, alpha, frame_readout_, out);
-    } else if (noisy) {
-      scratch.sampler.accumulate(e, {seed, c, k, y}, alpha, out);
-    } else {
-      add_expectation(e, alpha, lambda2, out, clipping);
-      var.add_slot(e, shift.e0, shift.offset, alpha * alpha);
-    }
-  };
-  for_each_slot(scratch, add_slot);
+  // o = sum_k alpha_k PoissonSNR(e_k), and its expectation sum_k alpha_k max(e_k, 0)
+  for_each_slot(scratch, [&](std::size_t k, std::span<const double> e, const SlotShift& shift) {
+    if (!noisy.empty()) add_noisy_slot(k, e, seed, c, y, scratch, noisy);
+    if (expected.empty()) return;
+    add_expectation(e, gains_[k], lambda2, expected, clipping);
+    var.add_slot(e, shift.e0, shift.offset, gains_[k] * gains_[k]);
+  });
+  if (noisy.empty()) return clipping;
   // The aggregated normal-branch frames: one normal per pixel.
-  if (noisy && aggregate_) scratch.aggregated.finish({seed, c, 0, y}, out);
+  if (aggregate_) scratch.aggregated.finish({seed, c, 0, y}, noisy);
   // The frames' read noise, summed: sigma_r sqrt(sum alpha_k^2) N / lambda2.
-  if (noisy && !aggregate_ && sum_read_noise_) {
-    scratch.sampler.add_read_noise({seed, c, 0, y}, summed_read_sd_ / lambda2, out);
+  if (!aggregate_ && sum_read_noise_) {
+    scratch.sampler.add_read_noise({seed, c, 0, y}, summed_read_sd_ / lambda2, noisy);
   }
   return clipping;
+}
+
+void RowObserver::add_noisy_slot(std::size_t k, std::span<const double> e, std::uint64_t seed,
+                                 std::uint64_t channel, std::uint64_t row, Scratch& scratch,
+                                 std::span<double> noisy) const {
+  const double alpha = gains_[k];
+  const RowNoiseId id{seed, channel, k, row};
+  if (aggregate_) {
+    scratch.aggregated.add_frame(e, id, alpha, noisy, sensor_ ? &readout_ : nullptr);
+  } else if (sensor_) {
+    scratch.sampler.accumulate_readout(e, id, alpha, frame_readout_, noisy);
+  } else {
+    scratch.sampler.accumulate(e, id, alpha, noisy);
+  }
 }
 
 void RowObserver::add_expectation(std::span<const double> e, double alpha, double lambda2,
@@ -287,17 +303,20 @@ void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const
     return;
   }
   const std::span<const double> e0 = filtered((*filters_)[0], scratch);
-  scratch.shifted.resize(static_cast<std::size_t>(width_));
+  // e_k(x) = e_0((x - s k) mod W) = doubled[W - offset + x], doubled = e_0 e_0:
+  // each slot's exposure is a window of one buffer, no copy per slot.
+  const auto w = static_cast<std::size_t>(width_);
+  scratch.doubled.resize(2 * w);
+  std::copy(e0.begin(), e0.end(), scratch.doubled.begin());
+  std::copy(e0.begin(), e0.end(), scratch.doubled.begin() + width_);
+  const std::span<const double> first_period(scratch.doubled.data(), w);
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;
-    // e_k(x) = e_0((x - s k) mod W)
     long long offset = (step_ * static_cast<long long>(k)) % width_;
     if (offset < 0) offset += width_;
-    const auto o = static_cast<std::ptrdiff_t>(offset);
-    std::copy(e0.end() - o, e0.end(), scratch.shifted.begin());
-    std::copy(e0.begin(), e0.end() - o, scratch.shifted.begin() + o);
-    per_slot(k, std::span<const double>(scratch.shifted),
-             SlotShift{e0, static_cast<std::size_t>(offset)});
+    const auto o = static_cast<std::size_t>(offset);
+    per_slot(k, std::span<const double>(scratch.doubled.data() + (w - o), w),
+             SlotShift{first_period, o});
   }
 }
 

@@ -79,13 +79,19 @@ class RowPipeline::Worker {
                                        observer_scratch_, observation_);
   }
 
-  // observation = E[o] of input row (c, y); returns Var(o), W values, and
+  // observation = o with the noise of `seed` and expectation = E[o] of input
+  // row (c, y), one load and one set of exposures for both (the plan of
+  // aggregated noise recorded when given); returns Var(o), W values, and
   // adds the row's clipped readouts to `clipping`.
-  const double* observe_with_variance(int c, int y, ReadoutClipping& clipping) {
+  const double* observe_first(int c, int y, std::uint64_t seed, AggregatedRowPlan* plan,
+                              ReadoutClipping& clipping) {
+    const RowObserver& observer = pipeline_.observer_;
+    expectation_.resize(observation_.size());
     variance_.resize(observation_.size());
-    pipeline_.observer_.load_row(pipeline_.input_.row(c, y), observer_scratch_);
-    clipping +=
-        pipeline_.observer_.observe(false, 0, c, y, observer_scratch_, observation_, variance_);
+    if (plan != nullptr) observer.record_plan(plan, observer_scratch_);
+    observer.load_row(pipeline_.input_.row(c, y), observer_scratch_);
+    clipping += observer.observe(seed, c, y, observer_scratch_,
+                                 RowObserver::Outputs{observation_, expectation_, variance_});
     return variance_.data();
   }
 
@@ -102,11 +108,16 @@ class RowPipeline::Worker {
     return finite;
   }
 
-  // restored[0 .. Wo) from the observation; by default into the worker's row.
-  const double* restore(double* restored = nullptr) {
-    double* out = restored != nullptr ? restored : row_.data();
-    pipeline_.restorer_.restore(observation_.data(), restorer_scratch_, out);
-    return out;
+  // restored[0 .. Wo) from the observation, into `restored`.
+  void restore(double* restored) {
+    pipeline_.restorer_.restore(observation_.data(), restorer_scratch_, restored);
+  }
+
+  // The restoration of the expectation observe_first() made, into the
+  // worker's row.
+  const double* restore_expectation() {
+    pipeline_.restorer_.restore(expectation_.data(), restorer_scratch_, row_.data());
+    return row_.data();
   }
 
  private:
@@ -114,16 +125,19 @@ class RowPipeline::Worker {
   RowObserver::Scratch observer_scratch_;
   RowRestorer::Scratch restorer_scratch_;
   std::vector<double> observation_;  // W values
-  std::vector<double> variance_;     // W values, Var(o) of the noise-free pass
+  std::vector<double> expectation_;  // W values, E[o] (first trial)
+  std::vector<double> variance_;     // W values, Var(o) (first trial)
   std::vector<double> row_;          // Wo values: an observed or restored row
 };
 
-template <typename PerRow>
-void RowPipeline::for_each_row(const PerRow& per_row) const {
-  const int height = input_.height;
-  parallel_for(input_.channels * height, threads_, [&](int begin, int end) {
+template <typename PerItem>
+void RowPipeline::for_each_item(int count, const PerItem& per_item) const {
+  if (count <= 0) return;
+  const int workers = std::min(resolve_thread_count(threads_), count);
+  std::atomic<int> next{0};
+  parallel_for(workers, workers, [&](int, int) {
     Worker worker(*this);
-    for (int r = begin; r < end; ++r) per_row(worker, r / height, r % height, r);
+    for (int i = next++; i < count; i = next++) per_item(worker, i);
   });
 }
 
@@ -132,7 +146,10 @@ bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& re
   std::atomic<bool> observed_finite{true};
   std::atomic<std::uint64_t> saturated{0};
   std::atomic<std::uint64_t> near_zero{0};
-  for_each_row([&](Worker& worker, int c, int y, int r) {
+  const int height = input_.height;
+  for_each_item(input_.channels * height, [&](Worker& worker, int r) {
+    const int c = r / height;
+    const int y = r % height;
     const bool planned = noise_seed.has_value() && !plans_.empty();
     const ReadoutClipping row_clipping =
         worker.observe(c, y, noise_seed, planned ? &plans_[static_cast<std::size_t>(r)] : nullptr);
@@ -145,7 +162,9 @@ bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& re
   return observed_finite;
 }
 
-NoiseFreeRun RowPipeline::noise_free_pass(int first, int end) const {
+RowPipeline::FirstTrial RowPipeline::first_trial(std::uint64_t noise_seed, int first, int end,
+                                                 Image& restored,
+                                                 ObservedRowSink* observed) const {
   const int rows = input_.channels * input_.height;
   const int wa = geometry_.observed_width;
   const int h = geometry_.half_blur;
@@ -155,24 +174,29 @@ NoiseFreeRun RowPipeline::noise_free_pass(int first, int end) const {
   std::vector<double> row_errors(static_cast<std::size_t>(rows));
   std::vector<double> block_sums(static_cast<std::size_t>(blocks) * wa, 0.0);
   std::vector<ReadoutClipping> block_clipping(static_cast<std::size_t>(blocks));
-  parallel_for(blocks, threads_, [&](int block_begin, int block_end) {
-    Worker worker(*this);
-    for (int b = block_begin; b < block_end; ++b) {
-      double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
-      const auto row_begin = static_cast<int>(static_cast<long long>(rows) * b / blocks);
-      const auto row_end = static_cast<int>(static_cast<long long>(rows) * (b + 1) / blocks);
-      for (int r = row_begin; r < row_end; ++r) {
-        const int c = r / input_.height;
-        const int y = r % input_.height;
-        const double* variance =
-            worker.observe_with_variance(c, y, block_clipping[static_cast<std::size_t>(b)]) +
-            h;  // crop column 0
-        for (int j = 0; j < wa; ++j) sums[j] += variance[j];
-        row_errors[r] = row_squared_error(input_.row(c, y) + 3 * h, worker.restore(), first, end);
-      }
+  std::atomic<bool> observed_finite{true};
+  for_each_item(blocks, [&](Worker& worker, int b) {
+    double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
+    const auto row_begin = static_cast<int>(static_cast<long long>(rows) * b / blocks);
+    const auto row_end = static_cast<int>(static_cast<long long>(rows) * (b + 1) / blocks);
+    for (int r = row_begin; r < row_end; ++r) {
+      const int c = r / input_.height;
+      const int y = r % input_.height;
+      AggregatedRowPlan* plan = plans_.empty() ? nullptr : &plans_[static_cast<std::size_t>(r)];
+      const double* variance =
+          worker.observe_first(c, y, noise_seed, plan,
+                               block_clipping[static_cast<std::size_t>(b)]) +
+          h;  // crop column 0
+      for (int j = 0; j < wa; ++j) sums[j] += variance[j];
+      if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
+      worker.restore(restored.row(c, y));
+      row_errors[r] =
+          row_squared_error(input_.row(c, y) + 3 * h, worker.restore_expectation(), first, end);
     }
   });
-  NoiseFreeRun run;
+  FirstTrial trial;
+  trial.observed_finite = observed_finite.load();
+  NoiseFreeRun& run = trial.noise_free;
   ReadoutClipping clipping;
   for (const ReadoutClipping& block : block_clipping) clipping += block;
   run.saturated_readouts = clipping.saturated;
@@ -188,7 +212,7 @@ NoiseFreeRun RowPipeline::noise_free_pass(int first, int end) const {
     const double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
     for (int j = 0; j < wa; ++j) run.crop_variance_sums[j] += sums[j];
   }
-  return run;
+  return trial;
 }
 
 }  // namespace fss

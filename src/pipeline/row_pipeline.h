@@ -61,22 +61,35 @@ class RowPipeline {
   bool restore_all(std::optional<std::uint64_t> noise_seed, Image& restored,
                    ObservedRowSink* observed, ReadoutClipping* clipping = nullptr) const;
 
-  // The noise-free pass of a noisy run: RMSE_0, the RMSE of the noise-free
-  // restoration over output columns [first, end), and S(j), the sums over
-  // rows and channels of the observation noise's variance at observed-crop
-  // column j (docs/method.md §6b), computed as the rows stream by, without
-  // storing the restoration. Each row's squared error (row_squared_error,
-  // metrics.h) is kept and the rows are summed in order, so the bits are
-  // rmse()'s; S is summed over fixed blocks of rows in row order, then over
-  // the blocks in order: the same bits for any thread count.
-  NoiseFreeRun noise_free_pass(int first, int end) const;
+  // The first trial of a noisy run and its noise-free pass, in one pass over
+  // the rows (each row loaded and its exposures computed once for both):
+  // restores the noise of `noise_seed` into `restored` and sends the observed
+  // rows to `observed` as restore_all() does, and returns the noise-free
+  // pass: RMSE_0, the RMSE of the noise-free restoration over output columns
+  // [first, end), and S(j), the sums over rows and channels of the
+  // observation noise's variance at observed-crop column j (docs/method.md
+  // §6b), computed as the rows stream by, without storing the noise-free
+  // restoration. Each row's squared error (row_squared_error, metrics.h) is
+  // kept and the rows are summed in order, so the bits are rmse()'s; S is
+  // summed over fixed blocks of rows in row order, then over the blocks in
+  // order: the same bits for any thread count. `observed_finite` is false
+  // when an observed value is not finite.
+  struct FirstTrial {
+    NoiseFreeRun noise_free;
+    bool observed_finite = true;
+  };
+  FirstTrial first_trial(std::uint64_t noise_seed, int first, int end, Image& restored,
+                         ObservedRowSink* observed) const;
 
  private:
   class Worker;
 
-  // per_row(worker, channel, row, row index) for every row, on the threads.
-  template <typename PerRow>
-  void for_each_row(const PerRow& per_row) const;
+  // per_item(worker, i) for every i in [0, count), on the threads, each
+  // thread with its own Worker taking the next unclaimed item: a thread
+  // slowed by other work (the plots are drawn meanwhile) takes fewer items.
+  // Items are independent, so results do not depend on who takes which.
+  template <typename PerItem>
+  void for_each_item(int count, const PerItem& per_item) const;
 
   const Image& input_;
   Geometry geometry_;

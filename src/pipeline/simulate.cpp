@@ -211,9 +211,7 @@ bool SimulationPlan::fits(const SimulationOptions& options, int width,
 std::size_t SimulationPlan::bytes() const {
   const std::size_t bins = static_cast<std::size_t>(geometry_.width) / 2 + 1;
   const std::size_t filters = (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins;
-  return sizeof(*this) +
-         sizeof(std::complex<double>) *
-             (filters + static_cast<std::size_t>(geometry_.mirror_width)) +
+  return sizeof(*this) + sizeof(std::complex<double>) * filters + restorer_.bytes() +
          sizeof(double) * (noise_weights_.size() + gains_.size());
 }
 
@@ -268,27 +266,33 @@ bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& option
 }
 
 // Trial t has the noise of seed + t; the first one's images and metrics are
-// the report's. False when an observed value is not finite.
-bool run_trials(const RowPipeline& pipeline, const SimulationOptions& options, const Image& input,
-                SimulationReport& report, ObservedRowSink* observed) {
+// the report's. The first trial also makes the noise-free pass (RMSE_0 and
+// S(j), returned), sharing each row's transforms. `observed_finite` is set
+// false when an observed value is not finite.
+NoiseFreeRun run_trials(const RowPipeline& pipeline, const SimulationOptions& options,
+                        const Image& input, SimulationReport& report, ObservedRowSink* observed,
+                        bool& observed_finite) {
   const int n = options.trials;
-  Image later_trial;  // restoration of the trials after the first, when there are any
+  RowPipeline::FirstTrial first = pipeline.first_trial(options.seed, report.rmse_first,
+                                                       report.rmse_end, report.restored, observed);
+  observed_finite = first.observed_finite;
+  report.metrics = measure(report, input, report.restored);
+  report.trial_metrics.push_back(report.metrics);
   TrialSums sums;
-  bool observed_finite = true;
-  for (int t = 0; t < n; ++t) {
-    if (t == 1) later_trial = Image(report.restored.width, input.height, input.channels);
-    Image& restored = t == 0 ? report.restored : later_trial;
+  sums.add(report.metrics);
+  if (options.trial_callback) options.trial_callback(1, n);
+  Image later_trial;  // restoration of the trials after the first, when there are any
+  if (n > 1) later_trial = Image(report.restored.width, input.height, input.channels);
+  for (int t = 1; t < n; ++t) {
     const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(t);
-    observed_finite =
-        pipeline.restore_all(seed, restored, t == 0 ? observed : nullptr) && observed_finite;
-    const Metrics m = measure(report, input, restored);
-    if (t == 0) report.metrics = m;
+    observed_finite = pipeline.restore_all(seed, later_trial, nullptr) && observed_finite;
+    const Metrics m = measure(report, input, later_trial);
     report.trial_metrics.push_back(m);
     sums.add(m);
     if (options.trial_callback) options.trial_callback(t + 1, n);
   }
   report.trials = sums.statistics(n);
-  return observed_finite;
+  return std::move(first.noise_free);
 }
 
 // Extreme gains (1e-320, 1e308) can leave the range of doubles: an error,
@@ -399,8 +403,7 @@ SimulationReport run_planned(const SimulationPlan& plan, const SimulationOptions
     noise_free.saturated_readouts = clipping.saturated;
     noise_free.near_zero_readouts = clipping.near_zero;
   } else {
-    noise_free = pipeline.noise_free_pass(report.rmse_first, report.rmse_end);
-    observed_finite = run_trials(pipeline, options, input, report, observed_sink);
+    noise_free = run_trials(pipeline, options, input, report, observed_sink, observed_finite);
   }
   check_finite(report, code, observed_finite);
 

@@ -193,10 +193,15 @@ TEST(Predict, ExactNoisePartIsTheBruteForceSum) {
     const SimulationReport r = Simulate(options, input, code);
     ASSERT_TRUE(r.prediction.finite) << c.code;
     const std::vector<double> s = brute_force_variance_sums(input, r);
-    // The noise-free pass's S(j), column by column, and its RMSE_0.
+    // The noise-free pass's S(j), column by column, and its RMSE_0; the
+    // first trial made with it is Simulate's.
     const RowPipeline pipeline(input, code, options, r.geometry, r.observed_divisor);
-    const NoiseFreeRun run = pipeline.noise_free_pass(r.rmse_first, r.rmse_end);
+    Image restored(r.geometry.output_width, input.height, input.channels);
+    const NoiseFreeRun run =
+        pipeline.first_trial(options.seed, r.rmse_first, r.rmse_end, restored, nullptr)
+            .noise_free;
     EXPECT_EQ(run.rmse, r.prediction.rmse_noise_free) << c.code;
+    EXPECT_EQ(restored.data, r.restored.data) << c.code;
     ASSERT_EQ(run.crop_variance_sums.size(), s.size());
     for (std::size_t j = 0; j < s.size(); ++j) {
       ASSERT_NEAR(run.crop_variance_sums[j], s[j], 1e-10 * s[j]) << c.code << " j " << j;

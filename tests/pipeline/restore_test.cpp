@@ -243,13 +243,115 @@ TEST_P(RestoreCrops, OutputsAreTheDocumentedColumns) {
       for (int x = 0; x < wo; ++x) {
         ASSERT_EQ(r.groundtruth.at(c, y, x), input.at(c, y, x + 3 * h)) << x;
         ASSERT_EQ(r.observed.at(c, y, x), observation.at(c, y, x + 3 * h)) << x;
-        ASSERT_EQ(r.restored.at(c, y, x), d.image.at(c, y, x + 2 * h)) << x;
+        // The restorer may transform on a longer length (RowRestorer): the
+        // same operator up to round-off.
+        ASSERT_NEAR(r.restored.at(c, y, x), d.image.at(c, y, x + 2 * h), 1e-9) << x;
       }
     }
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Velocities, RestoreCrops, ::testing::Values(1.0, 1.01, -2.0));
+
+// ---------------------------------------------------------------------------
+// RowRestorer's transform length: the grid N = 2 Wa, or a longer fast length
+// for the same convolution.
+
+// True when n's prime factors are all 2, 3, 5 or 7.
+bool seven_smooth(int n) {
+  for (const int p : {2, 3, 5, 7}) {
+    while (n % p == 0) n /= p;
+  }
+  return n == 1;
+}
+
+TEST(RowRestorer, TransformLengthOfThePapersGeometry) {
+  // N = 920 = 2^3 5 23 -> the smallest 2^a m >= N + Wo - 1 = 1275: 1280 = 2^8 5.
+  EXPECT_EQ(restoration_transform_length(Geometry::compute(512, 52, 1.0, 1.0)), 1280);
+  // N = 7896 = 2^3 3 7 47 -> >= 11739: 12288 = 2^12 3.
+  EXPECT_EQ(restoration_transform_length(Geometry::compute(4000, 52, 1.0, 1.0)), 12288);
+  // N = 1176 = 2^3 3 7^2 is fast as it is.
+  EXPECT_EQ(restoration_transform_length(Geometry::compute(640, 52, 1.0, 1.0)), 1176);
+}
+
+TEST(RowRestorer, TransformLengthIsTheGridOrLongEnoughAndFast) {
+  for (int width = 160; width < 3000; width += 37) {
+    const Geometry g = Geometry::compute(width, 16, 1.0, 1.0);
+    const int n = g.mirror_width;
+    const int length = restoration_transform_length(g);
+    if (seven_smooth(n)) {
+      EXPECT_EQ(length, n) << width;
+      continue;
+    }
+    EXPECT_GE(length, n + g.output_width - 1) << width;
+    int odd = length;
+    while (odd % 2 == 0) odd /= 2;
+    EXPECT_TRUE(odd == 1 || odd == 3 || odd == 5 || odd == 7 || odd == 9 || odd == 15) << length;
+    EXPECT_EQ(length % 2, 0) << length;
+    // Not longer than the next such length above the bound needs: 2^a m
+    // with m in {1, 3, 5, 7, 9, 15} are at most 4/3 apart from 8 on.
+    EXPECT_LE(3 * length, 4 * (n + g.output_width - 1) + 3) << width;
+  }
+}
+
+struct ConvolutionCase {
+  int width;
+  const char* code;
+  double velocity;
+  double dt;
+};
+
+class RowRestorerConvolution : public ::testing::TestWithParam<ConvolutionCase> {};
+
+// Restored rows of the linear convolution equal the inverse filter on the
+// grid (the reference path, exact on a mirrored row: InverseFilterExact),
+// columns 2h.. of it, to round-off.
+TEST_P(RowRestorerConvolution, EqualsTheInverseFilterOnTheGrid) {
+  const ConvolutionCase& p = GetParam();
+  const std::vector<double> gains = builtin_code(p.code).value().gains;
+  const Geometry g = Geometry::compute(p.width, static_cast<int>(gains.size()),
+                                       std::abs(p.velocity), p.dt);
+  const RowRestorer restorer(g, gains, p.velocity, p.dt);
+  const Image observation = random_image(p.width, 3, 1, 40 + p.width);
+  const Deconvolution d = inverse_filter(
+      mirror_extend(crop_columns(observation, g.half_blur, g.observed_width)), gains, p.velocity,
+      p.dt, 1);
+  RowRestorer::Scratch scratch(restorer);
+  std::vector<double> restored(static_cast<std::size_t>(g.output_width));
+  double largest = 0.0;
+  for (const double v : d.image.data) largest = std::max(largest, std::abs(v));
+  for (int y = 0; y < 3; ++y) {
+    restorer.restore(observation.row(0, y), scratch, restored.data());
+    for (int x = 0; x < g.output_width; ++x) {
+      ASSERT_NEAR(restored[static_cast<std::size_t>(x)], d.image.at(0, y, x + 2 * g.half_blur),
+                  1e-13 * largest)
+          << "width " << p.width << " row " << y << " column " << x;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Widths, RowRestorerConvolution,
+    ::testing::Values(ConvolutionCase{512, "raskar", 1.0, 1.0},     // N 920 -> 1280
+                      ConvolutionCase{512, "mip", 0.37, 1.0},       // fractional velocity
+                      ConvolutionCase{700, "random", -0.73, 1.3},   // N = 1296, on the grid
+                      ConvolutionCase{1009, "sinc", 1.0, 0.5},      // N = 1914 = 2 3 11 29
+                      ConvolutionCase{700, "raskar", 1.9, 1.0},     // B = 99, N 1202
+                      ConvolutionCase{2003, "snapshot", 1.0, 1.0}));  // N = 3902 = 2 1951
+
+TEST(RowRestorer, ConvolutionCasesUseALongerLength) {
+  // The cases above exercise both paths. Raskar at v = -2 has K(pi) = 0 up
+  // to round-off (sinc_h(2 pi)): too ill-conditioned for the convolution.
+  EXPECT_EQ(RowRestorer(Geometry::compute(640, 52, 2.0, 1.0), raskar(), -2.0, 1.0)
+                .transform_length(),
+            Geometry::compute(640, 52, 2.0, 1.0).mirror_width);
+  EXPECT_EQ(RowRestorer(Geometry::compute(512, 52, 1.0, 1.0), raskar(), 1.0, 1.0)
+                .transform_length(),
+            1280);
+  EXPECT_EQ(RowRestorer(Geometry::compute(700, 52, 0.73, 1.3), random_code(), -0.73, 1.3)
+                .transform_length(),
+            Geometry::compute(700, 52, 0.73, 1.3).mirror_width);
+}
 
 TEST(Restore, ConstantImageIsRestoredExactly) {
   const std::vector<double> gains = raskar();

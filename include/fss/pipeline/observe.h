@@ -70,7 +70,7 @@ class RowObserver {
     friend class RowObserver;
     RowFFT::Workspace workspace;
     std::vector<std::complex<double>> spectrum;
-    std::vector<double> shifted;
+    std::vector<double> doubled;  // e_0 twice: its shifts are windows of it, integer v dt only
     std::vector<double> unit_variance;  // Var(PoissonSNR(e_0)), integer v dt only
     PoissonRowSampler sampler;
     AggregatedRowSampler aggregated;
@@ -88,14 +88,26 @@ class RowObserver {
   void load_row(const double* row, Scratch& scratch) const;
   void load_spectrum(const std::complex<double>* bins, Scratch& scratch) const;
 
-  // out (width values) = the observation of the row last loaded into
-  // `scratch`: noisy (PoissonSNR, streams of (seed, channel, slot k or 0,
-  // row); aggregated: AggregatedRowSampler's) or, when `noisy` is false, its
-  // expectation (docs/method.md §2, §3, §6c). With `noisy` false and a
-  // `variance` row (width values), that row also receives each pixel's
-  // variance of the noisy observation, Var(o) (docs/method.md §6b):
-  // numerical sum_k alpha_k^2 Var(PoissonSNR(e_k)), analog Var(PoissonSNR(e)),
-  // Var as poisson_snr_variance (noise.h).
+  // Where observe() writes the row last loaded into the scratch; each span is
+  // empty (not wanted) or holds width values:
+  //   noisy        the observation o (PoissonSNR, streams of (seed, channel,
+  //                slot k or 0, row); aggregated: AggregatedRowSampler's),
+  //   expectation  its expectation E[o] (docs/method.md §2, §3, §6c),
+  //   variance     each pixel's Var(o) (docs/method.md §6b), with the
+  //                expectation only: numerical sum_k alpha_k^2
+  //                Var(PoissonSNR(e_k)), analog Var(PoissonSNR(e)), Var as
+  //                poisson_snr_variance (noise.h).
+  // Asking for both the noisy observation and its expectation computes each
+  // exposure e_k once for both: the first trial of a noisy run and its
+  // noise-free pass share the row's transforms. Each output gets the same
+  // bits as when it is asked for alone.
+  struct Outputs {
+    std::span<double> noisy;
+    std::span<double> expectation;
+    std::span<double> variance;
+  };
+
+  // Observes the row last loaded into `scratch` into `outputs`.
   // With an enabled sensor (docs/method.md §10) each readout (a frame, or the
   // analog exposure) is read as SensorReadout::read; the expectation is
   // max(e, 0) for a linear sensor, and, with a full well or an ADC, the mean
@@ -103,7 +115,11 @@ class RowObserver {
   // without the ADC's rounding (counted as variance G^2 / 12); the variance
   // adds readout_variance_electrons2 / lambda2^2 per readout, and the dark
   // charge moves the Poisson's branch test to lambda + dark >= 50. Returns the
-  // clipped readouts of a noise-free pass (zero for a noisy one).
+  // readouts the expectation finds clipped (zero without an expectation).
+  ReadoutClipping observe(std::uint64_t seed, int channel, int row, Scratch& scratch,
+                          const Outputs& outputs) const;
+  // out = the noisy observation (`noisy`) or its expectation, with Var(o)
+  // into `variance` for the expectation when it is not empty.
   ReadoutClipping observe(bool noisy, std::uint64_t seed, int channel, int row, Scratch& scratch,
                           std::span<double> out, std::span<double> variance = {}) const;
 
@@ -134,6 +150,12 @@ class RowObserver {
   // e_k from the row last loaded into `scratch` (numerical mode).
   template <typename PerSlot>
   void for_each_slot(Scratch& scratch, const PerSlot& per_slot) const;
+  // The noisy part of slot k's readout of e_k (numerical mode): the sampler
+  // of the noise model adds it to `noisy` (aggregated: its normal-branch part
+  // is finished by observe()).
+  void add_noisy_slot(std::size_t k, std::span<const double> e, std::uint64_t seed,
+                      std::uint64_t channel, std::uint64_t row, Scratch& scratch,
+                      std::span<double> noisy) const;
   // out += E[o] of one readout of gain alpha: alpha max(e, 0) (linear
   // sensor), else the clipped mean charge, counting clipped readouts.
   void add_expectation(std::span<const double> e, double alpha, double lambda2,

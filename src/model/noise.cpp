@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/vectorize.h"
 #include "fss/core/error.h"
 
 namespace fss {
@@ -92,51 +93,6 @@ namespace fss {
 
 namespace {
 
-// The row samplers' loops are written to vectorize; run_vectorized(kernel)
-// runs them, inlined, in a copy compiled for AVX2 (4 doubles a vector) when
-// the processor has it, else in the baseline SSE2 copy (2 doubles). Only
-// AVX2, never FMA: GCC contracts a * b + c into a fused multiply-add when FMA
-// is enabled (even in ISO C++ mode), which rounds once instead of twice.
-// Without it every operation in the kernels (max, +, *, /, sqrt,
-// comparisons, selections, integer to double conversions) is correctly
-// rounded, so both copies give the same bits.
-bool processor_has_avx2() {
-#if defined(__GNUC__) && defined(__x86_64__)
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  return has_avx2;
-#else
-  return false;
-#endif
-}
-
-template <typename Kernel>
-void run_baseline(const Kernel& kernel) {
-  kernel();
-}
-
-#if defined(__GNUC__) && defined(__x86_64__)
-template <typename Kernel>
-[[gnu::target("avx2")]] void run_avx2(const Kernel& kernel) {
-  kernel();
-}
-#else
-template <typename Kernel>
-void run_avx2(const Kernel& kernel) {
-  kernel();
-}
-#endif
-
-// kernel: a lambda marked __attribute__((always_inline)), so that each copy
-// compiles its loops for its own instruction set.
-template <typename Kernel>
-void run_vectorized(const Kernel& kernel) {
-  if (processor_has_avx2()) {
-    run_avx2(kernel);
-  } else {
-    run_baseline(kernel);
-  }
-}
-
 // ln u for a normal double u > 0, with +, -, *, / and exact bit operations
 // only: u = 2^E m with m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) =
 // 2 (s + s^3 / 3 + s^5 / 5 + ...) with s = (m - 1) / (m + 1), |s| < 0.1716,
@@ -202,7 +158,7 @@ void run_vectorized(const Kernel& kernel) {
 }  // namespace
 
 void box_muller_portable(const double* u1, const double* u2, double* z, std::size_t pairs) {
-  run_vectorized([&]() __attribute__((always_inline)) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
     const double* __restrict first = u1;
     const double* __restrict second = u2;
     double* __restrict normal = z;
@@ -258,7 +214,7 @@ std::size_t PoissonRowSampler::load_intensities(std::span<const double> e, doubl
   const std::size_t n = e.size();
   lambda_.resize(n);
   std::size_t knuth_pixels = 0;
-  run_vectorized([&]() __attribute__((always_inline)) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
     // Locals, not the captured references, so that the loop vectorizes.
     const double* __restrict intensity = e.data();
     double* __restrict lambda = lambda_.data();
@@ -293,7 +249,7 @@ void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& 
   // Normal branch elsewhere: P = round(lambda + sqrt(lambda) N);
   // out += gain P / lambda2.
   const double scale = gain / lambda2_;
-  run_vectorized([&]() __attribute__((always_inline)) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
     const double* __restrict lambda = lambda_.data();
     const double* __restrict normal = normals_.data();
     double* __restrict sum = out.data();
@@ -321,7 +277,7 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
   }
   // out += gain * read(P, R) / lambda2 (SensorReadout::read, inline so that
   // the loop vectorizes)
-  run_vectorized([&]() __attribute__((always_inline)) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
     const double* __restrict lambda = lambda_.data();
     const double* __restrict normal = normals_.data();
     const double* __restrict read = read_normals_.data();
@@ -364,7 +320,7 @@ void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId
   const double gain_squared = gain * gain;
   const double dark_electrons = readout != nullptr ? readout->dark_electrons : 0.0;
   std::size_t normal_pixels = 0;
-  run_vectorized([&]() __attribute__((always_inline)) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
     // Locals, not the captured references, so that the loop vectorizes.
     const double* __restrict intensity = e.data();
     double* __restrict lambda = lambda_.data();
@@ -428,7 +384,7 @@ void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,
   draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_,
                /*portable=*/true);
   // out += (M + sqrt(V) N) / lambda2
-  run_vectorized([&]() __attribute__((always_inline)) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
     const double* __restrict mean = mean_photons.data();
     const double* __restrict variance = variance_photons.data();
     const double* __restrict normal = normals_.data();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/vectorize.h"
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
 #include "fss/model/transfer.h"
@@ -149,11 +150,15 @@ class VarianceRow {
  private:
   // variance[x] += weight * unit[(x - offset) mod W], offset in [0, W).
   void add_shifted(std::size_t offset, double weight) {
-    const std::size_t n = unit_.size();
-    const double* __restrict from = unit_.data();
-    double* __restrict sum = variance_.data();
-    for (std::size_t x = 0; x < offset; ++x) sum[x] += weight * from[x + n - offset];
-    for (std::size_t x = offset; x < n; ++x) sum[x] += weight * from[x - offset];
+    detail::run_vectorized([&]() __attribute__((always_inline)) {
+      const std::size_t n = unit_.size();
+      const std::size_t o = offset;
+      const double w = weight;
+      const double* __restrict from = unit_.data();
+      double* __restrict sum = variance_.data();
+      for (std::size_t x = 0; x < o; ++x) sum[x] += w * from[x + n - o];
+      for (std::size_t x = o; x < n; ++x) sum[x] += w * from[x - o];
+    });
   }
 
   // into[x] += weight * V(e[x]): poisson_snr_variance's formula and branch
@@ -163,18 +168,22 @@ class VarianceRow {
   //   V = max(e, 0) / lambda2 + (lambda + d >= 50 ? 1 / (12 lambda2^2) : 0)
   //       + v_r / lambda2^2.
   void add(std::span<const double> e, double weight, std::span<double> into) const {
-    const double lambda2 = lambda2_;
-    const double inverse = 1.0 / lambda2;
-    const double rounding = 1.0 / (12.0 * lambda2 * lambda2);
-    const double dark = dark_;
-    const double readout = readout_;
-    const double* __restrict exposure = e.data();
-    double* __restrict sum = into.data();
-    for (std::size_t x = 0; x < e.size(); ++x) {
-      const double signal = std::max(exposure[x], 0.0);
-      sum[x] += weight * (signal * inverse +
-                          (signal * lambda2 + dark >= kKnuthLimit ? rounding : 0.0) + readout);
-    }
+    detail::run_vectorized([&]() __attribute__((always_inline)) {
+      const double lambda2 = lambda2_;
+      const double inverse = 1.0 / lambda2;
+      const double rounding = 1.0 / (12.0 * lambda2 * lambda2);
+      const double dark = dark_;
+      const double readout = readout_;
+      const double w = weight;
+      const std::size_t n = e.size();
+      const double* __restrict exposure = e.data();
+      double* __restrict sum = into.data();
+      for (std::size_t x = 0; x < n; ++x) {
+        const double signal = std::max(exposure[x], 0.0);
+        sum[x] += w * (signal * inverse +
+                       (signal * lambda2 + dark >= kKnuthLimit ? rounding : 0.0) + readout);
+      }
+    });
   }
 
   bool active_;
@@ -276,7 +285,13 @@ void RowObserver::add_noisy_slot(std::size_t k, std::span<const double> e, std::
 void RowObserver::add_expectation(std::span<const double> e, double alpha, double lambda2,
                                   std::span<double> out, ReadoutClipping& clipping) const {
   if (sensor_linear_) {
-    for (int x = 0; x < width_; ++x) out[x] += alpha * std::max(e[x], 0.0);
+    detail::run_vectorized([&]() __attribute__((always_inline)) {
+      const auto n = static_cast<std::size_t>(width_);
+      const double a = alpha;
+      const double* __restrict exposure = e.data();
+      double* __restrict sum = out.data();
+      for (std::size_t x = 0; x < n; ++x) sum[x] += a * std::max(exposure[x], 0.0);
+    });
   } else {
     add_clipped_expectation(e, alpha, lambda2, readout_, clipping_first_, clipping_end_, out,
                             clipping);

@@ -46,22 +46,66 @@ std::future<fss::RunPlots> start_plots(const fss::ShutterCode& code,
   return {};
 }
 
-// Refuses, from the PNG header alone, a run the memory guard of Simulate
-// would refuse after decoding (the same estimate, with the fewest channels
-// the header allows): a huge image fails at once, before it is decoded.
-void check_memory_from_header(const std::string& input, const fss::SimulationOptions& options,
-                              const fss::ShutterCode& code, const fss::OutputOptions& outputs) {
-  if (options.max_memory_bytes == 0) return;
+// The simulation plan (kernel analysis, filters, FFTW plans, noise weights:
+// all that does not depend on the pixels) made on its own thread while the
+// image is decoded, for a PNG whose header gives the width. Empty without a
+// header, a second thread, or a plan: Simulate then makes the plan itself,
+// and reports any error in its own order.
+using EarlyPlan = std::future<std::optional<fss::SimulationPlan>>;
+EarlyPlan start_plan(const std::optional<fss::PngHeaderSize>& size,
+                     const fss::SimulationOptions& options, const fss::ShutterCode& code) {
+  if (!size || size->width > fss::kMaxImageSide || size->height > fss::kMaxImageSide ||
+      !options.IsValid(nullptr) || fss::resolve_thread_count(options.threads) <= 1) {
+    return {};
+  }
+  const auto make = [options, code, width = size->width]() -> std::optional<fss::SimulationPlan> {
+    try {
+      return fss::SimulationPlan(options, width, code);
+    } catch (const fss::Error&) {
+      return std::nullopt;  // Simulate reports it
+    }
+  };
+  try {
+    return std::async(std::launch::async, make);
+  } catch (const std::system_error&) {
+    return {};  // no thread: Simulate makes the plan
+  }
+}
+
+// Simulate, with the early plan when it fits the image.
+fss::SimulationReport simulate_with(EarlyPlan& plan, const fss::SimulationOptions& options,
+                                    const fss::Image& image, const fss::ShutterCode& code,
+                                    fss::ObservedRowSink* sink) {
+  const std::optional<fss::SimulationPlan> made = plan.valid() ? plan.get() : std::nullopt;
+  if (made && made->fits(options, image.width, code)) {
+    return fss::Simulate(*made, options, image, code, sink);
+  }
+  return fss::Simulate(options, image, code, sink);
+}
+
+// The size a PNG's header declares, when the file can hold it: a header
+// declaring more pixels (at 1 bit each) than the file can hold after deflate
+// (at most 1032 times) is corrupt, and read_png says so. Empty for anything
+// else (read_png or read_image says what is wrong).
+std::optional<fss::PngHeaderSize> plausible_png_header(const std::string& input) {
   const std::optional<fss::PngHeaderSize> size = fss::read_png_header_size(input);
-  if (!size) return;  // read_png says what is wrong
-  // A header declaring more pixels (at 1 bit each) than the file can hold
-  // after deflate (at most 1032 times) is corrupt: read_png says so.
+  if (!size) return std::nullopt;
   std::error_code ec;
   const std::uintmax_t file_bytes = std::filesystem::file_size(input, ec);
   if (ec || static_cast<double>(size->width) * size->height / 8.0 >
                 1032.0 * (static_cast<double>(file_bytes) + 1.0)) {
-    return;
+    return std::nullopt;
   }
+  return size;
+}
+
+// Refuses, from the PNG header alone, a run the memory guard of Simulate
+// would refuse after decoding (the same estimate, with the fewest channels
+// the header allows): a huge image fails at once, before it is decoded.
+void check_memory_from_header(const std::optional<fss::PngHeaderSize>& size,
+                              const std::string& input, const fss::SimulationOptions& options,
+                              const fss::ShutterCode& code, const fss::OutputOptions& outputs) {
+  if (options.max_memory_bytes == 0 || !size) return;
   fss::Geometry geometry;
   try {
     const double v = std::max(std::abs(options.velocity_px_per_slot),
@@ -218,7 +262,9 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const fss::ShutterCode code = fss::load_code(code_name, "--code");
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
-  check_memory_from_header(input_, options, code, output_options);
+  const std::optional<fss::PngHeaderSize> header = plausible_png_header(input_);
+  check_memory_from_header(header, input_, options, code, output_options);
+  EarlyPlan plan = start_plan(header, options, code);
   fss::ImageFileInfo input_info;
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes, &input_info);
   output_options.image_depth = resolve_png_depth(png_depth_, input_info);
@@ -235,7 +281,7 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   fss::check_outputs_memory(options, image, code, output_options,
                             observed_png8 ? &*observed_png8 : nullptr);
   const fss::SimulationReport report =
-      fss::Simulate(options, image, code, observed_png8 ? &*observed_png8 : nullptr);
+      simulate_with(plan, options, image, code, observed_png8 ? &*observed_png8 : nullptr);
   for (const auto& warning : report.warnings) {
     fss::write_stderr("fssim: warning: " + fss::escape_control_characters(warning) + "\n");
   }

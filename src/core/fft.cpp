@@ -41,18 +41,38 @@ RowFFT::Workspace::~Workspace() {
   fftw_free(spectrum_);
 }
 
-RowFFT::RowFFT(int n) : n_(n), forward_plan_(nullptr), inverse_plan_(nullptr) {
+RowFFT::RowFFT(int n) : n_(n) {
   if (n < 1) throw_usage_error("FFT length must be at least 1, got " + std::to_string(n));
-  Workspace workspace(n);
-  auto* spectrum = reinterpret_cast<fftw_complex*>(workspace.spectrum_);
+}
+
+namespace {
+// A plan of length n in one direction, on arrays of the alignment of
+// fftw_malloc (the workspaces'); throws when FFTW cannot plan it.
+void* make_plan(int n, bool forward) {
+  RowFFT::Workspace workspace(n);
+  auto* real = workspace.real().data();
+  auto* spectrum = reinterpret_cast<fftw_complex*>(workspace.spectrum().data());
   std::lock_guard<std::mutex> lock(planner_mutex());
-  forward_plan_ = fftw_plan_dft_r2c_1d(n, workspace.real_, spectrum, FFTW_ESTIMATE);
-  inverse_plan_ = fftw_plan_dft_c2r_1d(n, spectrum, workspace.real_, FFTW_ESTIMATE);
-  if (!forward_plan_ || !inverse_plan_) {
-    if (forward_plan_) fftw_destroy_plan(static_cast<fftw_plan>(forward_plan_));
-    if (inverse_plan_) fftw_destroy_plan(static_cast<fftw_plan>(inverse_plan_));
-    throw_runtime_error("FFTW could not plan a transform of length " + std::to_string(n));
-  }
+  fftw_plan plan = forward ? fftw_plan_dft_r2c_1d(n, real, spectrum, FFTW_ESTIMATE)
+                           : fftw_plan_dft_c2r_1d(n, spectrum, real, FFTW_ESTIMATE);
+  if (!plan) throw_runtime_error("FFTW could not plan a transform of length " + std::to_string(n));
+  return plan;
+}
+}  // namespace
+
+void RowFFT::prepare() const {
+  forward_plan();
+  inverse_plan();
+}
+
+void* RowFFT::forward_plan() const {
+  std::call_once(forward_once_, [this] { forward_plan_ = make_plan(n_, true); });
+  return forward_plan_;
+}
+
+void* RowFFT::inverse_plan() const {
+  std::call_once(inverse_once_, [this] { inverse_plan_ = make_plan(n_, false); });
+  return inverse_plan_;
 }
 
 const RowFFT& RowFFT::for_size(int n) {
@@ -68,17 +88,17 @@ const RowFFT& RowFFT::for_size(int n) {
 
 RowFFT::~RowFFT() {
   std::lock_guard<std::mutex> lock(planner_mutex());
-  fftw_destroy_plan(static_cast<fftw_plan>(forward_plan_));
-  fftw_destroy_plan(static_cast<fftw_plan>(inverse_plan_));
+  if (forward_plan_ != nullptr) fftw_destroy_plan(static_cast<fftw_plan>(forward_plan_));
+  if (inverse_plan_ != nullptr) fftw_destroy_plan(static_cast<fftw_plan>(inverse_plan_));
 }
 
 void RowFFT::forward(Workspace& workspace) const {
-  fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_plan_), workspace.real_,
+  fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_plan()), workspace.real_,
                        reinterpret_cast<fftw_complex*>(workspace.spectrum_));
 }
 
 void RowFFT::inverse(Workspace& workspace) const {
-  fftw_execute_dft_c2r(static_cast<fftw_plan>(inverse_plan_),
+  fftw_execute_dft_c2r(static_cast<fftw_plan>(inverse_plan()),
                        reinterpret_cast<fftw_complex*>(workspace.spectrum_), workspace.real_);
 }
 

@@ -20,6 +20,7 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
       snr_(params.snr),
       fft_(RowFFT::for_size(width)),
       aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical) {
+  fft_.prepare();  // both directions are used for every row
   set_noise(params);
   auto filters = std::make_shared<std::vector<std::vector<Complex>>>();
   if (mode == ShutterMode::kAnalog) {

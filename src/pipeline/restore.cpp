@@ -125,6 +125,7 @@ RowRestorer::RowRestorer(const Geometry& geometry, std::span<const double> gains
       fft_(RowFFT::for_size(conditioning(inverse_) <= kMaxConvolutionConditioning
                                 ? restoration_transform_length(geometry)
                                 : geometry.mirror_width)) {
+  fft_.prepare();  // both directions are used for every row
   if (fft_.size() != geometry.mirror_width) {
     convolution_ = convolution_filter(inverse_, geometry, fft_.size());
     inverse_ = {};

@@ -2,7 +2,9 @@
 //
 // FFTW discipline: one RowFFT holds the r2c and c2r plans for one row length
 // N, created once per process (RowFFT::for_size caches them; FFTW_ESTIMATE,
-// under a process-wide lock because the FFTW planner is not thread-safe) and
+// under a process-wide lock because the FFTW planner is not thread-safe; each
+// direction is planned on its first use, since planning costs about a
+// millisecond and some lengths are only ever transformed one way) and
 // executed many times on per-thread workspaces with FFTW's new-array
 // interface, which is thread-safe. FFTW_MEASURE was measured and rejected:
 // it spends 0.1 to 0.9 s planning sizes 512 to 7000 to save 2-20% of a
@@ -15,6 +17,7 @@
 #pragma once
 
 #include <complex>
+#include <mutex>
 #include <span>
 
 namespace fss {
@@ -50,6 +53,9 @@ class RowFFT {
   RowFFT& operator=(const RowFFT&) = delete;
 
   int size() const { return n_; }
+  // Makes both plans now (they are otherwise made on first use): for a
+  // caller that prepares the transforms of a run ahead of it.
+  void prepare() const;
   int spectrum_size() const { return n_ / 2 + 1; }
 
   // workspace.real() -> workspace.spectrum().
@@ -63,9 +69,15 @@ class RowFFT {
   void inverse_filtered(Workspace& workspace, std::span<const std::complex<double>> filter) const;
 
  private:
+  // The plan of one direction, made on first use (thread-safe).
+  void* forward_plan() const;
+  void* inverse_plan() const;
+
   int n_;
-  void* forward_plan_;
-  void* inverse_plan_;
+  mutable std::once_flag forward_once_;
+  mutable std::once_flag inverse_once_;
+  mutable void* forward_plan_ = nullptr;
+  mutable void* inverse_plan_ = nullptr;
 };
 
 // spectrum[i] *= filter[i] for the half spectrum of a real row of length n.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "fss/core/error.h"
 #include "fss/core/fft.h"
@@ -38,14 +39,6 @@ void inverse_filter_row(const RowFFT& fft, const std::vector<Complex>& inverse,
   fft.inverse_filtered(workspace, inverse);
 }
 
-// True when n's prime factors are all 2, 3, 5 or 7.
-bool seven_smooth(int n) {
-  for (const int p : {2, 3, 5, 7}) {
-    while (n % p == 0) n /= p;
-  }
-  return n == 1;
-}
-
 // h = IDFT_n(inverse), the impulse response of the filter `inverse` (half
 // spectrum), as inverse_filter_row applies it.
 std::vector<double> impulse_response(const std::vector<Complex>& inverse, int n) {
@@ -56,38 +49,73 @@ std::vector<double> impulse_response(const std::vector<Complex>& inverse, int n)
   return {workspace.real().begin(), workspace.real().end()};
 }
 
-// DFT_m(g) / m with g[t] = h[(t + t0) mod N] for t < T = N + Wo - 1, 0 beyond,
-// t0 = 2h - N + 1: restored column c = r[c + 2h] = sum_j m[j] h[(c + 2h - j)
-// mod N], and c + 2h - j runs over [t0, t0 + T) for j in [0, N), so r[c + 2h]
-// = (m * g)[c + N - 1], a linear convolution that a circular one of length
-// m >= T gives without wrap. The 1 / m of the inverse DFT is folded in.
-std::vector<Complex> convolution_filter(const std::vector<Complex>& inverse, const Geometry& g,
-                                        int m) {
+// The folded convolution's filters. With x the observed crop (Wa values),
+// the mirror row is m[j] = x[j] (j < Wa), x[N - 1 - j] (j >= Wa), and the
+// restored column c is r[c + 2h] = sum_j m[j] k[(c + 2h - j) mod N], k the
+// impulse response (N-periodic). Splitting j at Wa:
+//   r[c + 2h] = sum_i x[i] k[(c + 2h - i) mod N] + sum_i x[i] k[(c + 2h + 1 + i) mod N]
+//             = (x * gA)[c + Wa - 1] + (xr * gB)[c + Wa - 1],
+// xr[i] = x[Wa - 1 - i] (x reversed), gA[t] = k[(t + 2h - Wa + 1) mod N],
+// gB[t] = k[(t + 2h + 1) mod N], t in [0, T), T = Wa + Wo - 1: two linear
+// convolutions whose outputs c + Wa - 1 a circular one of length m >= T gives
+// without wrap. For real x, DFT_m(xr)[k] = w^{k (Wa - 1)} conj(X[k]), w =
+// exp(-2 pi i / m), so Y = X GA + conj(X) GB' with GB' = w^{k (Wa - 1)} GB: one
+// forward and one inverse transform of length m < N. Returns {GA, GB'} / m (the
+// inverse DFT's 1 / m folded in).
+std::pair<std::vector<Complex>, std::vector<Complex>> folded_filters(
+    const std::vector<Complex>& inverse, const Geometry& g, int m) {
   const int n = g.mirror_width;
-  const std::vector<double> h = impulse_response(inverse, n);
-  const int t0 = 2 * g.half_blur - n + 1;
-  const int taps = n + g.output_width - 1;
+  const int wa = g.observed_width;
+  const std::vector<double> k = impulse_response(inverse, n);
+  const int taps = wa + g.output_width - 1;
   const RowFFT& fft = RowFFT::for_size(m);
   RowFFT::Workspace workspace(m);
-  const std::span<double> kernel = workspace.real();
-  std::fill(kernel.begin(), kernel.end(), 0.0);
-  for (int t = 0; t < taps; ++t) {
-    const int lag = ((t + t0) % n + n) % n;
-    kernel[static_cast<std::size_t>(t)] = h[static_cast<std::size_t>(lag)] / m;
+  // DFT_m(g) / m of g[t] = k[(t + first_lag) mod N], t < T.
+  const auto spectrum_of = [&](int first_lag) {
+    const std::span<double> kernel = workspace.real();
+    std::fill(kernel.begin(), kernel.end(), 0.0);
+    for (int t = 0; t < taps; ++t) {
+      const int lag = ((t + first_lag) % n + n) % n;
+      kernel[static_cast<std::size_t>(t)] = k[static_cast<std::size_t>(lag)] / m;
+    }
+    fft.forward(workspace);
+    return std::vector<Complex>(workspace.spectrum().begin(), workspace.spectrum().end());
+  };
+  std::vector<Complex> a = spectrum_of(2 * g.half_blur - wa + 1);
+  std::vector<Complex> b = spectrum_of(2 * g.half_blur + 1);
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    // w^{i (Wa - 1)}, the phase taken modulo m so that it stays exact
+    const auto turns = static_cast<double>((static_cast<long long>(i) * (wa - 1)) % m);
+    b[i] *= std::polar(1.0, -2.0 * M_PI * turns / m);
   }
-  fft.forward(workspace);
-  return {workspace.spectrum().begin(), workspace.spectrum().end()};
+  return {std::move(a), std::move(b)};
 }
 
-// The linear convolution's round-off is spread over every frequency, at about
+// spectrum = X GA + conj(X) GB' (folded_filters), bin by bin.
+void apply_folded_filters(std::span<Complex> spectrum, std::span<const Complex> direct,
+                          std::span<const Complex> reversed) {
+  for (std::size_t i = 0; i < spectrum.size(); ++i) {
+    const double a = spectrum[i].real();
+    const double b = spectrum[i].imag();
+    const double c = direct[i].real();
+    const double d = direct[i].imag();
+    const double e = reversed[i].real();
+    const double f = reversed[i].imag();
+    // (a + ib)(c + id) + (a - ib)(e + if)
+    spectrum[i] = Complex(a * c - b * d + (a * e + b * f), a * d + b * c + (a * f - b * e));
+  }
+}
+
+// The folded convolution's round-off is spread over every frequency, at about
 // eps sup|1/K| times the row's magnitude, K(0) times the image's; the grid's is
 // eps times each bin's own gain. The convolution is used only while
 // sup|1/K| |K(0)| stays below this: measured, 3.3e3 gave a largest difference
 // of 1e-12 from the grid on a row of values up to 255 (the paper's codes at
 // |v| dt <= 1 are below 30), and a kernel near a zero of K (1e16) differences
 // of 5 to 22 gray levels, where the grid's bins keep the mirror row's exact
-// cancellations.
-constexpr double kMaxConvolutionConditioning = 1e6;
+// cancellations. (Measured with a convolution of the mirror row on a length
+// >= N + Wo - 1; the folded one's round-off is of the same kind.)
+constexpr double kMaxFoldingConditioning = 1e6;
 
 // sup_i |1/K_i| |K(0)| over the grid's bins, infinity when K(0) = 0.
 double conditioning(const std::vector<Complex>& inverse) {
@@ -100,9 +128,7 @@ double conditioning(const std::vector<Complex>& inverse) {
 }  // namespace
 
 int restoration_transform_length(const Geometry& geometry) {
-  const int n = geometry.mirror_width;
-  if (seven_smooth(n)) return n;
-  const int taps = n + geometry.output_width - 1;
+  const int taps = geometry.observed_width + geometry.output_width - 1;
   int best = 0;
   for (const int odd : {1, 3, 5, 7, 9, 15}) {
     int length = 2 * odd;
@@ -122,18 +148,20 @@ RowRestorer::RowRestorer(const Geometry& geometry, std::span<const double> gains
                          double dt)
     : geometry_(geometry),
       inverse_(inverse_transfer_bins(gains, velocity, dt, geometry.mirror_width, &zero_bins_)),
-      fft_(RowFFT::for_size(conditioning(inverse_) <= kMaxConvolutionConditioning
+      fft_(RowFFT::for_size(conditioning(inverse_) <= kMaxFoldingConditioning
                                 ? restoration_transform_length(geometry)
                                 : geometry.mirror_width)) {
   fft_.prepare();  // both directions are used for every row
-  if (fft_.size() != geometry.mirror_width) {
-    convolution_ = convolution_filter(inverse_, geometry, fft_.size());
+  if (conditioning(inverse_) <= kMaxFoldingConditioning) {
+    auto [direct, reversed] = folded_filters(inverse_, geometry, fft_.size());
+    direct_filter_ = std::move(direct);
+    reversed_filter_ = std::move(reversed);
     inverse_ = {};
   }
 }
 
 std::size_t RowRestorer::bytes() const {
-  return sizeof(Complex) * (inverse_.size() + convolution_.size());
+  return sizeof(Complex) * (inverse_.size() + direct_filter_.size() + reversed_filter_.size());
 }
 
 void RowRestorer::restore(const double* observation, Scratch& scratch, double* restored) const {
@@ -141,20 +169,21 @@ void RowRestorer::restore(const double* observation, Scratch& scratch, double* r
   const double* crop = observation + geometry_.half_blur;  // observed crop [h, h + Wa)
   const std::span<double> buffer = scratch.workspace.real();
   std::copy(crop, crop + wa, buffer.begin());
-  std::reverse_copy(crop, crop + wa, buffer.begin() + wa);  // column j >= Wa is 2 Wa - 1 - j
-  if (convolution_.empty()) {
+  if (direct_filter_.empty()) {
+    // The grid: the mirror row, r = IDFT_N(DFT_N(mirror) / K), columns [2h, 2h + Wo).
+    std::reverse_copy(crop, crop + wa, buffer.begin() + wa);  // column j >= Wa is 2 Wa - 1 - j
     inverse_filter_row(fft_, inverse_, scratch.workspace);
     const double* deconvolved = buffer.data() + 2 * geometry_.half_blur;
     std::copy(deconvolved, deconvolved + geometry_.output_width, restored);
     return;
   }
-  // The linear convolution (convolution_filter): the mirror row zero-padded,
-  // restored column c at c + N - 1.
-  std::fill(buffer.begin() + 2 * wa, buffer.end(), 0.0);
+  // The folded convolution (folded_filters): the crop zero-padded, restored
+  // column c at c + Wa - 1.
+  std::fill(buffer.begin() + wa, buffer.end(), 0.0);
   fft_.forward(scratch.workspace);
-  multiply_half_spectrum(scratch.workspace.spectrum(), convolution_, fft_.size());
+  apply_folded_filters(scratch.workspace.spectrum(), direct_filter_, reversed_filter_);
   fft_.inverse(scratch.workspace);
-  const double* convolved = buffer.data() + (2 * wa - 1);
+  const double* convolved = buffer.data() + (wa - 1);
   std::copy(convolved, convolved + geometry_.output_width, restored);
 }
 

@@ -254,43 +254,31 @@ TEST_P(RestoreCrops, OutputsAreTheDocumentedColumns) {
 INSTANTIATE_TEST_SUITE_P(Velocities, RestoreCrops, ::testing::Values(1.0, 1.01, -2.0));
 
 // ---------------------------------------------------------------------------
-// RowRestorer's transform length: the grid N = 2 Wa, or a longer fast length
-// for the same convolution.
-
-// True when n's prime factors are all 2, 3, 5 or 7.
-bool seven_smooth(int n) {
-  for (const int p : {2, 3, 5, 7}) {
-    while (n % p == 0) n /= p;
-  }
-  return n == 1;
-}
+// RowRestorer's folded convolution: a transform of length M >= Wa + Wo - 1,
+// shorter than the grid N = 2 Wa, for the same operator.
 
 TEST(RowRestorer, TransformLengthOfThePapersGeometry) {
-  // N = 920 = 2^3 5 23 -> the smallest 2^a m >= N + Wo - 1 = 1275: 1280 = 2^8 5.
-  EXPECT_EQ(restoration_transform_length(Geometry::compute(512, 52, 1.0, 1.0)), 1280);
-  // N = 7896 = 2^3 3 7 47 -> >= 11739: 12288 = 2^12 3.
-  EXPECT_EQ(restoration_transform_length(Geometry::compute(4000, 52, 1.0, 1.0)), 12288);
-  // N = 1176 = 2^3 3 7^2 is fast as it is.
-  EXPECT_EQ(restoration_transform_length(Geometry::compute(640, 52, 1.0, 1.0)), 1176);
+  // Wa + Wo - 1 = 460 + 356 - 1 = 815 -> 896 = 2^7 7 (the grid is N = 920).
+  EXPECT_EQ(restoration_transform_length(Geometry::compute(512, 52, 1.0, 1.0)), 896);
+  // 3948 + 3844 - 1 = 7791 -> 8192 (N = 7896 = 2^3 3 7 47).
+  EXPECT_EQ(restoration_transform_length(Geometry::compute(4000, 52, 1.0, 1.0)), 8192);
+  // 588 + 484 - 1 = 1071 -> 1152 = 2^7 9.
+  EXPECT_EQ(restoration_transform_length(Geometry::compute(640, 52, 1.0, 1.0)), 1152);
 }
 
-TEST(RowRestorer, TransformLengthIsTheGridOrLongEnoughAndFast) {
+TEST(RowRestorer, TransformLengthIsLongEnoughFastAndShorterThanTheGrid) {
   for (int width = 160; width < 3000; width += 37) {
     const Geometry g = Geometry::compute(width, 16, 1.0, 1.0);
-    const int n = g.mirror_width;
+    const int taps = g.observed_width + g.output_width - 1;
     const int length = restoration_transform_length(g);
-    if (seven_smooth(n)) {
-      EXPECT_EQ(length, n) << width;
-      continue;
-    }
-    EXPECT_GE(length, n + g.output_width - 1) << width;
+    EXPECT_GE(length, taps) << width;
     int odd = length;
     while (odd % 2 == 0) odd /= 2;
     EXPECT_TRUE(odd == 1 || odd == 3 || odd == 5 || odd == 7 || odd == 9 || odd == 15) << length;
     EXPECT_EQ(length % 2, 0) << length;
-    // Not longer than the next such length above the bound needs: 2^a m
-    // with m in {1, 3, 5, 7, 9, 15} are at most 4/3 apart from 8 on.
-    EXPECT_LE(3 * length, 4 * (n + g.output_width - 1) + 3) << width;
+    // 2^a m with m in {1, 3, 5, 7, 9, 15} are at most 4/3 apart from 8 on.
+    EXPECT_LE(3 * length, 4 * taps + 3) << width;
+    EXPECT_LT(length, 4 * g.mirror_width / 3 + 2) << width;
   }
 }
 
@@ -303,7 +291,7 @@ struct ConvolutionCase {
 
 class RowRestorerConvolution : public ::testing::TestWithParam<ConvolutionCase> {};
 
-// Restored rows of the linear convolution equal the inverse filter on the
+// Restored rows of the folded convolution equal the inverse filter on the
 // grid (the reference path, exact on a mirrored row: InverseFilterExact),
 // columns 2h.. of it, to round-off.
 TEST_P(RowRestorerConvolution, EqualsTheInverseFilterOnTheGrid) {
@@ -332,25 +320,27 @@ TEST_P(RowRestorerConvolution, EqualsTheInverseFilterOnTheGrid) {
 
 INSTANTIATE_TEST_SUITE_P(
     Widths, RowRestorerConvolution,
-    ::testing::Values(ConvolutionCase{512, "raskar", 1.0, 1.0},     // N 920 -> 1280
-                      ConvolutionCase{512, "mip", 0.37, 1.0},       // fractional velocity
-                      ConvolutionCase{700, "random", -0.73, 1.3},   // N = 1296, on the grid
-                      ConvolutionCase{1009, "sinc", 1.0, 0.5},      // N = 1914 = 2 3 11 29
-                      ConvolutionCase{700, "raskar", 1.9, 1.0},     // B = 99, N 1202
-                      ConvolutionCase{2003, "snapshot", 1.0, 1.0}));  // N = 3902 = 2 1951
+    ::testing::Values(ConvolutionCase{512, "raskar", 1.0, 1.0},       // N 920, M 896
+                      ConvolutionCase{512, "mip", 0.37, 1.0},         // fractional velocity
+                      ConvolutionCase{700, "random", -0.73, 1.3},     // N = 1296
+                      ConvolutionCase{1009, "sinc", 1.0, 0.5},        // N = 1914 = 2 3 11 29
+                      ConvolutionCase{700, "raskar", 1.9, 1.0},       // B = 99, N 1202
+                      ConvolutionCase{2003, "snapshot", 1.0, 1.0},    // N = 3902 = 2 1951
+                      ConvolutionCase{157, "accumulation", 0.9, 1.0}, // Wo = 1
+                      ConvolutionCase{640, "raskar", -2.0, 1.0}));    // K(pi) = 0: the grid
 
-TEST(RowRestorer, ConvolutionCasesUseALongerLength) {
-  // The cases above exercise both paths. Raskar at v = -2 has K(pi) = 0 up
-  // to round-off (sinc_h(2 pi)): too ill-conditioned for the convolution.
-  EXPECT_EQ(RowRestorer(Geometry::compute(640, 52, 2.0, 1.0), raskar(), -2.0, 1.0)
-                .transform_length(),
-            Geometry::compute(640, 52, 2.0, 1.0).mirror_width);
+TEST(RowRestorer, FoldsWhenKIsWellConditionedOnly) {
   EXPECT_EQ(RowRestorer(Geometry::compute(512, 52, 1.0, 1.0), raskar(), 1.0, 1.0)
                 .transform_length(),
-            1280);
-  EXPECT_EQ(RowRestorer(Geometry::compute(700, 52, 0.73, 1.3), random_code(), -0.73, 1.3)
-                .transform_length(),
-            Geometry::compute(700, 52, 0.73, 1.3).mirror_width);
+            896);
+  // Raskar at v = -2 has K(pi) = 0 up to round-off (sinc_h(2 pi)): the
+  // folded convolution's round-off would show, the grid's does not.
+  const Geometry fast = Geometry::compute(640, 52, 2.0, 1.0);
+  EXPECT_EQ(RowRestorer(fast, raskar(), -2.0, 1.0).transform_length(), fast.mirror_width);
+  // Accumulation at v = 1 is not invertible (zeros of K at 2 pi m / 52).
+  const std::vector<double> ones(52, 1.0);
+  const Geometry slow = Geometry::compute(512, 52, 1.0, 1.0);
+  EXPECT_EQ(RowRestorer(slow, ones, 1.0, 1.0).transform_length(), slow.mirror_width);
 }
 
 TEST(Restore, ConstantImageIsRestoredExactly) {

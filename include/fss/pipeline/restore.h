@@ -17,18 +17,19 @@ namespace fss {
 // filter r = IDFT_N(DFT_N(mirror) / K), output columns [2h, 2h + Wo).
 //
 // The inverse filter is the circular convolution of the mirror row with the
-// filter's impulse response on the N-point grid. N = 2 (W - B) is set by the
-// image width and often has a large prime factor, on which FFTW is several
-// times slower per point (N = 7896, 2^3 3 7 47, at W = 4000: 114 us a
-// forward-inverse pair, against 48 us for 11760 = 2^4 3 5 7^2; measured with
-// FFTW_ESTIMATE on an AMD EPYC). When N has a prime factor above 7, the same
-// convolution is computed as a linear one on a fast length M >= N + Wo - 1
-// (the kernel's needed lags laid out once, the row zero-padded: no wrap
-// reaches the Wo output columns), unless K is so ill-conditioned (sup |1/K|
-// |K(0)| above 1e6, near a zero of K) that the convolution's round-off, spread
-// over all frequencies, would show. Both compute the same operator; they
-// differ by round-off only (1e-13 of the values, tested).
-// transform_length() says which length a restorer uses.
+// filter's impulse response on the N-point grid. Since the mirror row is the
+// crop and its reverse, the Wo output columns are two linear convolutions of
+// the crop alone, one with the crop reversed, which one transform pair of a
+// length M >= Wa + Wo - 1 < N computes (restore.cpp, folded_filters). M is
+// chosen fast for FFTW (2^a m, m in {1, 3, 5, 7, 9, 15}), while N = 2 (W - B)
+// is set by the image width and often has a large prime factor: at W = 4000,
+// N = 7896 = 2^3 3 7 47 took 114 us a forward-inverse pair and M = 8192 31 us
+// (FFTW_ESTIMATE, AMD EPYC); at W = 512, 920 took 7.0 us and M = 896 2.4 us.
+// The folded convolution's round-off is spread over every frequency, so a K
+// near a zero (sup |1/K| |K(0)| above 1e6) keeps the grid, where each bin's
+// round-off stays its own. Both compute the same operator and differ by
+// round-off only (1e-13 of the values, tested). transform_length() says which
+// length a restorer uses.
 class RowRestorer {
  public:
   RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity, double dt);
@@ -46,7 +47,7 @@ class RowRestorer {
   // restored[0 .. Wo) from observation[0 .. W).
   void restore(const double* observation, Scratch& scratch, double* restored) const;
   int zero_bins() const { return zero_bins_; }
-  // N = 2 Wa, or the longer length M of the linear convolution.
+  // M of the folded convolution, or N = 2 Wa.
   int transform_length() const { return fft_.size(); }
   // The memory of the filters it holds.
   std::size_t bytes() const;
@@ -56,9 +57,10 @@ class RowRestorer {
   // Declared before inverse_, whose initializer counts the zero bins into it.
   int zero_bins_ = 0;
   std::vector<std::complex<double>> inverse_;  // 1 / K on the N grid, 0 where K = 0
-  const RowFFT& fft_;                          // length N or M
-  // The linear convolution's filter, DFT_M(g) / M (empty on the N grid).
-  std::vector<std::complex<double>> convolution_;
+  const RowFFT& fft_;                          // length M or N
+  // The folded convolution's filters GA / M and GB' / M (empty on the grid).
+  std::vector<std::complex<double>> direct_filter_;
+  std::vector<std::complex<double>> reversed_filter_;
 };
 
 // The impulse response of the inverse filter on the n-point grid, h =
@@ -68,10 +70,9 @@ class RowRestorer {
 std::vector<double> inverse_filter_impulse_response(std::span<const double> gains, double velocity,
                                                     double dt, int n);
 
-// The length the restoration of a well-conditioned K transforms for a
-// geometry (RowRestorer::transform_length): N = 2 Wa when its prime factors
-// are all 2, 3, 5 and 7, else the smallest 2^a m >= N + Wo - 1, a >= 1 and m
-// in {1, 3, 5, 7, 9, 15}.
+// The length the folded convolution of a well-conditioned K transforms for a
+// geometry (RowRestorer::transform_length): the smallest 2^a m >= Wa + Wo - 1,
+// a >= 1 and m in {1, 3, 5, 7, 9, 15}.
 int restoration_transform_length(const Geometry& geometry);
 
 }  // namespace fss

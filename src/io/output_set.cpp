@@ -34,6 +34,7 @@
 #include <utility>
 
 #include "fss/core/error.h"
+#include "fss/core/parallel.h"
 #include "fss/io/safe_write.h"
 #include "io/write_all.h"
 
@@ -297,15 +298,19 @@ Stage create_stage(int out_fd, const fs::path& outdir) {
   }
 }
 
-// Writes every file and the manifest into the staging directory, fsync'ed.
+// Writes every file (made now when it has a maker, on `threads` threads)
+// and the manifest into the staging directory, fsync'ed.
 void stage_and_commit(Stage& stage, const fs::path& outdir, const std::vector<OutputFile>& files,
-                      const std::vector<std::string>& stale_names) {
+                      const std::vector<std::string>& stale_names, int threads) {
   write_new_file(stage.fd.get(), kMarkerName, kMarkerText, (outdir / kMarkerName).string());
-  for (const OutputFile& file : files) {
-    const ino_t inode =
-        write_new_file(stage.fd.get(), file.name, file.bytes, (outdir / file.name).string());
-    stage.manifest.push_back({file.name, inode});
-  }
+  std::vector<ino_t> inodes(files.size());
+  parallel_for_each(static_cast<int>(files.size()), threads, [&](int i) {
+    const OutputFile& file = files[static_cast<std::size_t>(i)];
+    const std::string made = file.make ? file.make() : std::string();
+    inodes[static_cast<std::size_t>(i)] = write_new_file(
+        stage.fd.get(), file.name, file.make ? made : file.bytes, (outdir / file.name).string());
+  });
+  for (std::size_t i = 0; i < files.size(); ++i) stage.manifest.push_back({files[i].name, inodes[i]});
   for (const std::string& name : stale_names) {
     const bool in_set = std::any_of(files.begin(), files.end(),
                                     [&](const OutputFile& file) { return file.name == name; });
@@ -381,11 +386,11 @@ void publish(Stage& stage, int out_fd, const fs::path& outdir, bool* half_publis
 // `out_fd`. A failure before publishing removes what was staged.
 void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>& files,
                const std::vector<std::string>& protected_inputs,
-               const std::vector<std::string>& stale_names) {
+               const std::vector<std::string>& stale_names, int threads) {
   Stage stage = create_stage(out_fd, outdir);
   bool half_published = false;
   try {
-    stage_and_commit(stage, outdir, files, stale_names);
+    stage_and_commit(stage, outdir, files, stale_names, threads);
     if (const int error = lock_fd(out_fd, LOCK_EX); error != 0) {
       throw_runtime_error("cannot lock output directory '" + outdir.string() +
                           "': " + error_text(error));
@@ -406,7 +411,7 @@ void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>
 
 void write_output_set(const fs::path& outdir, const std::vector<OutputFile>& files,
                       const std::vector<std::string>& protected_inputs,
-                      const std::vector<std::string>& stale_names) {
+                      const std::vector<std::string>& stale_names, int threads) {
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   check_targets(outdir, files, protected_inputs);
   const bool created = create_output_directory(outdir);
@@ -416,7 +421,7 @@ void write_output_set(const fs::path& outdir, const std::vector<OutputFile>& fil
       throw_runtime_error("cannot open output directory '" + outdir.string() +
                           "': " + error_text(errno));
     }
-    write_set(out.get(), outdir, files, protected_inputs, stale_names);
+    write_set(out.get(), outdir, files, protected_inputs, stale_names, threads);
   } catch (...) {
     // A failed run leaves no new directory (rmdir only removes it empty).
     if (created) ::rmdir(outdir.c_str());

@@ -23,19 +23,6 @@ std::vector<RunFile> files_to_write(const OutputOptions& options) {
   return files;
 }
 
-// Makes every file of `files` in memory, on the report's threads: a failure
-// there writes nothing.
-std::vector<OutputFile> make_files(const std::vector<RunFile>& files,
-                                   const RunFileSources& sources) {
-  std::vector<OutputFile> made(files.size());
-  // Each thread takes the next file: the four image files cost nearly all of
-  // it and come first, so fixed blocks would give them all to one thread.
-  parallel_for_each(static_cast<int>(files.size()), sources.report.options.threads, [&](int i) {
-    made[i] = {files[i].name, files[i].make(sources)};
-  });
-  return made;
-}
-
 void write_run(const std::filesystem::path& outdir, const SimulationReport& report,
                ObservedSource observed, const Image& input, const std::string& input_path,
                const OutputOptions& options) {
@@ -44,12 +31,19 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
   const std::vector<std::string> names = output_file_names(options);
   const RunFileSources sources{
       report, input, input_path, observed, options.rendered_plots, names, options.image_depth};
-  const std::vector<OutputFile> made = make_files(files, sources);
+  // Each file is made as it is staged, on the report's threads, each taking
+  // the next file: the four image files cost nearly all of it and come first,
+  // so fixed blocks would give them all to one thread; and a file's bytes are
+  // freed once written, so the large ones are not all in memory at once.
+  std::vector<OutputFile> staged;
+  for (const RunFile& file : files) {
+    staged.push_back({file.name, {}, [&sources, make = file.make] { return make(sources); }});
+  }
   std::vector<std::string> inputs = options.other_inputs;
   inputs.insert(inputs.begin(), input_path);
   std::vector<std::string> every_name;  // a file of the old set this run does not write goes
   for (const RunFile& file : run_files()) every_name.emplace_back(file.name);
-  write_output_set(outdir, made, inputs, every_name);
+  write_output_set(outdir, staged, inputs, every_name, report.options.threads);
 }
 
 }  // namespace

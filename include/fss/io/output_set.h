@@ -4,15 +4,22 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace fss {
 
-// One file of a set: its name in the output directory and its bytes.
+// One file of a set: its name in the output directory and its bytes, or
+// the function that makes them when the file is staged.
 struct OutputFile {
   std::string name;
   std::string bytes;
+  // When set, `bytes` is unused: the file is made as it is written into the
+  // staging directory and its bytes are freed once written, so a set of
+  // large files never holds more of them in memory than the threads make at
+  // once.
+  std::function<std::string()> make;
 };
 
 // Writes `files` into `outdir` (created if missing) as one set: after a
@@ -28,9 +35,13 @@ struct OutputFile {
 // a directory it created removed. `stale_names` are names of files other
 // runs write (with other options) that this set does not have: those in
 // `outdir` belong to the old set and go with it when the new one is published.
+// Files are made (OutputFile::make) and staged on up to `threads` threads
+// (resolve_thread_count, parallel.h), each taking the next file; a file that
+// cannot be made fails the set as a write would, the first such error (in
+// file order) is the one thrown.
 void write_output_set(const std::filesystem::path& outdir, const std::vector<OutputFile>& files,
                       const std::vector<std::string>& protected_inputs,
-                      const std::vector<std::string>& stale_names = {});
+                      const std::vector<std::string>& stale_names = {}, int threads = 1);
 
 // Writes `bytes` to `path` through a temporary file in the same directory
 // renamed into place, so `path` is either untouched or complete: the same as

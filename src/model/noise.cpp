@@ -230,32 +230,63 @@ std::size_t PoissonRowSampler::load_intensities(std::span<const double> e, doubl
   return knuth_pixels;
 }
 
-void PoissonRowSampler::draw_charge(const RowNoiseId& id, std::size_t knuth_pixels) {
-  const std::size_t n = lambda_.size();
+void PoissonRowSampler::draw_charge(std::span<const double> lambda, const RowNoiseId& id,
+                                    std::size_t knuth_pixels) {
+  const std::size_t n = lambda.size();
   draw_normals(lane_stream(id, id.frame, NoiseLane::kFrameNormal), n, u1_, u2_, normals_);
   if (knuth_pixels == 0) return;
   RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kFrameKnuth);
   for (std::size_t x = 0; x < n; ++x) {
-    if (lambda_[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda_[x], knuth_stream);
+    if (lambda[x] < kKnuthLimit) normals_[x] = poisson_variate(lambda[x], knuth_stream);
   }
+}
+
+std::size_t PoissonRowSampler::intensities_of(std::span<const double> e,
+                                              std::vector<double>& lambda_row,
+                                              std::vector<double>& root_row) const {
+  const std::size_t n = e.size();
+  lambda_row.resize(n);
+  root_row.resize(n);
+  std::size_t knuth_pixels = 0;
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = lambda_row.data();
+    double* __restrict root = root_row.data();
+    const double lambda2 = lambda2_;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      root[x] = std::sqrt(lambda[x]);
+      count += lambda[x] < kKnuthLimit ? 1 : 0;
+    }
+    knuth_pixels = count;
+  });
+  return knuth_pixels;
 }
 
 void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                                    std::span<double> out) {
-  const std::size_t n = e.size();
+  const std::size_t knuth_pixels = intensities_of(e, lambda_, root_);
+  accumulate(Intensities{lambda_, root_, knuth_pixels}, id, gain, out);
+}
+
+void PoissonRowSampler::accumulate(const Intensities& row, const RowNoiseId& id, double gain,
+                                   std::span<double> out) {
+  const std::size_t n = row.lambda.size();
   // One normal per pixel, normal x for pixel x; Knuth's branch where
   // lambda < 50 takes the place of the pixel's unused normal.
-  draw_charge(id, load_intensities(e, 0.0));
+  draw_charge(row.lambda, id, row.knuth_pixels);
   // Normal branch elsewhere: P = round(lambda + sqrt(lambda) N);
   // out += gain P / lambda2.
   const double scale = gain / lambda2_;
   detail::run_vectorized([&]() __attribute__((always_inline)) {
-    const double* __restrict lambda = lambda_.data();
+    const double* __restrict lambda = row.lambda.data();
+    const double* __restrict root = row.root.data();
     const double* __restrict normal = normals_.data();
     double* __restrict sum = out.data();
     const double factor = scale;
     for (std::size_t x = 0; x < n; ++x) {
-      const double rounded = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+      const double rounded = round_nonnegative(lambda[x] + root[x] * normal[x]);
       sum[x] += factor * (lambda[x] < kKnuthLimit ? normal[x] : rounded);
     }
   });
@@ -267,7 +298,7 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
   const std::size_t n = e.size();
   // The charge P, drawn as accumulate() draws it: normals from lane 0, and
   // Knuth's variates from lane 1 in place of the unused normals.
-  draw_charge(id, load_intensities(e, readout.dark_electrons));
+  draw_charge(lambda_, id, load_intensities(e, readout.dark_electrons));
   // The read noise's normals from lane 4 (zeros without read noise).
   if (readout.read_noise_electrons != 0.0) {
     draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), n, u1_, u2_, read_normals_,

@@ -231,6 +231,7 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
   const std::span<double> expected = outputs.expectation;
   std::fill(noisy.begin(), noisy.end(), 0.0);
   std::fill(expected.begin(), expected.end(), 0.0);
+  scratch.intensities_ready = false;
   // the exact prediction's per-pixel variance
   VarianceRow var(expected.empty(), snr_, outputs.variance, scratch.unit_variance,
                   readout_.dark_electrons, readout_variance_);
@@ -254,7 +255,7 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
   }
   // o = sum_k alpha_k PoissonSNR(e_k), and its expectation sum_k alpha_k max(e_k, 0)
   for_each_slot(scratch, [&](std::size_t k, std::span<const double> e, const SlotShift& shift) {
-    if (!noisy.empty()) add_noisy_slot(k, e, seed, c, y, scratch, noisy);
+    if (!noisy.empty()) add_noisy_slot(k, e, shift, seed, c, y, scratch, noisy);
     if (expected.empty()) return;
     add_expectation(e, gains_[k], lambda2, expected, clipping);
     var.add_slot(e, shift.e0, shift.offset, gains_[k] * gains_[k]);
@@ -269,15 +270,32 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
   return clipping;
 }
 
-void RowObserver::add_noisy_slot(std::size_t k, std::span<const double> e, std::uint64_t seed,
-                                 std::uint64_t channel, std::uint64_t row, Scratch& scratch,
-                                 std::span<double> noisy) const {
+void RowObserver::add_noisy_slot(std::size_t k, std::span<const double> e, const SlotShift& shift,
+                                 std::uint64_t seed, std::uint64_t channel, std::uint64_t row,
+                                 Scratch& scratch, std::span<double> noisy) const {
   const double alpha = gains_[k];
   const RowNoiseId id{seed, channel, k, row};
   if (aggregate_) {
     scratch.aggregated.add_frame(e, id, alpha, noisy, sensor_ ? &readout_ : nullptr);
   } else if (sensor_) {
     scratch.sampler.accumulate_readout(e, id, alpha, frame_readout_, noisy);
+  } else if (!shift.e0.empty()) {
+    // Every slot's intensities are a window of e_0's, computed once a row.
+    const std::size_t w = shift.e0.size();
+    if (!scratch.intensities_ready) {
+      scratch.knuth_pixels = scratch.sampler.intensities_of(shift.e0, scratch.lambda, scratch.root);
+      scratch.lambda.resize(2 * w);
+      scratch.root.resize(2 * w);
+      std::copy_n(scratch.lambda.begin(), w, scratch.lambda.begin() + static_cast<std::ptrdiff_t>(w));
+      std::copy_n(scratch.root.begin(), w, scratch.root.begin() + static_cast<std::ptrdiff_t>(w));
+      scratch.intensities_ready = true;
+    }
+    const std::size_t first = w - shift.offset;  // e_k = doubled[W - offset + x]
+    scratch.sampler.accumulate(
+        PoissonRowSampler::Intensities{std::span<const double>(scratch.lambda).subspan(first, w),
+                                       std::span<const double>(scratch.root).subspan(first, w),
+                                       scratch.knuth_pixels},
+        id, alpha, noisy);
   } else {
     scratch.sampler.accumulate(e, id, alpha, noisy);
   }

@@ -78,8 +78,26 @@ struct RowNoiseId {
 class PoissonRowSampler {
  public:
   explicit PoissonRowSampler(double snr);
+  double lambda2() const { return lambda2_; }
   // out[x] += gain * PoissonSNR(e[x]) for every x.
   void accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
+                  std::span<double> out);
+
+  // A row's intensities lambda[x] = max(e[x], 0) lambda2 and their square
+  // roots, with the number of pixels on Knuth's branch (lambda < 50): what
+  // accumulate() computes from e first. A row whose frames are circular
+  // shifts of one exposure computes them once (intensities_of) and gives
+  // each frame a window of them (the count is the same for every shift).
+  struct Intensities {
+    std::span<const double> lambda;
+    std::span<const double> root;
+    std::size_t knuth_pixels = 0;
+  };
+  // lambda and root (resized to e's size) of exposure e; returns the count.
+  std::size_t intensities_of(std::span<const double> e, std::vector<double>& lambda,
+                             std::vector<double>& root) const;
+  // The same as accumulate(e, ...) for the exposure whose intensities these are.
+  void accumulate(const Intensities& row, const RowNoiseId& id, double gain,
                   std::span<double> out);
   // The same with a sensor (docs/method.md §10): out[x] += gain *
   // readout.read(P[x], R[x]) / lambda2, P[x] ~ Poisson(max(e[x], 0) lambda2 +
@@ -100,11 +118,12 @@ class PoissonRowSampler {
   // Poisson); returns the number of pixels on Knuth's branch (lambda < 50).
   std::size_t load_intensities(std::span<const double> e, double dark);
   // normals_[x] = pixel x's normal (kFrameNormal lane), replaced by its
-  // Knuth variate (kFrameKnuth lane, pixel order) where lambda_[x] < 50.
-  void draw_charge(const RowNoiseId& id, std::size_t knuth_pixels);
+  // Knuth variate (kFrameKnuth lane, pixel order) where lambda[x] < 50.
+  void draw_charge(std::span<const double> lambda, const RowNoiseId& id, std::size_t knuth_pixels);
 
   double lambda2_;
   std::vector<double> lambda_;
+  std::vector<double> root_;
   std::vector<double> u1_;
   std::vector<double> u2_;
   std::vector<double> normals_;

@@ -71,6 +71,13 @@ class RowObserver {
     RowFFT::Workspace workspace;
     std::vector<std::complex<double>> spectrum;
     std::vector<double> doubled;  // e_0 twice: its shifts are windows of it, integer v dt only
+    // The per-frame sampler's intensities of e_0 and their square roots,
+    // twice over like `doubled` (integer v dt), made at the row's first
+    // noisy slot.
+    std::vector<double> lambda;
+    std::vector<double> root;
+    std::size_t knuth_pixels = 0;
+    bool intensities_ready = false;
     std::vector<double> unit_variance;  // Var(PoissonSNR(e_0)), integer v dt only
     PoissonRowSampler sampler;
     AggregatedRowSampler aggregated;
@@ -153,9 +160,9 @@ class RowObserver {
   // The noisy part of slot k's readout of e_k (numerical mode): the sampler
   // of the noise model adds it to `noisy` (aggregated: its normal-branch part
   // is finished by observe()).
-  void add_noisy_slot(std::size_t k, std::span<const double> e, std::uint64_t seed,
-                      std::uint64_t channel, std::uint64_t row, Scratch& scratch,
-                      std::span<double> noisy) const;
+  void add_noisy_slot(std::size_t k, std::span<const double> e, const SlotShift& shift,
+                      std::uint64_t seed, std::uint64_t channel, std::uint64_t row,
+                      Scratch& scratch, std::span<double> noisy) const;
   // out += E[o] of one readout of gain alpha: alpha max(e, 0) (linear
   // sensor), else the clipped mean charge, counting clipped readouts.
   void add_expectation(std::span<const double> e, double alpha, double lambda2,

@@ -338,61 +338,94 @@ void PoissonRowSampler::add_read_noise(const RowNoiseId& id, double scale, std::
 
 AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
+std::size_t AggregatedRowSampler::intensities_of(std::span<const double> e, double dark,
+                                                 IntensityRows& rows) const {
+  const std::size_t n = e.size();
+  rows.lambda.resize(n);
+  rows.mean_part.resize(n);
+  rows.variance_part.resize(n);
+  std::size_t normal_pixels = 0;
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = rows.lambda.data();
+    double* __restrict mean = rows.mean_part.data();
+    double* __restrict variance = rows.variance_part.data();
+    const double lambda2 = lambda2_;
+    const double dark_electrons = dark;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark_electrons;
+      const bool normal = lambda[x] >= kKnuthLimit;
+      mean[x] = normal ? lambda[x] : 0.0;
+      variance[x] = normal ? lambda[x] + 1.0 / 12.0 : 0.0;
+      count += normal ? 1 : 0;
+    }
+    normal_pixels = count;
+  });
+  return normal_pixels;
+}
+
 void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
                                      std::span<double> out, const SensorReadout* readout) {
-  const std::size_t n = e.size();
+  const double dark = readout != nullptr ? readout->dark_electrons : 0.0;
+  const std::size_t normal_pixels = intensities_of(e, dark, intensities_);
+  add_frame(FrameIntensities{intensities_.lambda, intensities_.mean_part,
+                             intensities_.variance_part, normal_pixels},
+            id, gain, out, readout);
+}
+
+void AggregatedRowSampler::add_frame(const FrameIntensities& frame, const RowNoiseId& id,
+                                     double gain, std::span<double> out,
+                                     const SensorReadout* readout) {
+  const std::size_t n = frame.lambda.size();
   if (!has_frame_) {  // the row's first frame
     mean_.assign(n, 0.0);
     variance_.assign(n, 0.0);
     has_frame_ = true;
   }
-  lambda_.resize(n);
-  // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12).
-  const double gain_squared = gain * gain;
-  const double dark_electrons = readout != nullptr ? readout->dark_electrons : 0.0;
-  std::size_t normal_pixels = 0;
+  // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12); the
+  // parts are 0 on Knuth's branch, and alpha 0 or alpha^2 0 adds a zero that
+  // leaves every sum's bits as they are.
   detail::run_vectorized([&]() __attribute__((always_inline)) {
-    // Locals, not the captured references, so that the loop vectorizes.
-    const double* __restrict intensity = e.data();
-    double* __restrict lambda = lambda_.data();
+    const double* __restrict mean_part = frame.mean_part.data();
+    const double* __restrict variance_part = frame.variance_part.data();
     double* __restrict mean = mean_.data();
     double* __restrict variance = variance_.data();
-    const double lambda2 = lambda2_;
     const double alpha = gain;
-    const double alpha_squared = gain_squared;
-    const double dark = dark_electrons;
-    std::size_t count = 0;
+    const double alpha_squared = gain * gain;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark;
-      const bool normal = lambda[x] >= kKnuthLimit;
-      mean[x] += normal ? alpha * lambda[x] : 0.0;
-      variance[x] += normal ? alpha_squared * (lambda[x] + 1.0 / 12.0) : 0.0;
-      count += normal ? 1 : 0;
+      mean[x] += alpha * mean_part[x];
+      variance[x] += alpha_squared * variance_part[x];
     }
-    normal_pixels = count;
   });
-  if (normal_pixels > 0) has_normal_ = true;
+  if (frame.normal_pixels > 0) has_normal_ = true;
   if (readout != nullptr) add_readout_terms(gain, *readout);
-  if (normal_pixels == n) return;
+  if (frame.normal_pixels == n) return;
+  add_knuth_branch(frame.lambda, n - frame.normal_pixels, id, gain, out);
+}
 
-  // Knuth's branch, drawn now: out += gain P / lambda2, uniforms in pixel order.
+void AggregatedRowSampler::add_knuth_branch(std::span<const double> lambda,
+                                            std::size_t knuth_pixels, const RowNoiseId& id,
+                                            double gain, std::span<double> out) {
+  // Drawn now: out += gain P / lambda2, uniforms in pixel order.
   RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kAggregateKnuth);
   const double scale = gain / lambda2_;
   AggregatedRowPlan::KnuthFrame* recorded = nullptr;
-  if (plan_ != nullptr && plan_->knuth_pixels + (n - normal_pixels) <= max_knuth_pixels_) {
-    plan_->knuth_pixels += n - normal_pixels;
+  if (plan_ != nullptr && plan_->knuth_pixels + knuth_pixels <= max_knuth_pixels_) {
+    plan_->knuth_pixels += knuth_pixels;
     recorded = &plan_->knuth.emplace_back();
     recorded->frame = id.frame;
     recorded->gain = gain;
   } else if (plan_ != nullptr) {
     plan_->knuth_pixels = max_knuth_pixels_ + 1;  // too many: the row is not recorded
   }
-  for (std::size_t x = 0; x < n; ++x) {
-    if (lambda_[x] < kKnuthLimit) {
-      out[x] += scale * poisson_variate(lambda_[x], knuth_stream);
+  for (std::size_t x = 0; x < lambda.size(); ++x) {
+    if (lambda[x] < kKnuthLimit) {
+      out[x] += scale * poisson_variate(lambda[x], knuth_stream);
       if (recorded != nullptr) {
         recorded->pixels.push_back(static_cast<std::uint32_t>(x));
-        recorded->lambdas.push_back(lambda_[x]);
+        recorded->lambdas.push_back(lambda[x]);
       }
     }
   }

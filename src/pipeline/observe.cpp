@@ -270,35 +270,61 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
   return clipping;
 }
 
+namespace {
+// v = v v: a row twice over, so that its circular shifts are windows of it.
+void repeat_twice(std::vector<double>& v) {
+  const std::size_t n = v.size();
+  v.resize(2 * n);
+  std::copy_n(v.begin(), n, v.begin() + static_cast<std::ptrdiff_t>(n));
+}
+}  // namespace
+
 void RowObserver::add_noisy_slot(std::size_t k, std::span<const double> e, const SlotShift& shift,
                                  std::uint64_t seed, std::uint64_t channel, std::uint64_t row,
                                  Scratch& scratch, std::span<double> noisy) const {
   const double alpha = gains_[k];
   const RowNoiseId id{seed, channel, k, row};
+  if (shift.e0.empty() || (sensor_ && !aggregate_)) {
+    if (aggregate_) {
+      scratch.aggregated.add_frame(e, id, alpha, noisy, sensor_ ? &readout_ : nullptr);
+    } else if (sensor_) {
+      scratch.sampler.accumulate_readout(e, id, alpha, frame_readout_, noisy);
+    } else {
+      scratch.sampler.accumulate(e, id, alpha, noisy);
+    }
+    return;
+  }
+  // Shifts: every slot's intensities are a window of e_0's, computed once a
+  // row (e_k = doubled[W - offset + x]).
+  const std::size_t w = shift.e0.size();
+  const std::size_t first = w - shift.offset;
+  const auto window = [&](const std::vector<double>& v) {
+    return std::span<const double>(v).subspan(first, w);
+  };
   if (aggregate_) {
-    scratch.aggregated.add_frame(e, id, alpha, noisy, sensor_ ? &readout_ : nullptr);
-  } else if (sensor_) {
-    scratch.sampler.accumulate_readout(e, id, alpha, frame_readout_, noisy);
-  } else if (!shift.e0.empty()) {
-    // Every slot's intensities are a window of e_0's, computed once a row.
-    const std::size_t w = shift.e0.size();
+    auto& rows = scratch.frame_intensities;
     if (!scratch.intensities_ready) {
-      scratch.knuth_pixels = scratch.sampler.intensities_of(shift.e0, scratch.lambda, scratch.root);
-      scratch.lambda.resize(2 * w);
-      scratch.root.resize(2 * w);
-      std::copy_n(scratch.lambda.begin(), w, scratch.lambda.begin() + static_cast<std::ptrdiff_t>(w));
-      std::copy_n(scratch.root.begin(), w, scratch.root.begin() + static_cast<std::ptrdiff_t>(w));
+      scratch.normal_pixels = scratch.aggregated.intensities_of(
+          shift.e0, sensor_ ? readout_.dark_electrons : 0.0, rows);
+      for (auto* v : {&rows.lambda, &rows.mean_part, &rows.variance_part}) repeat_twice(*v);
       scratch.intensities_ready = true;
     }
-    const std::size_t first = w - shift.offset;  // e_k = doubled[W - offset + x]
-    scratch.sampler.accumulate(
-        PoissonRowSampler::Intensities{std::span<const double>(scratch.lambda).subspan(first, w),
-                                       std::span<const double>(scratch.root).subspan(first, w),
-                                       scratch.knuth_pixels},
-        id, alpha, noisy);
-  } else {
-    scratch.sampler.accumulate(e, id, alpha, noisy);
+    scratch.aggregated.add_frame(
+        AggregatedRowSampler::FrameIntensities{window(rows.lambda), window(rows.mean_part),
+                                               window(rows.variance_part), scratch.normal_pixels},
+        id, alpha, noisy, sensor_ ? &readout_ : nullptr);
+    return;
   }
+  if (!scratch.intensities_ready) {
+    scratch.knuth_pixels = scratch.sampler.intensities_of(shift.e0, scratch.lambda, scratch.root);
+    repeat_twice(scratch.lambda);
+    repeat_twice(scratch.root);
+    scratch.intensities_ready = true;
+  }
+  scratch.sampler.accumulate(
+      PoissonRowSampler::Intensities{window(scratch.lambda), window(scratch.root),
+                                     scratch.knuth_pixels},
+      id, alpha, noisy);
 }
 
 void RowObserver::add_expectation(std::span<const double> e, double alpha, double lambda2,

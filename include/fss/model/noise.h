@@ -249,6 +249,29 @@ class AggregatedRowSampler {
   // are not applied (Simulate refuses them with aggregated noise).
   void add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
                  std::span<double> out, const SensorReadout* readout = nullptr);
+
+  // A frame's intensities as add_frame() computes them from e first:
+  // lambda[x] = max(e[x], 0) lambda2 + dark, its normal-branch parts
+  // (lambda and lambda + 1/12 where lambda >= 50, 0 elsewhere) and the count
+  // of normal-branch pixels. A row whose frames are circular shifts of one
+  // exposure computes them once (intensities_of) and gives each frame a
+  // window of them (the count is the same for every shift).
+  struct FrameIntensities {
+    std::span<const double> lambda;
+    std::span<const double> mean_part;
+    std::span<const double> variance_part;
+    std::size_t normal_pixels = 0;
+  };
+  struct IntensityRows {
+    std::vector<double> lambda;
+    std::vector<double> mean_part;
+    std::vector<double> variance_part;
+  };
+  // Fills `rows` (resized to e's size) for exposure e; returns the count.
+  std::size_t intensities_of(std::span<const double> e, double dark, IntensityRows& rows) const;
+  // The same as add_frame(e, ...) for the exposure whose intensities these are.
+  void add_frame(const FrameIntensities& frame, const RowNoiseId& id, double gain,
+                 std::span<double> out, const SensorReadout* readout = nullptr);
   // out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from the row's
   // kAggregateNormal lane (id.frame is ignored), then M = V = 0. Draws
   // nothing when no pixel had a normal-branch frame.
@@ -267,6 +290,10 @@ class AggregatedRowSampler {
  private:
   // A linear sensor's frame of gain alpha: M -= alpha dark, V += alpha^2 sigma_r^2.
   void add_readout_terms(double gain, const SensorReadout& readout);
+  // The frame's pixels on Knuth's branch (lambda < 50, `knuth_pixels` of
+  // them): out += gain P / lambda2, recorded into the plan being recorded.
+  void add_knuth_branch(std::span<const double> lambda, std::size_t knuth_pixels,
+                        const RowNoiseId& id, double gain, std::span<double> out);
   // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
   void add_normals(std::span<const double> mean, std::span<const double> variance,
                    const RowNoiseId& id, std::span<double> out);
@@ -276,7 +303,7 @@ class AggregatedRowSampler {
   std::size_t max_knuth_pixels_ = 0;
   bool has_frame_ = false;   // add_frame() was called since the last finish()
   bool has_normal_ = false;  // and some pixel of some frame was on the normal branch
-  std::vector<double> lambda_;
+  IntensityRows intensities_;
   std::vector<double> mean_;      // M, in photons
   std::vector<double> variance_;  // V, in photons^2
   std::vector<double> u1_;

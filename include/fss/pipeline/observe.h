@@ -77,6 +77,9 @@ class RowObserver {
     std::vector<double> lambda;
     std::vector<double> root;
     std::size_t knuth_pixels = 0;
+    // The aggregated sampler's, likewise.
+    AggregatedRowSampler::IntensityRows frame_intensities;
+    std::size_t normal_pixels = 0;
     bool intensities_ready = false;
     std::vector<double> unit_variance;  // Var(PoissonSNR(e_0)), integer v dt only
     PoissonRowSampler sampler;

@@ -10,6 +10,9 @@
 #include <vector>
 
 #include "fss/core/fft.h"
+#include "fss/model/code.h"
+#include "fss/pipeline/geometry.h"
+#include "fss/pipeline/restore.h"
 #include "fss/model/noise.h"
 #include "ziggurat.h"
 
@@ -240,7 +243,54 @@ void BM_RowFFTBatch(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * 512);
 }
-BENCHMARK(BM_RowFFTBatch)->Arg(512)->Arg(920)->Arg(4000)->Arg(7896);
+// The deconvolution grids N = 2 Wa of widths 512 and 4000 (920, 7896) and the
+// folded convolution's lengths that replace them (896, 8192).
+BENCHMARK(BM_RowFFTBatch)
+    ->Arg(512)
+    ->Arg(896)
+    ->Arg(920)
+    ->Arg(4000)
+    ->Arg(7896)
+    ->Arg(8192);
+
+// The restoration of one row (raskar, v = 1): crop, folded convolution,
+// output columns; items are rows.
+void BM_RowRestorer(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const std::vector<double> gains = fss::builtin_code("raskar")->gains;
+  const fss::Geometry geometry = fss::Geometry::compute(width, 52, 1.0, 1.0);
+  const fss::RowRestorer restorer(geometry, gains, 1.0, 1.0);
+  fss::RowRestorer::Scratch scratch(restorer);
+  const std::vector<double> observation = test_row(width);
+  std::vector<double> restored(static_cast<std::size_t>(geometry.output_width));
+  for (auto _ : state) {
+    restorer.restore(observation.data(), scratch, restored.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.SetLabel("transform length " + std::to_string(restorer.transform_length()));
+}
+BENCHMARK(BM_RowRestorer)->Arg(512)->Arg(4000);
+
+// The per-frame sampler on intensities computed once (a row whose frames are
+// shifts of one exposure, as the simulator draws them at integer v dt).
+void BM_PoissonRowSamplerShifted(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const std::vector<double> e = test_row(width);
+  std::vector<double> out(static_cast<std::size_t>(width), 0.0);
+  fss::PoissonRowSampler sampler(100.0);
+  std::vector<double> lambda;
+  std::vector<double> root;
+  const std::size_t knuth = sampler.intensities_of(e, lambda, root);
+  std::uint64_t row = 0;
+  for (auto _ : state) {
+    sampler.accumulate(fss::PoissonRowSampler::Intensities{lambda, root, knuth}, {1, 0, 0, row++},
+                       1.0, out);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * width);
+}
+BENCHMARK(BM_PoissonRowSamplerShifted)->Arg(512)->Arg(4000);
 
 }  // namespace
 // NOLINTEND(clang-analyzer-deadcode.DeadStores)

@@ -11,9 +11,9 @@
 
 #include "fss/core/fft.h"
 #include "fss/model/code.h"
+#include "fss/model/noise.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/restore.h"
-#include "fss/model/noise.h"
 #include "ziggurat.h"
 
 #ifdef FSS_BENCH_HAVE_GSL
@@ -245,13 +245,7 @@ void BM_RowFFTBatch(benchmark::State& state) {
 }
 // The deconvolution grids N = 2 Wa of widths 512 and 4000 (920, 7896) and the
 // folded convolution's lengths that replace them (896, 8192).
-BENCHMARK(BM_RowFFTBatch)
-    ->Arg(512)
-    ->Arg(896)
-    ->Arg(920)
-    ->Arg(4000)
-    ->Arg(7896)
-    ->Arg(8192);
+BENCHMARK(BM_RowFFTBatch)->Arg(512)->Arg(896)->Arg(920)->Arg(4000)->Arg(7896)->Arg(8192);
 
 // The restoration of one row (raskar, v = 1): crop, folded convolution,
 // output columns; items are rows.

@@ -175,12 +175,8 @@ void CampaignCommand::ApplySensorOptions(fss::SensorModel& sensor) const {
   if (given("--dark-current")) sensor.dark_current_electrons_per_slot = dark_current_;
   if (given("--full-well")) sensor.full_well_electrons = full_well_;
   if (given("--adc-bits")) sensor.adc_bits = adc_bits_;
-  if (given("--adc-gain")) {
-    if (sensor.adc_bits == 0) {
-      fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
-    }
-    sensor.adc_gain_electrons_per_count = adc_gain_;
-  }
+  check_adc_gain(given("--adc-gain"), sensor.adc_bits);
+  if (given("--adc-gain")) sensor.adc_gain_electrons_per_count = adc_gain_;
 }
 
 int CampaignCommand::RunCampaign() const {

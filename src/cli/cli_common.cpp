@@ -218,6 +218,34 @@ int check_standard_streams(int status) {
   return (out_failed || err_failed) && status == kExitSuccess ? kExitRuntime : status;
 }
 
+void check_adc_gain(bool adc_gain_given, int adc_bits) {
+  if (adc_gain_given && adc_bits == 0) {
+    fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
+  }
+}
+
+void check_sensor_options(const fss::SensorModel& sensor) {
+  std::string error;
+  if (sensor.IsValid(&error)) return;
+  // "read_noise_electrons = -1: must be ..." -> "--read-noise: value -1 must be ..."
+  static const std::pair<const char*, const char*> kOptions[] = {
+      {"read_noise_electrons", "--read-noise"},
+      {"dark_current_electrons_per_slot", "--dark-current"},
+      {"full_well_electrons", "--full-well"},
+      {"adc_bits", "--adc-bits"},
+      {"adc_gain_electrons_per_count", "--adc-gain"}};
+  const std::size_t equals = error.find(" = ");
+  const std::size_t colon = error.find(": ", equals);
+  if (equals == std::string::npos || colon == std::string::npos) fss::throw_usage_error(error);
+  const std::string field = error.substr(0, equals);
+  std::string option = field;
+  for (const auto& [name, flag] : kOptions) {
+    if (field == name) option = flag;
+  }
+  fss::throw_usage_error(option + ": value " + error.substr(equals + 3, colon - equals - 3) + " " +
+                         error.substr(colon + 2));
+}
+
 int run_reporting_errors(const std::function<int()>& body, const ErrorContext* context) {
   const ErrorContext none;
   const ErrorContext& c = context != nullptr ? *context : none;

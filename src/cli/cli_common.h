@@ -10,6 +10,7 @@
 
 #include "fss/core/error.h"
 #include "fss/io/outputs.h"
+#include "fss/model/sensor.h"
 
 namespace fssim {
 
@@ -82,6 +83,17 @@ inline bool is_stdout(const std::string& path) { return path == "-"; }
 // device or FIFO written in place).
 void write_output(const std::string& path, std::string_view bytes,
                   const std::vector<std::string>& inputs = {});
+
+// The sensor options (docs/method.md §10) of the commands that take them
+// (the simulation, sweep, campaign, code analyze and optimize): one rule and
+// one wording for their errors.
+// Refuses an ADC gain without an ADC (`adc_bits` 0): "--adc-gain: needs
+// --adc-bits (without an ADC there are no counts)".
+void check_adc_gain(bool adc_gain_given, int adc_bits);
+// Throws the usage error of an invalid `sensor` (SensorModel::IsValid), its
+// field named as the option that sets it: "--read-noise: value -1 must be
+// finite and >= 0".
+void check_sensor_options(const fss::SensorModel& sensor);
 
 // Flushes standard output and checks both standard streams, for the end of
 // main(): a write that failed (a full disk, a closed pipe, /dev/full) turns

@@ -19,20 +19,6 @@ CLI::App& add_code_command(CLI::App& app) {
   return *code;
 }
 
-// SensorModel::IsValid's field names as the options that set them.
-std::string option_message(const std::string& message) {
-  static const std::pair<const char*, const char*> kOptions[] = {
-      {"read_noise_electrons = ", "--read-noise "},
-      {"dark_current_electrons_per_slot = ", "--dark-current "},
-      {"adc_bits = ", "--adc-bits "},
-      {"adc_gain_electrons_per_count = ", "--adc-gain "},
-  };
-  for (const auto& [field, option] : kOptions) {
-    if (message.rfind(field, 0) == 0) return option + message.substr(std::string(field).size());
-  }
-  return message;
-}
-
 }  // namespace
 
 void SensorFlags::Add(CLI::App* app) {
@@ -60,17 +46,13 @@ fss::SensorModel SensorFlags::Model(const std::string& command) const {
                            " computes a figure of merit linear in the charge; a full well "
                            "clips it (simulate the camera to see saturation)");
   }
-  if (adc_gain_ && adc_bits_ == 0) {
-    fss::throw_usage_error("--adc-gain " + format_number(*adc_gain_) +
-                           ": an ADC gain needs --adc-bits");
-  }
+  check_adc_gain(adc_gain_.has_value(), adc_bits_);
   fss::SensorModel sensor;
   sensor.read_noise_electrons = read_noise_;
   sensor.dark_current_electrons_per_slot = dark_current_;
   sensor.adc_bits = adc_bits_;
   if (adc_gain_) sensor.adc_gain_electrons_per_count = *adc_gain_;
-  std::string error;
-  if (!sensor.IsValid(&error)) fss::throw_usage_error(option_message(error));
+  check_sensor_options(sensor);
   return sensor;
 }
 

@@ -196,30 +196,8 @@ fss::SimulationOptions SimulationFlags::Options() const {
 
 void SimulationFlags::check_sensor(fss::SimulationOptions& options) const {
   if (full_well_option_->count() > 0) options.sensor.full_well_electrons = full_well_;
-  if (adc_gain_option_->count() > 0 && adc_bits_option_->count() == 0) {
-    fss::throw_usage_error("--adc-gain: needs --adc-bits (without an ADC there are no counts)");
-  }
-  // The library's rule (SensorModel::IsValid), its field named as the flag:
-  // "read_noise_electrons = -1: must be ..." -> "--read-noise: value -1 must be ...".
-  std::string error;
-  if (!options.sensor.IsValid(&error)) {
-    static const std::pair<const char*, const char*> kFlags[] = {
-        {"read_noise_electrons", "--read-noise"},
-        {"dark_current_electrons_per_slot", "--dark-current"},
-        {"full_well_electrons", "--full-well"},
-        {"adc_bits", "--adc-bits"},
-        {"adc_gain_electrons_per_count", "--adc-gain"}};
-    const std::size_t equals = error.find(" = ");
-    const std::size_t colon = error.find(": ", equals);
-    const std::string field = error.substr(0, equals);
-    std::string flag = field;
-    for (const auto& [name, option] : kFlags) {
-      if (field == name) flag = option;
-    }
-    if (equals == std::string::npos || colon == std::string::npos) fss::throw_usage_error(error);
-    fss::throw_usage_error(flag + ": value " + error.substr(equals + 3, colon - equals - 3) + " " +
-                           error.substr(colon + 2));
-  }
+  check_adc_gain(adc_gain_option_->count() > 0, options.sensor.adc_bits);
+  check_sensor_options(options.sensor);
   const std::string noise_problem = fss::sensor_noise_rule(
       options.noise == fss::NoiseModel::kAggregated, options.sensor.linear());
   if (!noise_problem.empty()) {

@@ -310,7 +310,8 @@ void stage_and_commit(Stage& stage, const fs::path& outdir, const std::vector<Ou
     inodes[static_cast<std::size_t>(i)] = write_new_file(
         stage.fd.get(), file.name, file.make ? made : file.bytes, (outdir / file.name).string());
   });
-  for (std::size_t i = 0; i < files.size(); ++i) stage.manifest.push_back({files[i].name, inodes[i]});
+  for (std::size_t i = 0; i < files.size(); ++i)
+    stage.manifest.push_back({files[i].name, inodes[i]});
   for (const std::string& name : stale_names) {
     const bool in_set = std::any_of(files.begin(), files.end(),
                                     [&](const OutputFile& file) { return file.name == name; });

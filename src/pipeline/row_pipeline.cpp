@@ -31,8 +31,8 @@ RowPipeline::RowPipeline(const Image& input, const ShutterCode& code,
                          const SimulationOptions& options, const Geometry& geometry,
                          double observed_divisor)
     : RowPipeline(
-          input, RowObserver(input.width, code.gains, options.mode,
-                                 observation_params(options, geometry)),
+          input,
+          RowObserver(input.width, code.gains, options.mode, observation_params(options, geometry)),
           RowRestorer(geometry, code.gains,
                       options.restore_velocity_px_per_slot.value_or(options.velocity_px_per_slot),
                       options.dt),
@@ -163,8 +163,7 @@ bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& re
 }
 
 RowPipeline::FirstTrial RowPipeline::first_trial(std::uint64_t noise_seed, int first, int end,
-                                                 Image& restored,
-                                                 ObservedRowSink* observed) const {
+                                                 Image& restored, ObservedRowSink* observed) const {
   const int rows = input_.channels * input_.height;
   const int wa = geometry_.observed_width;
   const int h = geometry_.half_blur;
@@ -183,10 +182,9 @@ RowPipeline::FirstTrial RowPipeline::first_trial(std::uint64_t noise_seed, int f
       const int c = r / input_.height;
       const int y = r % input_.height;
       AggregatedRowPlan* plan = plans_.empty() ? nullptr : &plans_[static_cast<std::size_t>(r)];
-      const double* variance =
-          worker.observe_first(c, y, noise_seed, plan,
-                               block_clipping[static_cast<std::size_t>(b)]) +
-          h;  // crop column 0
+      const double* variance = worker.observe_first(c, y, noise_seed, plan,
+                                                    block_clipping[static_cast<std::size_t>(b)]) +
+                               h;  // crop column 0
       for (int j = 0; j < wa; ++j) sums[j] += variance[j];
       if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
       worker.restore(restored.row(c, y));

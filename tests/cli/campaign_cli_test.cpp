@@ -216,6 +216,30 @@ TEST_F(CampaignCli, UsageErrors) {
   EXPECT_NE(noise.err.find("--noise 'loud'"), std::string::npos) << noise.err;
 }
 
+// The sensor options are refused in the same words by every command that
+// takes them (cli_common: check_adc_gain, check_sensor_options).
+TEST_F(CampaignCli, SensorOptionsAreRefusedInTheSimulationsWords) {
+  const std::string adc =
+      "fssim: error: --adc-gain: needs --adc-bits (without an ADC there are no counts)\n";
+  const auto campaign = run_fssim(args_ + " --adc-gain 2 -o " + quote(tmp_ / "x"));
+  EXPECT_EQ(campaign.exit_code, 2);
+  EXPECT_EQ(campaign.err, adc);
+  const auto simulation = run_fssim("--input " + image_ + " --adc-gain 2 -o " + quote(tmp_ / "y"));
+  EXPECT_EQ(simulation.exit_code, 2);
+  EXPECT_EQ(simulation.err, adc);
+  const auto analyze = run_fssim("code analyze raskar --adc-gain 2");
+  EXPECT_EQ(analyze.exit_code, 2);
+  EXPECT_EQ(analyze.err, adc);
+  const auto sweep = run_fssim("sweep --input " + image_ + " --velocity 1 --adc-gain 2 -o " +
+                               quote(tmp_ / "s.csv"));
+  EXPECT_EQ(sweep.exit_code, 2);
+  EXPECT_EQ(sweep.err, adc);
+  const std::string negative = "fssim: error: --read-noise: value -1 must be finite and >= 0\n";
+  EXPECT_EQ(run_fssim("--input " + image_ + " --read-noise -1 -o " + quote(tmp_ / "y")).err,
+            negative);
+  EXPECT_EQ(run_fssim("code analyze raskar --read-noise -1").err, negative);
+}
+
 TEST_F(CampaignCli, FiguresArePngAndSvg) {
   const auto r = run_fssim(args_ + " --figures -o " + quote(tmp_ / "fig"));
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -198,8 +198,7 @@ TEST(Predict, ExactNoisePartIsTheBruteForceSum) {
     const RowPipeline pipeline(input, code, options, r.geometry, r.observed_divisor);
     Image restored(r.geometry.output_width, input.height, input.channels);
     const NoiseFreeRun run =
-        pipeline.first_trial(options.seed, r.rmse_first, r.rmse_end, restored, nullptr)
-            .noise_free;
+        pipeline.first_trial(options.seed, r.rmse_first, r.rmse_end, restored, nullptr).noise_free;
     EXPECT_EQ(run.rmse, r.prediction.rmse_noise_free) << c.code;
     EXPECT_EQ(restored.data, r.restored.data) << c.code;
     ASSERT_EQ(run.crop_variance_sums.size(), s.size());

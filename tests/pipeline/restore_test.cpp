@@ -297,13 +297,13 @@ class RowRestorerConvolution : public ::testing::TestWithParam<ConvolutionCase> 
 TEST_P(RowRestorerConvolution, EqualsTheInverseFilterOnTheGrid) {
   const ConvolutionCase& p = GetParam();
   const std::vector<double> gains = builtin_code(p.code).value().gains;
-  const Geometry g = Geometry::compute(p.width, static_cast<int>(gains.size()),
-                                       std::abs(p.velocity), p.dt);
+  const Geometry g =
+      Geometry::compute(p.width, static_cast<int>(gains.size()), std::abs(p.velocity), p.dt);
   const RowRestorer restorer(g, gains, p.velocity, p.dt);
   const Image observation = random_image(p.width, 3, 1, 40 + p.width);
-  const Deconvolution d = inverse_filter(
-      mirror_extend(crop_columns(observation, g.half_blur, g.observed_width)), gains, p.velocity,
-      p.dt, 1);
+  const Deconvolution d =
+      inverse_filter(mirror_extend(crop_columns(observation, g.half_blur, g.observed_width)), gains,
+                     p.velocity, p.dt, 1);
   RowRestorer::Scratch scratch(restorer);
   std::vector<double> restored(static_cast<std::size_t>(g.output_width));
   double largest = 0.0;
@@ -320,19 +320,19 @@ TEST_P(RowRestorerConvolution, EqualsTheInverseFilterOnTheGrid) {
 
 INSTANTIATE_TEST_SUITE_P(
     Widths, RowRestorerConvolution,
-    ::testing::Values(ConvolutionCase{512, "raskar", 1.0, 1.0},       // N 920, M 896
-                      ConvolutionCase{512, "mip", 0.37, 1.0},         // fractional velocity
-                      ConvolutionCase{700, "random", -0.73, 1.3},     // N = 1296
-                      ConvolutionCase{1009, "sinc", 1.0, 0.5},        // N = 1914 = 2 3 11 29
-                      ConvolutionCase{700, "raskar", 1.9, 1.0},       // B = 99, N 1202
-                      ConvolutionCase{2003, "snapshot", 1.0, 1.0},    // N = 3902 = 2 1951
-                      ConvolutionCase{157, "accumulation", 0.9, 1.0}, // Wo = 1
-                      ConvolutionCase{640, "raskar", -2.0, 1.0}));    // K(pi) = 0: the grid
+    ::testing::Values(ConvolutionCase{512, "raskar", 1.0, 1.0},        // N 920, M 896
+                      ConvolutionCase{512, "mip", 0.37, 1.0},          // fractional velocity
+                      ConvolutionCase{700, "random", -0.73, 1.3},      // N = 1296
+                      ConvolutionCase{1009, "sinc", 1.0, 0.5},         // N = 1914 = 2 3 11 29
+                      ConvolutionCase{700, "raskar", 1.9, 1.0},        // B = 99, N 1202
+                      ConvolutionCase{2003, "snapshot", 1.0, 1.0},     // N = 3902 = 2 1951
+                      ConvolutionCase{157, "accumulation", 0.9, 1.0},  // Wo = 1
+                      ConvolutionCase{640, "raskar", -2.0, 1.0}));     // K(pi) = 0: the grid
 
 TEST(RowRestorer, FoldsWhenKIsWellConditionedOnly) {
-  EXPECT_EQ(RowRestorer(Geometry::compute(512, 52, 1.0, 1.0), raskar(), 1.0, 1.0)
-                .transform_length(),
-            896);
+  EXPECT_EQ(
+      RowRestorer(Geometry::compute(512, 52, 1.0, 1.0), raskar(), 1.0, 1.0).transform_length(),
+      896);
   // Raskar at v = -2 has K(pi) = 0 up to round-off (sinc_h(2 pi)): the
   // folded convolution's round-off would show, the grid's does not.
   const Geometry fast = Geometry::compute(640, 52, 2.0, 1.0);

@@ -97,8 +97,7 @@ class PoissonRowSampler {
   std::size_t intensities_of(std::span<const double> e, std::vector<double>& lambda,
                              std::vector<double>& root) const;
   // The same as accumulate(e, ...) for the exposure whose intensities these are.
-  void accumulate(const Intensities& row, const RowNoiseId& id, double gain,
-                  std::span<double> out);
+  void accumulate(const Intensities& row, const RowNoiseId& id, double gain, std::span<double> out);
   // The same with a sensor (docs/method.md §10): out[x] += gain *
   // readout.read(P[x], R[x]) / lambda2, P[x] ~ Poisson(max(e[x], 0) lambda2 +
   // dark) drawn exactly as accumulate() draws it (photo and dark electrons

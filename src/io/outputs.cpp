@@ -36,6 +36,7 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
   // so fixed blocks would give them all to one thread; and a file's bytes are
   // freed once written, so the large ones are not all in memory at once.
   std::vector<OutputFile> staged;
+  staged.reserve(files.size());
   for (const RunFile& file : files) {
     staged.push_back({file.name, {}, [&sources, make = file.make] { return make(sources); }});
   }

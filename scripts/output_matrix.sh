@@ -56,6 +56,8 @@ cases=(
   "astronaut_analog_sheet|--input ../../in/astronaut.png --mode analog --sheet --report --outdir out"
   "astronaut_mip_noisefree|--input ../../in/astronaut.png --code mip --velocity 0.37 --noise none --outdir out --no-plots"
   "astronaut_trials|--input ../../in/astronaut.png --code sinc --dt 0.5 --trials 2 --outdir out --no-plots"
+  "camera_depth16|--input ../../in/camera.png --png-depth 16 --outdir out --no-plots"
+  "astronaut_depth16_sheet|--input ../../in/astronaut.png --png-depth 16 --sheet --outdir out --no-plots"
   "err_not_png|--input ../../in/short.txt --outdir out"
   "err_analog_gain|--input ../../in/camera.png --code random --mode analog --outdir out"
   "err_bad_snr|--input ../../in/camera.png --snr -1 --outdir out"

@@ -1,6 +1,6 @@
 // The memory estimate against the measured peak (issue 12): for gray and RGB
 // images, both modes and the options that add memory (--sheet, --report,
-// --trials), the estimate fssim states when it refuses a run
+// --trials, --png-depth 16), the estimate fssim states when it refuses a run
 // (estimate_working_memory_bytes with the outputs' bytes) must be at or
 // above the peak resident memory of the same run (getrusage of the child).
 #include <fcntl.h>
@@ -95,7 +95,8 @@ TEST_P(MemoryEstimate, IsAtOrAboveTheMeasuredPeak) {
   test::write_file(input, std::string(png.begin(), png.end()));
   for (const char* mode : {"numerical", "analog"}) {
     for (const char* options :
-         {"", "--sheet", "--report", "--trials 3", "--sheet --report --trials 3", "--no-plots"}) {
+         {"", "--sheet", "--report", "--trials 3", "--sheet --report --trials 3", "--no-plots",
+          "--png-depth 16"}) {
       const std::string arguments = "-i " + input.string() + " -o " + (dir / "out").string() +
                                     " --threads 2 --mode " + mode + " " + options;
       const double estimate = stated_estimate_bytes(arguments);

@@ -46,30 +46,14 @@ std::future<fss::RunPlots> start_plots(const fss::ShutterCode& code,
   return {};
 }
 
-// --png-depth: 8, 16, or auto (16 for an input of more than 8 bits a sample).
-fss::PngDepth resolve_png_depth(const std::string& choice, const fss::ImageFileInfo& input) {
-  if (choice == "auto") return input.bits_per_sample > 8 ? fss::PngDepth::k16 : fss::PngDepth::k8;
-  return *fss::png_depth_from_string(choice);
-}
-
-// Whether the run keeps the observed image as the 8-bit samples of
-// observed.png (an ObservedPng8) rather than as doubles: unless the sheet,
-// observed.tif or a 16-bit observed.png needs the doubles.
-bool streams_observed_png8(const fss::OutputOptions& outputs) {
-  return !outputs.sheet && !outputs.float_outputs && outputs.image_depth == fss::PngDepth::k8;
-}
-
 // Refuses, from the PNG header alone, a run the memory guard of Simulate
 // would refuse after decoding (the same estimate, with the fewest channels
 // the header allows): a huge image fails at once, before it is decoded.
 void check_memory_from_header(const std::string& input, const fss::SimulationOptions& options,
-                              const fss::ShutterCode& code, fss::OutputOptions outputs,
-                              const std::string& png_depth) {
+                              const fss::ShutterCode& code, const fss::OutputOptions& outputs) {
   if (options.max_memory_bytes == 0) return;
   const std::optional<fss::PngHeaderSize> size = fss::read_png_header_size(input);
   if (!size) return;  // read_png says what is wrong
-  outputs.image_depth =
-      resolve_png_depth(png_depth, {fss::ImageFileFormat::kPng, size->bits_per_sample, false});
   // A header declaring more pixels (at 1 bit each) than the file can hold
   // after deflate (at most 1032 times) is corrupt: read_png says so.
   std::error_code ec;
@@ -89,7 +73,7 @@ void check_memory_from_header(const std::string& input, const fss::SimulationOpt
   const fss::ObservedPng8 sink(size->height, size->channels);  // allocates nothing yet
   const std::size_t needed = fss::estimate_working_memory_bytes(
       size->width, size->height, size->channels, geometry, options.trials,
-      streams_observed_png8(outputs) ? &sink : nullptr,
+      outputs.sheet ? nullptr : &sink,
       fss::output_encoding_bytes_per_sample(outputs, size->channels));
   if (needed > options.max_memory_bytes) {
     const auto sizes = fss::format_bytes_distinct(static_cast<double>(needed),
@@ -114,6 +98,12 @@ std::string describe_simulation(const std::string& input, const fss::Image& imag
   return "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
          std::to_string(image.height) + ", " + std::to_string(image.channels) +
          (image.channels == 1 ? " channel)" : " channels)");
+}
+
+// --png-depth: 8, 16, or auto (16 for an input of more than 8 bits a sample).
+fss::PngDepth resolve_png_depth(const std::string& choice, const fss::ImageFileInfo& input) {
+  if (choice == "auto") return input.bits_per_sample > 8 ? fss::PngDepth::k16 : fss::PngDepth::k8;
+  return *fss::png_depth_from_string(choice);
 }
 
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
@@ -228,7 +218,7 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const fss::ShutterCode code = fss::load_code(code_name, "--code");
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
-  check_memory_from_header(input_, options, code, output_options, png_depth_);
+  check_memory_from_header(input_, options, code, output_options);
   fss::ImageFileInfo input_info;
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes, &input_info);
   output_options.image_depth = resolve_png_depth(png_depth_, input_info);
@@ -238,7 +228,10 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   // the sheet or observed.tif shows it: keep its rows as 8-bit samples, not
   // doubles.
   std::optional<fss::ObservedPng8> observed_png8;
-  if (streams_observed_png8(output_options)) observed_png8.emplace(image.height, image.channels);
+  if (!output_options.sheet && !output_options.float_outputs &&
+      output_options.image_depth == fss::PngDepth::k8) {
+    observed_png8.emplace(image.height, image.channels);
+  }
   fss::check_outputs_memory(options, image, code, output_options,
                             observed_png8 ? &*observed_png8 : nullptr);
   const fss::SimulationReport report =

@@ -275,7 +275,7 @@ std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& p
   if (width == 0 || height == 0 || width > 0x7fffffffU || height > 0x7fffffffU) return std::nullopt;
   const int colour_type = head[25];
   return PngHeaderSize{static_cast<int>(width), static_cast<int>(height),
-                       (colour_type == 2 || colour_type == 6) ? 3 : 1, head[24]};
+                       (colour_type == 2 || colour_type == 6) ? 3 : 1};
 }
 
 Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {

@@ -79,8 +79,9 @@ Timing measure(int reps, const std::function<std::vector<Bytes>()>& encode) {
 }
 
 void print(const char* what, const std::string& name, const Timing& t) {
-  std::printf("%-18s %-28s wall %7.3f s  cpu %7.3f s  %10zu bytes  hash %016llx\n", what,
-              name.c_str(), t.wall, t.cpu, t.size, static_cast<unsigned long long>(t.hash));
+  std::printf("%-18s %-28s wall %8.2f ms  cpu %8.2f ms  %10zu bytes  hash %016llx\n", what,
+              name.c_str(), 1e3 * t.wall, 1e3 * t.cpu, t.size,
+              static_cast<unsigned long long>(t.hash));
 }
 
 // A list of one file, moved in (an initializer list would copy it).

@@ -330,17 +330,23 @@ class StoredValueRows {
   std::vector<std::uint16_t> scratch_;  // the samples of each channel
 };
 
-// PngCompression::kGraphics: the whole raster, then libpng and zlib.
+// PngCompression::kGraphics: the whole raster, then libpng and zlib. Rows
+// held elsewhere (the samples of a plot) are not copied.
 std::vector<std::uint8_t> encode_with_libpng(const detail::PngRaster& raster,
                                              const detail::StoredRowSource& rows) {
   const std::size_t row_bytes = raster.row_bytes();
-  std::vector<std::uint8_t> pixels(row_bytes * static_cast<std::size_t>(raster.height));
+  std::vector<std::uint8_t> scratch(row_bytes);
+  std::vector<std::uint8_t> pixels;  // the rows written into scratch
   std::vector<png_bytep> row_pointers(static_cast<std::size_t>(raster.height));
   for (int y = 0; y < raster.height; ++y) {
-    std::uint8_t* stored = pixels.data() + static_cast<std::size_t>(y) * row_bytes;
-    const std::uint8_t* row = rows(y, stored);
-    if (row != stored) std::memcpy(stored, row, row_bytes);
-    row_pointers[y] = stored;
+    const std::uint8_t* row = rows(y, scratch.data());
+    if (row == scratch.data()) {
+      if (pixels.empty()) pixels.resize(row_bytes * static_cast<std::size_t>(raster.height));
+      row = static_cast<const std::uint8_t*>(
+          std::memcpy(pixels.data() + static_cast<std::size_t>(y) * row_bytes, row, row_bytes));
+    }
+    // libpng's row pointers are not const, but writing only reads them.
+    row_pointers[y] = const_cast<png_bytep>(row);
   }
   std::vector<std::uint8_t> out;
   auto structs = std::make_unique<WriteStructs>();

@@ -62,10 +62,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const fss::Error&) {
     return 0;  // a damaged or hostile file, refused with a message: the expected end
   }
-  const bool valid_size =
-      image.width >= 1 && image.height >= 1 && image.width <= fss::kMaxImageSide &&
-      image.height <= fss::kMaxImageSide && (image.channels == 1 || image.channels == 3) &&
-      image.data.size() == image.plane_size() * image.channels;
+  const bool valid_size = image.width >= 1 && image.height >= 1 &&
+                          image.width <= fss::kMaxImageSide && image.height <= fss::kMaxImageSide &&
+                          (image.channels == 1 || image.channels == 3) &&
+                          image.data.size() == image.plane_size() * image.channels;
   if (!valid_size) __builtin_trap();
   for (const double value : image.data) {
     if (!(value >= 0.0 && value <= 255.0)) __builtin_trap();

@@ -12,14 +12,15 @@
 
 // Why ISA-L, level 1, and the average filter. Measured on the four outputs of
 // a 4000 x 3000 RGB run (3844 x 3000 x 3, 34.6 MB of filtered rows each) on
-// an AMD EPYC: zlib level 3 with Z_RLE (fssim before) took 0.28 to 0.46 s of
-// one core per image, libdeflate level 1 0.17 to 0.31 s, ISA-L level 1 0.11
-// to 0.13 s, for files within 1 % of zlib's with the "up" filter. ISA-L's
-// levels 2 and 3 are slower for files as large; level 0 is 55 % larger on
-// the noisy restoration. The average filter (PNG type 3) then makes the four
-// files 6 % smaller than zlib's with "up" (82.7 against 88.1 MB; paeth is
-// slower and larger, "sub" and none larger but on the residual), and keeps
-// camera.png's outputs within 1 % of zlib's but for its ground truth (+4 %).
+// an AMD EPYC, the compressors alone: zlib level 3 with Z_RLE (fssim before)
+// took 0.26 to 0.34 s of one core an image, libdeflate level 1 0.15 to 0.28
+// s, ISA-L level 1 0.08 to 0.11 s, for files as small as zlib's with the
+// "up" filter (0.7 % larger to 12 % smaller). ISA-L's levels 2 and 3 are
+// slower for files as large; level 0 is 55 % larger on the noisy
+// restoration. The average filter (PNG type 3) then makes the four files 6 %
+// smaller than zlib's with "up" (82.7 against 88.1 MB; paeth is slower and
+// larger, "sub" and none larger but on the residual), and keeps camera.png's
+// outputs within 1 % of zlib's but for its ground truth (+4 %).
 //
 // Determinism: the bytes depend on the rows, on the fixed sizes below and
 // on ISA-L's version, never on the thread. ISA-L picks its code at run time

@@ -15,7 +15,10 @@
 # difference: scripts/compare_outputs.py compares two such folders by pixels
 # and numbers).
 # A record is only comparable on the same machine kind (PNG plots depend on the
-# installed PLplot, cairo and zlib).
+# installed PLplot, cairo and zlib, the image PNGs on ISA-L and, without
+# SSE4.2, on the processor). A change of the PNG encoder changes the image
+# PNGs' bytes but not their pixels: compare two KEEP folders with
+# build/bench/png_same_pixels (libpng, 16-bit samples exactly).
 set -euo pipefail
 if [ $# -ne 3 ] || { [ "$1" != record ] && [ "$1" != check ]; }; then
   echo "usage: $0 record|check FSSIM RECORD_FILE" >&2

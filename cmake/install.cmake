@@ -71,9 +71,9 @@ string(REGEX REPLACE "\n[.]TH FSSIM 1 \"[^\"]*\" \"fssim [^\"]*\""
 file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/fssim.1 CONTENT "${_fss_man}" @ONLY)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/docs/fssim.1)
 
-# The CMake package. The library links PLplot and libtiff privately: a shared
-# libfss carries them, a static one needs them at the consumer's link, so the
-# config file finds them only for a static build.
+# The CMake package. The library links PLplot, libtiff and ISA-L privately: a
+# shared libfss carries them, a static one needs them at the consumer's link,
+# so the config file finds them only for a static build.
 set(FSS_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/fss)
 install(EXPORT fssTargets NAMESPACE fss:: DESTINATION ${FSS_CMAKE_DIR})
 configure_package_config_file(cmake/fssConfig.cmake.in ${PROJECT_BINARY_DIR}/fssConfig.cmake
@@ -85,13 +85,13 @@ install(FILES ${PROJECT_BINARY_DIR}/fssConfig.cmake ${PROJECT_BINARY_DIR}/fssCon
         DESTINATION ${FSS_CMAKE_DIR})
 
 # fss.pc. A static install has no shared variant, so what a shared libfss
-# would hide (PLplot, libtiff) is needed by every link: they go to Requires, and plain
+# would hide (PLplot, libtiff, ISA-L) is needed by every link: they go to Requires, and plain
 # `pkg-config --libs fss` links. A shared libfss needs only its public
 # dependencies (the headers include nlohmann/json; FFTW3, libpng and threads
 # are public in the CMake target too, and listed the same here).
 set(FSS_PC_REQUIRES "fftw3 libpng nlohmann_json >= 3.9")
 if(NOT FSS_SHARED)
-  string(APPEND FSS_PC_REQUIRES " plplot libtiff-4")
+  string(APPEND FSS_PC_REQUIRES " plplot libtiff-4 libisal")
 endif()
 if(IS_ABSOLUTE "${CMAKE_INSTALL_LIBDIR}")
   set(FSS_PC_LIBDIR "${CMAKE_INSTALL_LIBDIR}")

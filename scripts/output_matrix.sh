@@ -15,7 +15,10 @@
 # difference: scripts/compare_outputs.py compares two such folders by pixels
 # and numbers).
 # A record is only comparable on the same machine kind (PNG plots depend on the
-# installed PLplot, cairo and zlib).
+# installed PLplot, cairo and zlib, the image PNGs on ISA-L and, without
+# SSE4.2, on the processor). A change of the PNG encoder changes the image
+# PNGs' bytes but not their pixels: compare two KEEP folders with
+# build/bench/png_same_pixels (libpng, 16-bit samples exactly).
 set -euo pipefail
 if [ $# -ne 3 ] || { [ "$1" != record ] && [ "$1" != check ]; }; then
   echo "usage: $0 record|check FSSIM RECORD_FILE" >&2
@@ -59,6 +62,8 @@ cases=(
   "astronaut_analog_sheet|--input ../../in/astronaut.png --mode analog --sheet --report --outdir out"
   "astronaut_mip_noisefree|--input ../../in/astronaut.png --code mip --velocity 0.37 --noise none --outdir out --no-plots"
   "astronaut_trials|--input ../../in/astronaut.png --code sinc --dt 0.5 --trials 2 --outdir out --no-plots"
+  "camera_depth16|--input ../../in/camera.png --png-depth 16 --outdir out --no-plots"
+  "astronaut_depth16_sheet|--input ../../in/astronaut.png --png-depth 16 --sheet --outdir out --no-plots"
   "err_not_png|--input ../../in/short.txt --outdir out"
   "err_analog_gain|--input ../../in/camera.png --code random --mode analog --outdir out"
   "err_bad_snr|--input ../../in/camera.png --snr -1 --outdir out"

@@ -4,6 +4,7 @@
 
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
+#include "io/png_write.h"
 
 namespace fss {
 
@@ -41,12 +42,21 @@ void ObservedPng8::store_row(int channel, int row, std::span<const double> value
   ++rows_stored_;
 }
 
-std::vector<std::uint8_t> ObservedPng8::encode() const {
+void ObservedPng8::check_complete() const {
   if (rows_stored_ != height_ * channels_) {
     throw_usage_error("observed.png: " + std::to_string(rows_stored_) + " of " +
                       std::to_string(height_ * channels_) + " observed rows were collected");
   }
+}
+
+std::vector<std::uint8_t> ObservedPng8::encode() const {
+  check_complete();
   return encode_png8_samples(width_, height_, channels_, samples_);
+}
+
+std::string ObservedPng8::encode_string() const {
+  check_complete();
+  return detail::encode_png8_samples_string(width_, height_, channels_, samples_);
 }
 
 }  // namespace fss

@@ -51,7 +51,7 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
 
 std::size_t output_encoding_bytes_per_sample(const OutputOptions& options, int channels) {
   std::size_t bytes = 0;
-  if (options.image_depth == PngDepth::k16) bytes += 8;
+  if (options.image_depth == PngDepth::k16) bytes += 4;  // two bytes a sample, not one
   if (options.float_outputs) bytes += 3 * 2 * sizeof(float);
   if (options.sheet) {
     // The ground truth crop and the residual as doubles (8 + 8), the RGBA

@@ -1,9 +1,9 @@
 #include "fss/io/png_io.h"
 
 #include <png.h>
-#include <zlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
@@ -12,10 +12,13 @@
 #include <fstream>
 #include <memory>
 #include <new>
+#include <utility>
 
 #include "core/enum_names.h"
 #include "fss/core/error.h"
 #include "io/input_bytes.h"
+#include "io/png_samples.h"
+#include "io/png_write.h"
 
 namespace fss {
 namespace {
@@ -130,17 +133,15 @@ bool read_rows(PngContext* ctx, png_bytepp rows) {
 }
 
 bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int bit_depth,
-                 int color_type, png_bytepp rows, PngCompression compression) {
+                 int color_type, png_bytepp rows) {
   if (setjmp(png_jmpbuf(ctx->png))) return false;
   png_set_write_fn(ctx->png, ctx, write_to_memory, flush_nothing);
 
   // The "up" filter alone: libpng's adaptive filter choice makes files 5 %
-  // smaller for 10 % more encoding work. Measured on camera.png's four
-  // outputs (analog raskar run): level 3 LZ77 455 KB in 10 ms, Z_RLE 427 KB
-  // in 3 ms; its two plots: level 3 66 KB, Z_RLE 85 KB.
+  // smaller for 10 % more encoding work. zlib's level 3 suits the plots:
+  // on camera.png's two, 66 KB against 85 KB with Z_RLE.
   png_set_filter(ctx->png, 0, PNG_FILTER_UP);
   png_set_compression_level(ctx->png, 3);
-  if (compression == PngCompression::kImage) png_set_compression_strategy(ctx->png, Z_RLE);
   png_set_IHDR(ctx->png, ctx->info, width, height, bit_depth, color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(ctx->png, ctx->info);
@@ -285,16 +286,13 @@ Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
   return decode_png(bytes.data(), bytes.size(), path.string(), max_bytes);
 }
 
-std::vector<std::uint8_t> encode_png8(const Image& image, PngCompression compression) {
-  return encode_png8(
-      image.width, image.height, image.channels,
-      [&](int c, int y, double* row) {
-        std::copy(image.row(c, y), image.row(c, y) + image.width, row);
-      },
-      compression);
-}
-
 namespace {
+
+using FillRow = std::function<void(int c, int y, double* row)>;
+
+// The values of channel c, row y: either written into `buffer` (room for a
+// row), which is then returned, or a pointer to them where they are.
+using ValueRowSource = std::function<const double*(int c, int y, double* buffer)>;
 
 void check_encodable(int width, int height, int channels) {
   if (channels != 1 && channels != 3) {
@@ -306,16 +304,49 @@ void check_encodable(int width, int height, int channels) {
   }
 }
 
-// Encodes samples interleaved as PNG stores them (`bit_depth` 8 or 16, 16-bit
-// ones big-endian), after check_encodable.
-std::vector<std::uint8_t> encode_stored_samples(int width, int height, int channels, int bit_depth,
-                                                const std::uint8_t* samples,
-                                                PngCompression compression) {
-  const std::size_t row_bytes = static_cast<std::size_t>(width) * channels * (bit_depth / 8);
-  std::vector<png_bytep> rows(static_cast<std::size_t>(height));
-  for (int y = 0; y < height; ++y) {
+// The rows of the values as the PNG of `raster` stores them, one at a time.
+class StoredValueRows {
+ public:
+  StoredValueRows(const detail::PngRaster& raster, ValueRowSource values)
+      : raster_(raster),
+        values_(std::move(values)),
+        buffer_(static_cast<std::size_t>(raster.width) * raster.channels),
+        scratch_(static_cast<std::size_t>(raster.width) * raster.channels) {}
+
+  const std::uint8_t* operator()(int y, std::uint8_t* row) {
+    std::array<const double*, 3> channels{};
+    for (int c = 0; c < raster_.channels; ++c) {
+      channels[c] = values_(c, y, buffer_.data() + static_cast<std::size_t>(c) * raster_.width);
+    }
+    detail::store_sample_row(channels.data(), raster_.channels, raster_.width, raster_.bit_depth,
+                             scratch_.data(), row);
+    return row;
+  }
+
+ private:
+  detail::PngRaster raster_;
+  ValueRowSource values_;
+  std::vector<double> buffer_;          // the values of each channel, when copied
+  std::vector<std::uint16_t> scratch_;  // the samples of each channel
+};
+
+// PngCompression::kGraphics: the whole raster, then libpng and zlib. Rows
+// held elsewhere (the samples of a plot) are not copied.
+std::vector<std::uint8_t> encode_with_libpng(const detail::PngRaster& raster,
+                                             const detail::StoredRowSource& rows) {
+  const std::size_t row_bytes = raster.row_bytes();
+  std::vector<std::uint8_t> scratch(row_bytes);
+  std::vector<std::uint8_t> pixels;  // the rows written into scratch
+  std::vector<png_bytep> row_pointers(static_cast<std::size_t>(raster.height));
+  for (int y = 0; y < raster.height; ++y) {
+    const std::uint8_t* row = rows(y, scratch.data());
+    if (row == scratch.data()) {
+      if (pixels.empty()) pixels.resize(row_bytes * static_cast<std::size_t>(raster.height));
+      row = static_cast<const std::uint8_t*>(
+          std::memcpy(pixels.data() + static_cast<std::size_t>(y) * row_bytes, row, row_bytes));
+    }
     // libpng's row pointers are not const, but writing only reads them.
-    rows[y] = const_cast<png_bytep>(samples + static_cast<std::size_t>(y) * row_bytes);
+    row_pointers[y] = const_cast<png_bytep>(row);
   }
   std::vector<std::uint8_t> out;
   auto structs = std::make_unique<WriteStructs>();
@@ -325,34 +356,53 @@ std::vector<std::uint8_t> encode_stored_samples(int width, int height, int chann
   if (!ctx->png) throw_runtime_error("PNG encoding: out of memory");
   ctx->info = png_create_info_struct(ctx->png);
   if (!ctx->info) throw_runtime_error("PNG encoding: out of memory");
-  const int color_type = channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
-  if (!write_image(ctx, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
-                   bit_depth, color_type, rows.data(), compression)) {
+  const int color_type = raster.channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB;
+  if (!write_image(ctx, static_cast<png_uint_32>(raster.width),
+                   static_cast<png_uint_32>(raster.height), raster.bit_depth, color_type,
+                   row_pointers.data())) {
     throw_runtime_error(std::string("PNG encoding failed: ") + ctx->message);
   }
   return out;
 }
 
-// The 16-bit PNG of fill_row's values: png16_sample, stored big-endian.
-std::vector<std::uint8_t> encode_png16(
-    int width, int height, int channels,
-    const std::function<void(int c, int y, double* row)>& fill_row, PngCompression compression) {
+std::vector<std::uint8_t> encode_rows(const detail::PngRaster& raster,
+                                      const detail::StoredRowSource& rows,
+                                      PngCompression compression) {
+  if (compression == PngCompression::kGraphics) return encode_with_libpng(raster, rows);
+  return detail::write_png<std::vector<std::uint8_t>>(raster, rows);
+}
+
+detail::PngRaster raster_of(int width, int height, int channels, PngDepth depth) {
   check_encodable(width, height, channels);
-  const std::size_t row_samples = static_cast<std::size_t>(width) * channels;
-  std::vector<std::uint8_t> pixels(2 * row_samples * static_cast<std::size_t>(height));
-  std::vector<double> row(static_cast<std::size_t>(width));
-  for (int y = 0; y < height; ++y) {
-    for (int c = 0; c < channels; ++c) {
-      fill_row(c, y, row.data());
-      std::uint8_t* out = pixels.data() + 2 * (static_cast<std::size_t>(y) * row_samples + c);
-      for (int x = 0; x < width; ++x) {
-        const std::uint16_t sample = png16_sample(row[x]);
-        out[2 * static_cast<std::size_t>(x) * channels] = static_cast<std::uint8_t>(sample >> 8);
-        out[2 * static_cast<std::size_t>(x) * channels + 1] = static_cast<std::uint8_t>(sample);
-      }
-    }
+  return {width, height, channels, depth == PngDepth::k16 ? 16 : 8};
+}
+
+ValueRowSource filled_rows(const FillRow& fill_row) {
+  return [&fill_row](int c, int y, double* buffer) -> const double* {
+    fill_row(c, y, buffer);
+    return buffer;
+  };
+}
+
+ValueRowSource image_rows(const Image& image) {
+  return [&image](int c, int y, double*) { return image.row(c, y); };
+}
+
+// The rows of samples already interleaved as the PNG stores them, after
+// checking their count.
+detail::StoredRowSource sample_rows(const detail::PngRaster& raster,
+                                    std::span<const std::uint8_t> samples) {
+  const std::size_t row_bytes = raster.row_bytes();
+  if (samples.size() != row_bytes * static_cast<std::size_t>(raster.height)) {
+    throw_usage_error("PNG encoding of a " + std::to_string(raster.width) + "x" +
+                      std::to_string(raster.height) + "x" + std::to_string(raster.channels) +
+                      " image needs " +
+                      std::to_string(row_bytes * static_cast<std::size_t>(raster.height)) +
+                      " samples, got " + std::to_string(samples.size()));
   }
-  return encode_stored_samples(width, height, channels, 16, pixels.data(), compression);
+  return [samples, row_bytes](int y, std::uint8_t*) {
+    return samples.data() + static_cast<std::size_t>(y) * row_bytes;
+  };
 }
 
 }  // namespace
@@ -363,53 +413,53 @@ std::optional<PngDepth> png_depth_from_string(std::string_view text) {
   return detail::enum_from_name(kPngDepthNames, text);
 }
 
-std::vector<std::uint8_t> encode_png8(
-    int width, int height, int channels,
-    const std::function<void(int c, int y, double* row)>& fill_row, PngCompression compression) {
-  check_encodable(width, height, channels);
-  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width) * height * channels);
-  std::vector<double> row(static_cast<std::size_t>(width));
-  for (int y = 0; y < height; ++y) {
-    for (int c = 0; c < channels; ++c) {
-      fill_row(c, y, row.data());
-      std::uint8_t* out = pixels.data() + static_cast<std::size_t>(y) * width * channels + c;
-      for (int x = 0; x < width; ++x) {
-        out[static_cast<std::size_t>(x) * channels] = png8_sample(row[x]);
-      }
-    }
-  }
-  return encode_png8_samples(width, height, channels, pixels, compression);
+std::vector<std::uint8_t> encode_png8(const Image& image, PngCompression compression) {
+  return encode_png(image, PngDepth::k8, compression);
 }
 
-std::vector<std::uint8_t> encode_png(int width, int height, int channels,
-                                     const std::function<void(int c, int y, double* row)>& fill_row,
+std::vector<std::uint8_t> encode_png8(int width, int height, int channels, const FillRow& fill_row,
+                                      PngCompression compression) {
+  return encode_png(width, height, channels, fill_row, PngDepth::k8, compression);
+}
+
+std::vector<std::uint8_t> encode_png(int width, int height, int channels, const FillRow& fill_row,
                                      PngDepth depth, PngCompression compression) {
-  return depth == PngDepth::k16 ? encode_png16(width, height, channels, fill_row, compression)
-                                : encode_png8(width, height, channels, fill_row, compression);
+  const detail::PngRaster raster = raster_of(width, height, channels, depth);
+  return encode_rows(raster, StoredValueRows(raster, filled_rows(fill_row)), compression);
 }
 
 std::vector<std::uint8_t> encode_png(const Image& image, PngDepth depth,
                                      PngCompression compression) {
-  return encode_png(
-      image.width, image.height, image.channels,
-      [&](int c, int y, double* row) {
-        std::copy(image.row(c, y), image.row(c, y) + image.width, row);
-      },
-      depth, compression);
+  const detail::PngRaster raster = raster_of(image.width, image.height, image.channels, depth);
+  return encode_rows(raster, StoredValueRows(raster, image_rows(image)), compression);
 }
 
 std::vector<std::uint8_t> encode_png8_samples(int width, int height, int channels,
                                               std::span<const std::uint8_t> samples,
                                               PngCompression compression) {
-  check_encodable(width, height, channels);
-  const std::size_t row_bytes = static_cast<std::size_t>(width) * channels;
-  if (samples.size() != row_bytes * static_cast<std::size_t>(height)) {
-    throw_usage_error("PNG encoding of a " + std::to_string(width) + "x" + std::to_string(height) +
-                      "x" + std::to_string(channels) + " image needs " +
-                      std::to_string(row_bytes * static_cast<std::size_t>(height)) +
-                      " samples, got " + std::to_string(samples.size()));
-  }
-  return encode_stored_samples(width, height, channels, 8, samples.data(), compression);
+  const detail::PngRaster raster = raster_of(width, height, channels, PngDepth::k8);
+  return encode_rows(raster, sample_rows(raster, samples), compression);
 }
+
+namespace detail {
+
+std::string encode_png_string(int width, int height, int channels, const FillRow& fill_row,
+                              PngDepth depth) {
+  const PngRaster raster = raster_of(width, height, channels, depth);
+  return write_png<std::string>(raster, StoredValueRows(raster, filled_rows(fill_row)));
+}
+
+std::string encode_png_string(const Image& image, PngDepth depth) {
+  const PngRaster raster = raster_of(image.width, image.height, image.channels, depth);
+  return write_png<std::string>(raster, StoredValueRows(raster, image_rows(image)));
+}
+
+std::string encode_png8_samples_string(int width, int height, int channels,
+                                       std::span<const std::uint8_t> samples) {
+  const PngRaster raster = raster_of(width, height, channels, PngDepth::k8);
+  return write_png<std::string>(raster, sample_rows(raster, samples));
+}
+
+}  // namespace detail
 
 }  // namespace fss

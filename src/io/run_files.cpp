@@ -15,6 +15,7 @@
 #include "fss/io/tiff_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/metrics.h"
+#include "io/png_write.h"
 #include "io/run_file_sources.h"
 
 namespace fss {
@@ -25,19 +26,17 @@ std::string as_string(const std::vector<std::uint8_t>& bytes) {
   return {bytes.begin(), bytes.end()};
 }
 
-std::vector<std::uint8_t> encode_observed(const Image& kept, const SimulationReport& /*report*/,
-                                          PngDepth depth) {
+std::string encode_observed(const Image& kept, const SimulationReport& /*report*/, PngDepth depth) {
   if (kept.data.empty()) {
     throw_usage_error(
         "observed.png: the report keeps no observed image (Simulate ran with an ObservedRowSink) "
         "and no "
         "ObservedPng8 was given to write_outputs");
   }
-  return encode_png(kept, depth);
+  return detail::encode_png_string(kept, depth);
 }
 
-std::vector<std::uint8_t> encode_observed(const ObservedPng8& rows, const SimulationReport& r,
-                                          PngDepth depth) {
+std::string encode_observed(const ObservedPng8& rows, const SimulationReport& r, PngDepth depth) {
   const Image& outputs = r.restored;
   if (rows.width() != outputs.width || rows.height() != outputs.height ||
       rows.channels() != outputs.channels) {
@@ -52,17 +51,18 @@ std::vector<std::uint8_t> encode_observed(const ObservedPng8& rows, const Simula
         "observed.png: 16-bit outputs need the report's observed image; an ObservedPng8 holds "
         "8-bit samples");
   }
-  return rows.encode();
+  return rows.encode_string();
 }
 
 std::string make_observed(const RunFileSources& s) {
-  return as_string(std::visit(
+  return std::visit(
       [&](const auto& source) { return encode_observed(source.get(), s.report, s.image_depth); },
-      s.observed));
+      s.observed);
 }
 
+// The images are encoded straight into the file's bytes (no copy).
 std::string make_restored(const RunFileSources& s) {
-  return as_string(encode_png(s.report.restored, s.image_depth));
+  return detail::encode_png_string(s.report.restored, s.image_depth);
 }
 
 // The ground truth and the residual are encoded straight from the input and
@@ -70,12 +70,12 @@ std::string make_restored(const RunFileSources& s) {
 std::string make_groundtruth(const RunFileSources& s) {
   const int offset = s.report.output_first_column(), wo = s.report.restored.width;
   const Image& input = s.input;
-  return as_string(encode_png(
+  return detail::encode_png_string(
       wo, input.height, input.channels,
       [&](int c, int y, double* row) {
         std::copy(input.row(c, y) + offset, input.row(c, y) + offset + wo, row);
       },
-      s.image_depth));
+      s.image_depth);
 }
 
 // groundtruth - restored, stretched affinely to [0, 255] (docs/method.md §5).
@@ -84,14 +84,14 @@ std::string make_residual(const RunFileSources& s) {
   const Image& input = s.input;
   const Image& restored = s.report.restored;
   const ResidualRange range = residual_range(input, offset, restored);
-  return as_string(encode_png(
+  return detail::encode_png_string(
       wo, input.height, input.channels,
       [&](int c, int y, double* row) {
         const double* truth = input.row(c, y) + offset;
         const double* restored_row = restored.row(c, y);
         for (int x = 0; x < wo; ++x) row[x] = range.stretch(truth[x] - restored_row[x]);
       },
-      s.image_depth));
+      s.image_depth);
 }
 
 // The float TIFFs hold the values themselves: no rounding, no clamping.

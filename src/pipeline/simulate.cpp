@@ -465,8 +465,13 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t groups = ci_pixels / 4 + 8 * std::size_t{65536};
   const std::size_t midway =
       (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels : 16 * ci_pixels) + 2 * sorter + groups;
-  // Four 8-bit rasters and their encoded copies, at most.
-  const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
+  // The four image PNGs, each at most a byte a sample (ISA-L stores what it
+  // cannot compress), encoded row by row straight into their files' bytes:
+  // no raster of samples, no copy (src/io/png_write.cpp); and the encoders'
+  // own buffers (ISA-L's state, a block of rows, a chunk of stream), about
+  // 1.1 MiB for each PNG encoded at once, at most five.
+  const std::size_t encoders = std::size_t{6} << 20;
+  const std::size_t encoding = (4 + extra_encoding_bytes_per_sample) * wo * h * c + encoders;
   return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
 }
 

@@ -1,6 +1,6 @@
 // The memory estimate against the measured peak (issue 12): for gray and RGB
 // images, both modes and the options that add memory (--sheet, --report,
-// --trials), the estimate fssim states when it refuses a run
+// --trials, --png-depth 16), the estimate fssim states when it refuses a run
 // (estimate_working_memory_bytes with the outputs' bytes) must be at or
 // above the peak resident memory of the same run (getrusage of the child).
 #include <fcntl.h>
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "fss/io/png_io.h"
+#include "fss/io/tiff_io.h"
 #include "support/test_util.h"
 
 extern char** environ;
@@ -51,20 +52,27 @@ double peak_bytes(const std::string& arguments) {
   return static_cast<double>(usage.ru_maxrss) * 1024.0;  // ru_maxrss is in KiB
 }
 
-// The estimate in fssim's refusal under --max-memory 1 ("needs about 162.7
-// MiB"), less half of its last digit: a lower bound of the exact estimate.
-double stated_estimate_bytes(const std::string& arguments) {
-  const test::CommandResult r = test::run_fssim(arguments + " --max-memory 1");
-  EXPECT_EQ(r.exit_code, 1) << r.err;
+// The size after `prefix` in `text` ("needs about 162.7 MiB"), less half of
+// its last digit (a lower bound of the exact size), or 0 when there is none.
+double stated_bytes(const std::string& text, const std::string& prefix) {
   std::smatch m;
-  if (!std::regex_search(r.err, m, std::regex(R"(needs about ([0-9.]+) (bytes|KiB|MiB|GiB))"))) {
-    ADD_FAILURE() << "no estimate in: " << r.err;
+  if (!std::regex_search(text, m, std::regex(prefix + R"( ([0-9.]+) (bytes|KiB|MiB|GiB))"))) {
     return 0.0;
   }
   const double units[] = {1.0, 1024.0, 1024.0 * 1024.0, 1024.0 * 1024.0 * 1024.0};
   const std::string unit = m[2];
   const double scale = units[unit == "bytes" ? 0 : unit == "KiB" ? 1 : unit == "MiB" ? 2 : 3];
   return (std::stod(m[1]) - 0.05) * scale;
+}
+
+// The estimate in fssim's refusal under --max-memory `limit` bytes.
+double stated_estimate_bytes(const std::string& arguments, double limit = 1.0) {
+  const test::CommandResult r =
+      test::run_fssim(arguments + " --max-memory " + std::to_string(static_cast<long long>(limit)));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const double estimate = stated_bytes(r.err, "needs about");
+  if (estimate == 0.0) ADD_FAILURE() << "no estimate in: " << r.err;
+  return estimate;
 }
 
 // True in a build with AddressSanitizer (scripts/test-sanitize.sh), whose
@@ -105,6 +113,36 @@ TEST_P(MemoryEstimate, IsAtOrAboveTheMeasuredPeak) {
                   channels, mode, options, estimate / 1048576.0, peak / 1048576.0);
       EXPECT_GE(estimate, peak) << arguments;
     }
+  }
+}
+
+// 16-bit PNGs keep the observed image as doubles and take two bytes a
+// sample. The input is a TIFF: fssim's early estimate from a PNG header (a
+// lower bound, which assumes 8-bit outputs) is then not made, and the
+// estimate stated is the one made after decoding, with the outputs' depth.
+TEST_P(MemoryEstimate, SixteenBitOutputsAreCounted) {
+  if (kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's own memory would be measured";
+  const int channels = GetParam();
+  test::TempDir dir;
+  const fs::path input = dir / "input.tif";
+  const std::vector<std::uint8_t> tiff =
+      encode_tiff_float(test::make_test_image(1600, 1000, channels));
+  test::write_file(input, std::string(tiff.begin(), tiff.end()));
+  for (const char* options : {"--png-depth 16", "--png-depth 16 --sheet --trials 3"}) {
+    const std::string arguments =
+        "-i " + input.string() + " -o " + (dir / "out").string() + " --threads 2 " + options;
+    // Under a limit of 1 byte, the decoding of the input is refused first;
+    // just above that decoding's memory, the run.
+    const test::CommandResult decoding = test::run_fssim(arguments + " --max-memory 1");
+    const double decoding_bytes = stated_bytes(decoding.err, "decoding it needs");
+    ASSERT_GT(decoding_bytes, 0.0) << decoding.err;
+    const double estimate = stated_estimate_bytes(arguments, decoding_bytes + 1048576.0);
+    const double peak = peak_bytes(arguments + " --max-memory 0");
+    ASSERT_GT(peak, 0.0) << arguments;
+    std::printf(
+        "memory estimate: %d channel(s), TIFF input %-33s estimate %7.1f MiB, peak %7.1f MiB\n",
+        channels, options, estimate / 1048576.0, peak / 1048576.0);
+    EXPECT_GE(estimate, peak) << arguments;
   }
 }
 

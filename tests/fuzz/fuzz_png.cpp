@@ -1,11 +1,14 @@
-// libFuzzer target: fss::decode_png on arbitrary bytes. An fss::Error is the
-// expected end for most inputs; any other exception escaping, a crash, a
-// sanitizer report, a leak, or a decoded image that breaks the conventions of
-// image.h is a bug. In this build (FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION)
+// libFuzzer target: fss::decode_png on arbitrary bytes, then the image it
+// gives encoded again (the writer of the image outputs, src/io/png_write.cpp)
+// and decoded back. An fss::Error is the expected end for most inputs; any
+// other exception escaping, a crash, a sanitizer report, a leak, a decoded
+// image that breaks the conventions of image.h, or a round trip that changes
+// a sample is a bug. In this build (FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION)
 // the reader ignores CRCs, so that mutated headers get past them.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "fss/core/error.h"
 #include "fss/core/image.h"
@@ -33,22 +36,42 @@ bool legitimately_huge(const std::uint8_t* data, std::size_t size) {
   return pixels > (std::uint64_t{1} << 24) && stored_bytes <= 1032 * (std::uint64_t{size} + 1);
 }
 
+// Every decoded image comes back from a 16-bit PNG exactly (a sample s reads
+// as s / 257, which png16_sample turns back into s), and from an 8-bit one
+// when its values are whole (8-bit sources).
+void check_round_trips(const fss::Image& image) {
+  const auto same = [&](const std::vector<std::uint8_t>& png) {
+    const fss::Image back = fss::decode_png(png.data(), png.size(), "round-trip.png");
+    return back.width == image.width && back.height == image.height &&
+           back.channels == image.channels && back.data == image.data;
+  };
+  if (!same(fss::encode_png(image, fss::PngDepth::k16))) __builtin_trap();
+  for (const double value : image.data) {
+    if (value != std::floor(value)) return;
+  }
+  if (!same(fss::encode_png(image, fss::PngDepth::k8))) __builtin_trap();
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (legitimately_huge(data, size)) return 0;
+  fss::Image image;
   try {
-    const fss::Image image = fss::decode_png(data, size, "fuzz.png");
-    const bool valid_size =
-        image.width >= 1 && image.height >= 1 && image.width <= fss::kMaxImageSide &&
-        image.height <= fss::kMaxImageSide && (image.channels == 1 || image.channels == 3) &&
-        image.data.size() == image.plane_size() * image.channels;
-    if (!valid_size) __builtin_trap();
-    for (const double value : image.data) {
-      if (!(value >= 0.0 && value <= 255.0)) __builtin_trap();
-    }
+    image = fss::decode_png(data, size, "fuzz.png");
   } catch (const fss::Error&) {
-    // A damaged or hostile file, refused with a message: the expected end.
+    return 0;  // a damaged or hostile file, refused with a message: the expected end
   }
+  const bool valid_size = image.width >= 1 && image.height >= 1 &&
+                          image.width <= fss::kMaxImageSide && image.height <= fss::kMaxImageSide &&
+                          (image.channels == 1 || image.channels == 3) &&
+                          image.data.size() == image.plane_size() * image.channels;
+  if (!valid_size) __builtin_trap();
+  for (const double value : image.data) {
+    if (!(value >= 0.0 && value <= 255.0)) __builtin_trap();
+  }
+  // Out of the try: an error of the encoder, or of decoding what it wrote,
+  // is a bug (libFuzzer reports the exception).
+  check_round_trips(image);
   return 0;
 }

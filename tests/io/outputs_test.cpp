@@ -506,7 +506,10 @@ TEST(ObservedPng8, EncodesTheBytesOfTheKeptImage) {
     const StreamedRun run(input, /*keep=*/true);
     ASSERT_EQ(run.observed.rows_stored(), 9 * channels);
     EXPECT_EQ(run.observed.width(), run.report.observed.width);
-    EXPECT_TRUE(run.observed.encode() == encode_png8(run.report.observed)) << channels;
+    const std::vector<std::uint8_t> png = encode_png8(run.report.observed);
+    EXPECT_TRUE(run.observed.encode() == png) << channels;
+    const std::string file = run.observed.encode_string();
+    EXPECT_TRUE(file == std::string(png.begin(), png.end())) << channels;
   }
 }
 
@@ -535,6 +538,8 @@ TEST(ObservedPng8, RefusesRowsThatDoNotFitAndIncompleteImages) {
                                  {"row 0 of channel 1", "does not fit"}));
   EXPECT_TRUE(
       test::throws_error([&] { observed.encode(); }, ErrorKind::kUsage, {"1 of 2 observed rows"}));
+  EXPECT_TRUE(test::throws_error([&] { observed.encode_string(); }, ErrorKind::kUsage,
+                                 {"1 of 2 observed rows"}));
   observed.store_row(0, 1, row);
   EXPECT_NO_THROW(observed.encode());
   EXPECT_TRUE(test::throws_error([&] { observed.store_row(0, 1, row); }, ErrorKind::kUsage,

@@ -7,6 +7,7 @@
 #include <functional>
 #include <mutex>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "fss/pipeline/simulate.h"
@@ -38,8 +39,12 @@ class ObservedPng8 : public ObservedRowSink {
   int rows_stored() const { return rows_stored_; }
   // The PNG; the same bytes as encode_png8 of the observed image of doubles.
   std::vector<std::uint8_t> encode() const;
+  // The same bytes as a std::string, what an output file holds (no copy).
+  std::string encode_string() const;
 
  private:
+  void check_complete() const;  // a usage error unless every row was stored
+
   int width_ = 0;
   int height_;
   int channels_;

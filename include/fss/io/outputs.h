@@ -40,7 +40,7 @@ struct OutputOptions {
 
 // Bytes a sample of the output crop that the outputs `options` asks for take
 // while they are made, beyond the default ones (estimate_working_memory_bytes,
-// simulate.h): 16-bit PNGs double the 8 of the four image PNGs; each float
+// simulate.h): 16-bit PNGs double the 4 of the four image PNGs; each float
 // TIFF holds 4 and is copied once into its output file; sheet.png holds the
 // ground truth and the residual (8 + 8), an RGBA picture (12 / channels),
 // its samples and their PNG (3 + 3); report.html 8 (the page's PNGs in

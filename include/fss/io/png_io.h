@@ -1,4 +1,5 @@
-// PNG reading and 8- or 16-bit PNG encoding (libpng). Conventions: image.h.
+// PNG reading (libpng) and 8- or 16-bit PNG encoding (ISA-L for images,
+// libpng for plots). Conventions: image.h.
 #pragma once
 
 #include <cstdint>
@@ -34,12 +35,17 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
 std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
                              std::size_t row_bytes);
 
-// How an encoded PNG is compressed. Both use the "up" filter; the pixels
-// are the same, only file size and encoding time differ.
-//  - kImage: zlib run-length matching (Z_RLE). On camera.png's outputs it is
-//    6 % smaller and 3x faster to encode than level-3 LZ77 matching.
-//  - kGraphics: zlib level 3, whose long matches suit the repeated runs of
-//    flat colour and text in plots (Z_RLE makes them 28 % larger).
+// How an encoded PNG is compressed; the pixels are the same, only file size
+// and encoding time differ.
+//  - kImage: the average filter and ISA-L's deflate at level 1, streamed
+//    over blocks of rows (src/io/png_write.cpp): 3 to 4 times as fast as
+//    zlib level 3 with run-length matching (fssim before) on large images,
+//    and as small. The bytes do not depend on the thread; they depend on
+//    ISA-L's version and on whether the processor has SSE4.2 (README,
+//    "Performance").
+//  - kGraphics: libpng, the "up" filter and zlib level 3, whose long matches
+//    suit the repeated runs of flat colour and text in plots (run-length
+//    matching makes them 28 % larger).
 enum class PngCompression { kImage, kGraphics };
 
 // A value as an 8-bit PNG sample: rounded to the nearest integer (halves

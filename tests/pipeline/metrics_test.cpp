@@ -6,9 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -21,6 +26,7 @@
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/simulate.h"
+#include "pipeline/rmse_ci_corpus.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -662,6 +668,61 @@ TEST(RmseContrastInvariant, ReferenceCases) {
     ++checked;
   }
   EXPECT_EQ(checked, 6);
+}
+
+std::string hex_bits(double value) {
+  std::ostringstream out;
+  out << std::hex << std::setw(16) << std::setfill('0') << std::bit_cast<std::uint64_t>(value);
+  return out.str();
+}
+
+// The bits of every case of the corpus (rmse_ci_corpus.h), with 1 and 2
+// threads, as recorded in tests/fixtures/rmse_ci_corpus_bits.txt (made by
+// the radix-sort implementation before the bucket sort, and unchanged
+// since). FSS_RECORD_RMSE_CI_CORPUS=FILE writes the current bits to FILE
+// instead of checking them.
+TEST(RmseContrastInvariant, CorpusGivesTheRecordedBits) {
+  const char* record = std::getenv("FSS_RECORD_RMSE_CI_CORPUS");
+  std::map<std::string, std::string> recorded;
+  if (record == nullptr) {
+    std::istringstream lines(test::read_file(test::fixture_path("rmse_ci_corpus_bits.txt")));
+    std::string name;
+    std::string bits;
+    while (lines >> name >> bits) recorded[name] = bits;
+    ASSERT_GT(recorded.size(), 700u);
+  }
+  std::ostringstream written;
+  std::size_t checked = 0;
+  test::for_each_corpus_case([&](const test::CorpusCase& k) {
+    const double one = rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end, 1);
+    const double two = rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end, 2);
+    EXPECT_EQ(hex_bits(two), hex_bits(one)) << k.name;
+    if (record != nullptr) {
+      written << k.name << " " << hex_bits(one) << "\n";
+      return;
+    }
+    const auto found = recorded.find(k.name);
+    ASSERT_NE(found, recorded.end()) << k.name;
+    EXPECT_EQ(hex_bits(one), found->second) << k.name << ": " << std::setprecision(17) << one;
+    ++checked;
+  });
+  if (record != nullptr) {
+    std::ofstream(record) << written.str();
+    GTEST_SKIP() << "recorded the corpus's bits in " << record;
+  }
+  EXPECT_EQ(checked, recorded.size());
+}
+
+// The plain reference (sorts of pairs, every sum in rank order) gives the
+// same bits on every case of the corpus.
+TEST(RmseContrastInvariant, CorpusMatchesThePlainReferenceBitForBit) {
+  test::for_each_corpus_case([&](const test::CorpusCase& k) {
+    const double expected =
+        test::reference_rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end);
+    EXPECT_EQ(hex_bits(rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end, 2)),
+              hex_bits(expected))
+        << k.name << ": expected " << std::setprecision(17) << expected;
+  });
 }
 
 double min_of(const Image& image) {

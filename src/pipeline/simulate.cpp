@@ -452,16 +452,12 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t input = w * h * c * sizeof(double);
   const std::size_t outputs =
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
-  // RMSE_CI (metrics.h): 16 bytes a pixel and two sorter buffers of half a
-  // byte a pixel, at least 2 MiB (one per sorting thread); 20 bytes when a
-  // and b are sorted at the same time (windows of at most kParallelSortPixels).
+  // RMSE_CI (metrics.h): 16 bytes and 1 bit a pixel of one channel's
+  // window (its records, rounded up to 2 MiB pages when large), 8 bytes per
+  // distinct ground-truth value (at most 65536 of them: 512 KiB) and about
+  // 7 MiB of buffers.
   const std::size_t ci_pixels = ci_width * h;
-  const std::size_t sorter = std::max<std::size_t>(ci_pixels / 2, std::size_t{2} << 20);
-  // Plus the group bookkeeping of the tie expectation: two bits a pixel and
-  // 8 bytes per distinct ground-truth value (at most 65536 of them).
-  const std::size_t groups = ci_pixels / 4 + 8 * std::size_t{65536};
-  const std::size_t midway =
-      (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels : 16 * ci_pixels) + 2 * sorter + groups;
+  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{10} << 20);
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
   return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);

@@ -88,44 +88,37 @@ std::pair<std::uint32_t, std::uint32_t> rows_of(std::uint32_t height, int w, int
 
 // ---- The top-level buckets: a sample of the keys ----
 
-// About kSampleSize keys of a window's pixels, for TopBuckets: one pixel
-// every `stride`, taken as they come by (the caller keeps the countdown to
-// the next one in a register).
-constexpr std::size_t kSampleSize = 16384;
+// The top-level buckets of a window's values, from the keys of
+// kSampleSize of its pixels, evenly spaced (read out of order before any
+// pass over the window: a few hundred microseconds; the passes then count
+// the buckets as they go).
+constexpr std::size_t kSampleSize = 4096;
 
-class KeySample {
- public:
-  explicit KeySample(std::size_t n) : stride_(std::max<std::size_t>(1, n / kSampleSize)) {}
-  std::size_t stride() const { return stride_; }
-  void take(std::uint64_t key) { keys_.push_back(key); }
-  void add(const KeySample& other) {
-    keys_.insert(keys_.end(), other.keys_.begin(), other.keys_.end());
+TopBuckets top_buckets(const ChannelWindow& v) {
+  const std::size_t n = v.size();
+  std::vector<std::uint64_t> keys(std::min(n, kSampleSize));
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::size_t p = k * n / keys.size();
+    keys[k] = ordered_bits(v.row(static_cast<std::uint32_t>(p / v.width))[p % v.width]);
   }
-  TopBuckets buckets(std::size_t n) && { return TopBuckets(std::move(keys_), n / kBucketRecords); }
+  return TopBuckets(std::move(keys), n / kBucketRecords);
+}
 
- private:
-  std::size_t stride_;
-  std::vector<std::uint64_t> keys_;
-};
+// Each worker's count of the pixels of its rows in each top-level bucket.
+using BucketCounts = std::vector<std::vector<std::size_t>>;
 
-// The top-level buckets of a window's values.
-TopBuckets top_buckets(const ChannelWindow& v, int workers) {
-  std::vector<KeySample> samples(static_cast<std::size_t>(workers), KeySample(v.size()));
+// The BucketCounts of a window's values.
+BucketCounts count_buckets(const ChannelWindow& v, const TopBuckets& top, int workers) {
+  BucketCounts counts(static_cast<std::size_t>(workers), std::vector<std::size_t>(top.count(), 0));
   parallel_for(workers, workers, [&](int w, int) {
-    KeySample& sample = samples[static_cast<std::size_t>(w)];
-    std::size_t countdown = 1;
+    std::size_t* count = counts[static_cast<std::size_t>(w)].data();
     const auto [y0, y1] = rows_of(v.height, w, workers);
     for (std::uint32_t y = y0; y < y1; ++y) {
       const double* row = v.row(y);
-      for (std::uint32_t x = 0; x < v.width; ++x) {
-        if (--countdown > 0) continue;
-        sample.take(ordered_bits(row[x]));
-        countdown = sample.stride();
-      }
+      for (std::uint32_t x = 0; x < v.width; ++x) ++count[top.of_value(row[x])];
     }
   });
-  for (std::size_t w = 1; w < samples.size(); ++w) samples[0].add(samples[w]);
-  return std::move(samples[0]).buckets(v.size());
+  return counts;
 }
 
 // ---- a's groups on a lattice: a histogram ----
@@ -174,26 +167,27 @@ class Lattice {
   const double* table_;
 };
 
-// How many pixels hold each level of a, the lowest and highest level held,
-// and a sample of b's keys.
+// How many pixels of some rows hold each level of a, the lowest and
+// highest level held, and how many of b's values fall in each top-level
+// bucket.
 struct LevelCounts {
-  explicit LevelCounts(std::size_t n) : b_sample(n) {}
+  explicit LevelCounts(std::size_t buckets) : bucket(buckets, 0) {}
   std::vector<std::uint64_t> count = std::vector<std::uint64_t>(kLevels, 0);
   std::uint32_t low = kLevels;
   std::uint32_t high = 0;
-  KeySample b_sample;
+  std::vector<std::size_t> bucket;
 };
 
-// Counts the levels of a's rows [y0, y1) and samples b's keys; false at
-// the first value of a off the lattice. (Locals, not members, in the loop:
-// the stores to the counts could alias members.)
+// Counts the levels of a's rows [y0, y1) and b's buckets; false at the
+// first value of a off the lattice. (Locals, not members, in the loop: the
+// stores to the counts could alias members.)
 template <typename Lattice>
 bool count_levels(const ChannelWindow& a, const ChannelWindow& b, const Lattice& lattice,
-                  std::uint32_t y0, std::uint32_t y1, LevelCounts& counts) {
+                  const TopBuckets& top, std::uint32_t y0, std::uint32_t y1, LevelCounts& counts) {
   std::uint64_t* count = counts.count.data();
+  std::size_t* bucket = counts.bucket.data();
   std::uint32_t low = counts.low;
   std::uint32_t high = counts.high;
-  std::size_t countdown = 1;
   for (std::uint32_t y = y0; y < y1; ++y) {
     const double* ra = a.row(y);
     const double* rb = b.row(y);
@@ -203,10 +197,7 @@ bool count_levels(const ChannelWindow& a, const ChannelWindow& b, const Lattice&
       ++count[k];
       low = std::min(low, k);
       high = std::max(high, k);
-      if (--countdown == 0) {
-        counts.b_sample.take(ordered_bits(rb[x]));
-        countdown = counts.b_sample.stride();
-      }
+      ++bucket[top.of_value(rb[x])];
     }
   }
   counts.low = low;
@@ -214,15 +205,18 @@ bool count_levels(const ChannelWindow& a, const ChannelWindow& b, const Lattice&
   return true;
 }
 
-// The level counts of all of a, or nothing when a value is off the lattice.
+// The level counts of all of a (in the first worker's), or nothing when a
+// value is off the lattice.
 template <typename Lattice>
-std::optional<LevelCounts> count_all_levels(const ChannelWindow& a, const ChannelWindow& b,
-                                            const Lattice& lattice, int workers) {
-  std::vector<LevelCounts> counts(static_cast<std::size_t>(workers), LevelCounts(a.size()));
+std::optional<std::vector<LevelCounts>> count_all_levels(const ChannelWindow& a,
+                                                         const ChannelWindow& b,
+                                                         const Lattice& lattice,
+                                                         const TopBuckets& top, int workers) {
+  std::vector<LevelCounts> counts(static_cast<std::size_t>(workers), LevelCounts(top.count()));
   std::atomic<bool> on_lattice{true};
   parallel_for(workers, workers, [&](int w, int) {
     const auto [y0, y1] = rows_of(a.height, w, workers);
-    if (!count_levels(a, b, lattice, y0, y1, counts[static_cast<std::size_t>(w)])) {
+    if (!count_levels(a, b, lattice, top, y0, y1, counts[static_cast<std::size_t>(w)])) {
       on_lattice = false;
     }
   });
@@ -233,9 +227,8 @@ std::optional<LevelCounts> count_all_levels(const ChannelWindow& a, const Channe
     for (std::uint32_t k = part.low; k <= part.high; ++k) all.count[k] += part.count[k];
     all.low = std::min(all.low, part.low);
     all.high = std::max(all.high, part.high);
-    all.b_sample.add(part.b_sample);
   }
-  return std::move(all);
+  return counts;
 }
 
 // a's groups from its level counts: one per level held, numbered in level
@@ -261,33 +254,23 @@ std::unique_ptr<std::uint32_t[]> groups_from_counts(const LevelCounts& counts,
 // ---- The records, scattered into the top-level buckets ----
 
 // Records of the pixels, made by make(a value, b value), put into the `top`
-// buckets of the values of `keys` (a or b), in any order inside a bucket;
-// returns the first record of each bucket and one past the last. Each
-// worker counts, then places, the records of its rows: the pixels are read
+// buckets of the values of `keys` (a or b), in any order inside a bucket,
+// `counts` of them in each bucket from each worker's rows; returns the
+// first record of each bucket and one past the last. The pixels are read
 // in order, and the records go to a thousand places at once.
 template <typename MakeRecord>
-std::vector<std::size_t> scatter(const ChannelWindow& a, const ChannelWindow& b,
-                                 const ChannelWindow& keys, MakeRecord make, const TopBuckets& top,
-                                 Record* records, int workers) {
+std::vector<std::size_t> place(const ChannelWindow& a, const ChannelWindow& b,
+                               const ChannelWindow& keys, MakeRecord make, const TopBuckets& top,
+                               BucketCounts counts, Record* records, int workers) {
   const std::size_t m = top.count();
-  std::vector<std::vector<std::size_t>> next(static_cast<std::size_t>(workers),
-                                             std::vector<std::size_t>(m, 0));
-  parallel_for(workers, workers, [&](int w, int) {
-    std::size_t* count = next[static_cast<std::size_t>(w)].data();
-    const auto [y0, y1] = rows_of(a.height, w, workers);
-    for (std::uint32_t y = y0; y < y1; ++y) {
-      const double* row = keys.row(y);
-      for (std::uint32_t x = 0; x < a.width; ++x) ++count[top.of_value(row[x])];
-    }
-  });
   std::vector<std::size_t> bounds(m + 1, 0);
   for (std::size_t k = 0, start = 0; k < m; ++k) {
     bounds[k] = start;
-    for (auto& count : next) start += std::exchange(count[k], start);
+    for (auto& count : counts) start += std::exchange(count[k], start);  // the worker's first slot
     bounds[k + 1] = start;
   }
   parallel_for(workers, workers, [&](int w, int) {
-    std::size_t* slot = next[static_cast<std::size_t>(w)].data();
+    std::size_t* slot = counts[static_cast<std::size_t>(w)].data();
     const auto [y0, y1] = rows_of(a.height, w, workers);
     for (std::uint32_t y = y0; y < y1; ++y) {
       const double* ra = a.row(y);
@@ -310,16 +293,19 @@ std::vector<std::size_t> scatter(const ChannelWindow& a, const ChannelWindow& b,
 // values, whose bounds go to `parts`. False, with nothing done, otherwise.
 template <typename Lattice>
 bool rank_on(const Lattice& lattice, const ChannelWindow& a, const ChannelWindow& b,
-             Record* records, GroundGroups& groups, std::vector<std::size_t>& parts, int workers) {
-  std::optional<LevelCounts> counts = count_all_levels(a, b, lattice, workers);
+             const TopBuckets& top, Record* records, GroundGroups& groups,
+             std::vector<std::size_t>& parts, int workers) {
+  std::optional<std::vector<LevelCounts>> counts = count_all_levels(a, b, lattice, top, workers);
   if (!counts) return false;
-  const auto group_of = groups_from_counts(*counts, lattice, a.size(), groups);
-  parts = scatter(
+  const auto group_of = groups_from_counts((*counts)[0], lattice, a.size(), groups);
+  BucketCounts buckets;
+  for (LevelCounts& worker : *counts) buckets.push_back(std::move(worker.bucket));
+  parts = place(
       a, b, b,
       [&](double va, double vb) {
         return Record{ordered_bits(vb), group_of[lattice.level(va)]};
       },
-      std::move(counts->b_sample).buckets(a.size()), records, workers);
+      top, std::move(buckets), records, workers);
   return true;
 }
 
@@ -365,15 +351,16 @@ void groups_from_sorted(Record* records, std::size_t n, GroundGroups& groups) {
 void rank_by_sorting(const ChannelWindow& a, const ChannelWindow& b, Record* records,
                      GroundGroups& groups, std::vector<std::size_t>& parts, int workers) {
   const std::size_t n = a.size();
-  const std::vector<std::size_t> a_parts = scatter(
+  const TopBuckets a_top = top_buckets(a);
+  const std::vector<std::size_t> a_parts = place(
       a, b, a,
       [](double va, double vb) {
         return Record{ordered_bits(va), ordered_bits(vb)};
       },
-      top_buckets(a, workers), records, workers);
+      a_top, count_buckets(a, a_top, workers), records, workers);
   sort_parts_by_key(records, a_parts, workers);
   groups_from_sorted(records, n, groups);
-  parts = partition_by_key(records, n, top_buckets(b, workers));
+  parts = partition_by_key(records, n, top_buckets(b));
 }
 
 // ---- b's sort and a's group means ----
@@ -520,15 +507,24 @@ double b_spread(const Record* records, std::size_t n, double m2_sum) {
   return m2_sum;
 }
 
-// sum_G m2_G over a's groups in rank order, m2_G = sum_{i in G} (mid_i -
-// B_G)^2 summed in rank order, and sum_p (B_G - B_H)^2 over b's ranks in
-// order (B_G by a's group, kept in each record's tie), in one pass; the m2
-// of b's runs of more than one rank go to `b_m2` in rank order, as long as
-// there is room (*b_runs counts them all). Written without calls, so that
-// the running sums stay in registers.
-std::pair<double, double> sum_ranks(const Record* records, std::size_t n,
-                                    const GroundGroups& groups, double* b_m2, std::size_t room,
-                                    std::size_t* b_runs) {
+// What a pass over the ranks sums: sum_G m2_G over a's groups in rank
+// order (m2_G = sum_{i in G} (mid_i - B_G)^2, in rank order), the count of
+// b's runs of more than one rank (their m2 go to a list), and sum_p (B_G -
+// B_H)^2 over b's ranks in order (B_G by a's group, kept in each record's
+// tie).
+struct RankSums {
+  double a_m2 = 0.0;
+  std::size_t b_runs = 0;
+  double cross = 0.0;
+};
+
+// The spreads (kSpread: a's sum, and the m2 of b's runs of more than one
+// rank in rank order into `b_m2`, as long as there is room) and the cross
+// sum (kCross), in one pass. Written without calls, so that the running
+// sums stay in registers.
+template <bool kSpread, bool kCross>
+RankSums sum_ranks(const Record* records, std::size_t n, const GroundGroups& groups, double* b_m2,
+                   std::size_t room) {
   double a_sum = 0.0;
   double a_m2 = 0.0;
   double cross = 0.0;
@@ -540,38 +536,55 @@ std::pair<double, double> sum_ranks(const Record* records, std::size_t n,
     e = run_end(records, s, n);
     const double b_mean = e - s == 1 ? as_double(records[s].key) : run_mean(records, s, e);
     for (std::size_t i = s; i < e; ++i) {
-      if (i == group_end) {
+      if (kSpread && i == group_end) {
         a_sum += a_m2;
         a_m2 = 0.0;
         a_mean = groups.value[++group];
         group_end = groups.starts.next(i + 1);
       }
       const double d_a = as_double(records[i].key) - a_mean;
-      a_m2 += d_a * d_a;
+      if (kSpread) a_m2 += d_a * d_a;
       const double d = groups.value[records[i].tie & ~kRunStart] - b_mean;
-      cross += d * d;
+      if (kCross) cross += d * d;
     }
-    if (e - s > 1 && runs++ < room) b_m2[runs - 1] = run_spread(records, s, e, b_mean);
+    if (kSpread && e - s > 1 && runs++ < room) {
+      b_m2[runs - 1] = run_spread(records, s, e, b_mean);
+    }
   }
-  *b_runs = runs;
-  return {a_sum + a_m2, cross};
+  return {a_sum + a_m2, runs, cross};
 }
 
 // The channel's sum: sum_G m2_G + sum_H m2_H (one chain: a's groups, then
-// b's runs of more than one rank), plus the cross sum. b's m2 are kept for
-// up to kListedRuns runs (512 KiB, untouched unless b has ties); beyond,
-// b_spread sums them again.
+// b's runs of more than one rank), plus the cross sum. With two workers,
+// one takes the spreads and the other the cross sum, each in its order.
+// b's m2 are kept for up to kListedRuns runs (512 KiB, untouched unless b
+// has ties); beyond, b_spread sums them again.
 constexpr std::size_t kListedRuns = 65536;
 
-double sum_in_one_pass(const Record* records, std::size_t n, const GroundGroups& groups) {
+double sum_all_ranks(const Record* records, std::size_t n, const GroundGroups& groups,
+                     int workers) {
   const std::size_t room = std::min(n, kListedRuns);
   const auto b_m2 = std::make_unique_for_overwrite<double[]>(room);
-  std::size_t b_runs = 0;
-  const auto [a_m2, cross] = sum_ranks(records, n, groups, b_m2.get(), room, &b_runs);
-  if (b_runs > room) return b_spread(records, n, a_m2) + cross;
-  double m2_sum = a_m2;
-  for (std::size_t k = 0; k < b_runs; ++k) m2_sum += b_m2[k];
-  return m2_sum + cross;
+  RankSums sums;
+  if (workers > 1) {
+    parallel_for(2, 2, [&](int begin, int end) {
+      for (int task = begin; task < end; ++task) {
+        if (task == 0) {
+          sums.cross = sum_ranks<false, true>(records, n, groups, nullptr, 0).cross;
+        } else {
+          const RankSums spreads = sum_ranks<true, false>(records, n, groups, b_m2.get(), room);
+          sums.a_m2 = spreads.a_m2;
+          sums.b_runs = spreads.b_runs;
+        }
+      }
+    });
+  } else {
+    sums = sum_ranks<true, true>(records, n, groups, b_m2.get(), room);
+  }
+  if (sums.b_runs > room) return b_spread(records, n, sums.a_m2) + sums.cross;
+  double m2_sum = sums.a_m2;
+  for (std::size_t k = 0; k < sums.b_runs; ++k) m2_sum += b_m2[k];
+  return m2_sum + sums.cross;
 }
 
 }  // namespace
@@ -583,12 +596,13 @@ double expected_midway_sum(const ChannelWindow& a, const ChannelWindow& b, Recor
   workers = workers > 1 ? 2 : 1;
   GroundGroups groups;
   std::vector<std::size_t> parts;
-  if (!rank_on(Lattice<false>(), a, b, records, groups, parts, workers) &&
-      !rank_on(Lattice<true>(), a, b, records, groups, parts, workers)) {
+  const TopBuckets b_top = top_buckets(b);
+  if (!rank_on(Lattice<false>(), a, b, b_top, records, groups, parts, workers) &&
+      !rank_on(Lattice<true>(), a, b, b_top, records, groups, parts, workers)) {
     rank_by_sorting(a, b, records, groups, parts, workers);
   }
   sort_all_and_take_means(records, parts, groups, workers);
-  return sum_in_one_pass(records, n, groups);
+  return sum_all_ranks(records, n, groups, workers);
 }
 
 }  // namespace fss::midway

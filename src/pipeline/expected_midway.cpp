@@ -155,6 +155,14 @@ class Lattice {
       return table_[k] == v ? k : kLevels;
     }
   }
+  // The level of v, known to be on the lattice.
+  std::uint32_t known_level(double v) const {
+    if constexpr (!kPer257) {
+      return static_cast<std::uint32_t>(v);
+    } else {
+      return static_cast<std::uint32_t>(v * 257.0 + 0.5);  // NOLINT(bugprone-incorrect-roundings)
+    }
+  }
   double value(std::uint32_t k) const {
     if constexpr (kPer257) {
       return table_[k];
@@ -303,7 +311,7 @@ bool rank_on(const Lattice& lattice, const ChannelWindow& a, const ChannelWindow
   parts = place(
       a, b, b,
       [&](double va, double vb) {
-        return Record{ordered_bits(vb), group_of[lattice.level(va)]};
+        return Record{ordered_bits(vb), group_of[lattice.known_level(va)]};
       },
       top, std::move(buckets), records, workers);
   return true;

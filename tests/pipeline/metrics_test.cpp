@@ -532,8 +532,8 @@ TEST(RmseContrastInvariant, ZeroPerChannelWithDifferentMaps) {
   EXPECT_LT(rmse_contrast_invariant(a, b, 0, 12), 1e-12);
 }
 
-// Two threads (windows of at least kParallelRmseCiPixels pixels a channel:
-// here 78400) and all hardware threads give the bits of one.
+// Two threads and all hardware threads give the bits of one (below
+// kParallelRmseCiPixels pixels a channel, as here, one thread works).
 TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
   const Image a = random_image(300, 200, 3, 31, 0.0, 255.0, true);
   const Image b = random_image(300, 200, 3, 32, -30.0, 290.0, false);

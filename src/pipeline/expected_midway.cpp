@@ -37,14 +37,33 @@ std::uint64_t as_bits(double value) {
   return bits;
 }
 
-// One bit per rank.
-class RankBits {
+// The first ranks of a's groups, set in increasing order: a sorted list
+// when there are few groups (8 bytes each: 2 KiB for 8-bit images), else
+// one bit per rank (n / 8 bytes, 1.4 MB for 11 Mpx).
+class GroupStarts {
  public:
-  explicit RankBits(std::size_t n = 0) : words_((n + 63) / 64, 0), n_(n) {}
-  void set(std::size_t i) { words_[i >> 6] |= std::uint64_t{1} << (i & 63); }
-  // The first set bit at or after i, or n.
+  GroupStarts() = default;
+  GroupStarts(std::size_t n, std::size_t groups) : n_(n), listed_(groups * 64 < n) {
+    if (listed_) {
+      list_.reserve(groups);
+    } else {
+      words_.assign((n + 63) / 64, 0);
+    }
+  }
+  void set(std::size_t i) {
+    if (listed_) {
+      list_.push_back(i);
+    } else {
+      words_[i >> 6] |= std::uint64_t{1} << (i & 63);
+    }
+  }
+  // The first start at or after i, or n.
   std::size_t next(std::size_t i) const {
     if (i >= n_) return n_;
+    if (listed_) {
+      const auto found = std::lower_bound(list_.begin(), list_.end(), i);
+      return found == list_.end() ? n_ : *found;
+    }
     std::size_t w = i >> 6;
     std::uint64_t word = words_[w] & (~std::uint64_t{0} << (i & 63));
     while (word == 0) {
@@ -53,8 +72,12 @@ class RankBits {
     }
     return std::min(n_, (w << 6) + static_cast<std::size_t>(std::countr_zero(word)));
   }
-  // How many bits are set before i.
+  // How many starts are before i (the group holding rank i, if i starts one).
   std::size_t count_before(std::size_t i) const {
+    if (listed_) {
+      return static_cast<std::size_t>(std::lower_bound(list_.begin(), list_.end(), i) -
+                                      list_.begin());
+    }
     std::size_t count = 0;
     for (std::size_t w = 0; w < i >> 6; ++w) {
       count += static_cast<std::size_t>(std::popcount(words_[w]));
@@ -67,14 +90,16 @@ class RankBits {
   }
 
  private:
+  std::size_t n_ = 0;
+  bool listed_ = true;
+  std::vector<std::size_t> list_;
   std::vector<std::uint64_t> words_;
-  std::size_t n_;
 };
 
 // a's side: its groups of equal values, numbered in rank order.
 struct GroundGroups {
   std::vector<double> value;  // by group: its value, then B_G
-  RankBits starts;            // the first rank of each group
+  GroupStarts starts;         // the first rank of each group
 };
 
 // Rows [first, end) of worker w of `workers`.
@@ -175,12 +200,16 @@ class Lattice {
   const double* table_;
 };
 
+// Windows of at least kMaxLatticePixels (4 Gpx, one more than a level's
+// count holds) are grouped by sorting.
+constexpr std::size_t kMaxLatticePixels = std::size_t{1} << 32;
+
 // How many pixels of some rows hold each level of a, the lowest and
 // highest level held, and how many of b's values fall in each top-level
 // bucket.
 struct LevelCounts {
   explicit LevelCounts(std::size_t buckets) : bucket(buckets, 0) {}
-  std::vector<std::uint64_t> count = std::vector<std::uint64_t>(kLevels, 0);
+  std::vector<std::uint32_t> count = std::vector<std::uint32_t>(kLevels, 0);  // n < 2^32
   std::uint32_t low = kLevels;
   std::uint32_t high = 0;
   std::vector<std::size_t> bucket;
@@ -192,7 +221,7 @@ struct LevelCounts {
 template <typename Lattice>
 bool count_levels(const ChannelWindow& a, const ChannelWindow& b, const Lattice& lattice,
                   const TopBuckets& top, std::uint32_t y0, std::uint32_t y1, LevelCounts& counts) {
-  std::uint64_t* count = counts.count.data();
+  std::uint32_t* count = counts.count.data();
   std::size_t* bucket = counts.bucket.data();
   std::uint32_t low = counts.low;
   std::uint32_t high = counts.high;
@@ -246,7 +275,10 @@ std::unique_ptr<std::uint32_t[]> groups_from_counts(const LevelCounts& counts,
                                                     const Lattice& lattice, std::size_t n,
                                                     GroundGroups& groups) {
   auto group_of = std::make_unique_for_overwrite<std::uint32_t[]>(kLevels);
-  groups.starts = RankBits(n);
+  const auto held = static_cast<std::size_t>(std::count_if(counts.count.begin() + counts.low,
+                                                           counts.count.begin() + counts.high + 1,
+                                                           [](std::uint32_t c) { return c > 0; }));
+  groups.starts = GroupStarts(n, held);
   groups.value.clear();
   std::size_t rank = 0;
   for (std::uint32_t k = counts.low; k <= counts.high; ++k) {
@@ -303,6 +335,7 @@ template <typename Lattice>
 bool rank_on(const Lattice& lattice, const ChannelWindow& a, const ChannelWindow& b,
              const TopBuckets& top, Record* records, GroundGroups& groups,
              std::vector<std::size_t>& parts, int workers) {
+  if (a.size() >= kMaxLatticePixels) return false;
   std::optional<std::vector<LevelCounts>> counts = count_all_levels(a, b, lattice, top, workers);
   if (!counts) return false;
   const auto group_of = groups_from_counts((*counts)[0], lattice, a.size(), groups);
@@ -338,7 +371,7 @@ void groups_from_sorted(Record* records, std::size_t n, GroundGroups& groups) {
   std::size_t count = 0;
   for (std::size_t i = 0; i < n; ++i) count += i == 0 || records[i].key != records[i - 1].key;
   groups.value.assign(count, 0.0);
-  groups.starts = RankBits(n);
+  groups.starts = GroupStarts(n, count);
   std::size_t group = 0;
   std::uint64_t previous = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -125,7 +125,8 @@ class TopBuckets {
 
 // Sorts records by key and tie (kTies) or by key alone, in place. A range
 // of at most `capacity` records (one that fits in cache) is distributed
-// through a buffer of that size into two buckets per record, by the
+// through a buffer (as large as the largest range yet) into two buckets per
+// record, by the
 // BucketMap of its own smallest and largest key, and comes back with an
 // insertion sort on the way (buckets of more than a few records are first
 // sorted the same way). A range of equal keys is sorted by tie the same
@@ -153,7 +154,10 @@ class RecordSorter {
   template <bool kOnTie>
   void split_in_place(Record* records, std::size_t n, const BucketMap& map, int depth);
 
+  void reserve(std::size_t n);
+
   std::size_t capacity_;
+  std::size_t reserved_ = 0;
   std::unique_ptr<Record[]> buffer_;
   std::unique_ptr<std::uint32_t[]> bucket_;  // each record's bucket, while distributing
   std::vector<std::uint32_t> start_;         // each bucket's first slot, while distributing

@@ -58,16 +58,16 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 // b's value between two quantiles of a sample (one bucket more below and
 // one above); each bucket is sorted in cache, by value and a's group, and
 // swept at once for its midway values and a's group sums; one pass over the
-// ranks then takes the sums. The scratch is 16 bytes and 1 bit a pixel of
-// one channel, plus 8 bytes per distinct value of a's window (2 KiB for
-// 8-bit images), plus about 6 MiB of buffers (level counts, the sorters'
-// buffers, b's tied runs). With more than one thread, and a window of at
-// least kParallelRmseCiPixels pixels a channel, two threads count, scatter
-// and sort (the sums of a group or of the ranks stay on one thread): the
-// result is the same. A window above 2^32 pixels a channel is a usage
-// error.
-// (Measured: 2^18 pixels took 4.8 ms on one thread, 5.5 on two; 2^19, 9.4
-// and 8.8; camera.png's 129024, 2.35 and 2.98.)
+// ranks then takes the sums. The scratch is 16 bytes and at most 1 bit a
+// pixel of one channel (the records, a's group starts), plus 8 bytes per
+// distinct value of a's window (2 KiB for 8-bit images), plus about 4.5 MiB
+// of buffers (level counts, the sorters' buffers, b's tied runs). With more
+// than one thread, and a window of at least kParallelRmseCiPixels pixels a
+// channel, two threads count, scatter and sort (each of a's groups summed
+// by one of them) and take the sums (each sum by one of them): the result
+// is the same. A window above 2^32 pixels a channel is a usage error.
+// (Measured with both cores free: 2^18 pixels took 4.8 ms on one thread,
+// 5.5 on two; 2^19, 9.4 and 8.8; camera.png's 129024, 2.35 and 2.98.)
 inline constexpr std::size_t kParallelRmseCiPixels = std::size_t{1} << 19;
 double rmse_contrast_invariant(const Image& a, const Image& b, int first, int end, int threads = 1);
 double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end,

@@ -18,8 +18,8 @@ namespace {
 // The records of b's pixels are scattered into buckets of about
 // kBucketRecords (128 KiB: sorted in the level-2 cache); one thread's
 // buffer sorts at most kSortCapacity of them (larger buckets are split in
-// place first). Measured on the 3740 x 3000 window: 4096 / 16384 and
-// 16384 / 65536 were 2 to 6 % slower.
+// place first). Measured on the 3740 x 3000 window: 4096 / 16384 were 5
+// to 9 % slower, 16384 / 65536 2 to 4 %.
 constexpr std::size_t kBucketRecords = 8192;
 constexpr std::size_t kSortCapacity = 32768;
 
@@ -200,16 +200,12 @@ class Lattice {
   const double* table_;
 };
 
-// Windows of at least kMaxLatticePixels (4 Gpx, one more than a level's
-// count holds) are grouped by sorting.
-constexpr std::size_t kMaxLatticePixels = std::size_t{1} << 32;
-
 // How many pixels of some rows hold each level of a, the lowest and
 // highest level held, and how many of b's values fall in each top-level
 // bucket.
 struct LevelCounts {
   explicit LevelCounts(std::size_t buckets) : bucket(buckets, 0) {}
-  std::vector<std::uint32_t> count = std::vector<std::uint32_t>(kLevels, 0);  // n < 2^32
+  std::vector<std::uint64_t> count = std::vector<std::uint64_t>(kLevels, 0);
   std::uint32_t low = kLevels;
   std::uint32_t high = 0;
   std::vector<std::size_t> bucket;
@@ -221,7 +217,7 @@ struct LevelCounts {
 template <typename Lattice>
 bool count_levels(const ChannelWindow& a, const ChannelWindow& b, const Lattice& lattice,
                   const TopBuckets& top, std::uint32_t y0, std::uint32_t y1, LevelCounts& counts) {
-  std::uint32_t* count = counts.count.data();
+  std::uint64_t* count = counts.count.data();
   std::size_t* bucket = counts.bucket.data();
   std::uint32_t low = counts.low;
   std::uint32_t high = counts.high;
@@ -277,7 +273,7 @@ std::unique_ptr<std::uint32_t[]> groups_from_counts(const LevelCounts& counts,
   auto group_of = std::make_unique_for_overwrite<std::uint32_t[]>(kLevels);
   const auto held = static_cast<std::size_t>(std::count_if(counts.count.begin() + counts.low,
                                                            counts.count.begin() + counts.high + 1,
-                                                           [](std::uint32_t c) { return c > 0; }));
+                                                           [](std::uint64_t c) { return c > 0; }));
   groups.starts = GroupStarts(n, held);
   groups.value.clear();
   std::size_t rank = 0;
@@ -319,8 +315,9 @@ std::vector<std::size_t> place(const ChannelWindow& a, const ChannelWindow& b,
       for (std::uint32_t x = 0; x < a.width; ++x) {
         const std::size_t s = slot[top.of_value(rk[x])]++;
         // The bucket's line after next, asked for ahead (hand-written:
-        // this pass 66 -> 52 ms on a 3740 x 3000 channel).
-        __builtin_prefetch(records + s + 8, 1);
+        // this pass 66 -> 52 ms on a 3740 x 3000 channel; RecordBuffer holds
+        // kPrefetchSlack records more).
+        __builtin_prefetch(records + s + kPrefetchSlack, 1);
         records[s] = make(ra[x], rb[x]);
       }
     }
@@ -335,7 +332,6 @@ template <typename Lattice>
 bool rank_on(const Lattice& lattice, const ChannelWindow& a, const ChannelWindow& b,
              const TopBuckets& top, Record* records, GroundGroups& groups,
              std::vector<std::size_t>& parts, int workers) {
-  if (a.size() >= kMaxLatticePixels) return false;
   std::optional<std::vector<LevelCounts>> counts = count_all_levels(a, b, lattice, top, workers);
   if (!counts) return false;
   const auto group_of = groups_from_counts((*counts)[0], lattice, a.size(), groups);

@@ -40,9 +40,12 @@ struct Record {
   std::uint64_t tie;
 };
 
-// Uninitialized storage for n records, asked for on huge pages (madvise)
-// when there are many: the records are written to a thousand places at
-// once (the scatter), which with 4 KiB pages misses the TLB.
+// Uninitialized storage for n records, and kPrefetchSlack more that a
+// prefetch ahead of the last record may point at; asked for on huge pages
+// (madvise) when there are many: the records are written to a thousand
+// places at once (the scatter), which with 4 KiB pages misses the TLB.
+inline constexpr std::size_t kPrefetchSlack = 8;
+
 class RecordBuffer {
  public:
   explicit RecordBuffer(std::size_t n);

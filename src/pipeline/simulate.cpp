@@ -454,12 +454,12 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
   // RMSE_CI (metrics.h): 16 bytes and at most 1 bit a pixel of one
   // channel's window (its records, a's group starts), and buffers of a
-  // bounded size: two threads' level counts (512 KiB) and sorters (1.75
+  // bounded size: two threads' level counts (1 MiB) and sorters (1.75
   // MiB), the groups of an 8- or 16-bit ground truth (at most 65536: 1.25
   // MiB with their values and starts), b's tied runs (512 KiB), the 16-bit
-  // levels (512 KiB): 4.5 MiB, 5 with the allocator's.
+  // levels (512 KiB): 5 MiB, 5.5 with the allocator's.
   const std::size_t ci_pixels = ci_width * h;
-  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{5} << 20);
+  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{11} << 19);
   // Four 8-bit rasters and their encoded copies, at most.
   const std::size_t encoding = (8 + extra_encoding_bytes_per_sample) * wo * h * c;
   return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);

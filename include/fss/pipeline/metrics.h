@@ -60,7 +60,7 @@ std::pair<Image, Image> midway_equalize(const Image& a, const Image& b);
 // swept at once for its midway values and a's group sums; one pass over the
 // ranks then takes the sums. The scratch is 16 bytes and at most 1 bit a
 // pixel of one channel (the records, a's group starts), plus 8 bytes per
-// distinct value of a's window (2 KiB for 8-bit images), plus about 4.5 MiB
+// distinct value of a's window (2 KiB for 8-bit images), plus about 5 MiB
 // of buffers (level counts, the sorters' buffers, b's tied runs). With more
 // than one thread, and a window of at least kParallelRmseCiPixels pixels a
 // channel, two threads count, scatter and sort (each of a's groups summed

@@ -1,14 +1,13 @@
 // Writes a deterministic synthetic RGB test image (edges, ramps, texture) of
 // the requested size, for the benchmark's large case.
 // Usage: make_image WIDTH HEIGHT OUT.png
-#include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 
 #include "fss/core/image.h"
 #include "fss/io/png_io.h"
+#include "synthetic_image.h"
 
 int main(int argc, char** argv) {
   if (argc != 4) {
@@ -21,20 +20,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "make_image: WIDTH and HEIGHT must be positive integers\n");
     return 2;
   }
-  fss::Image image(width, height, 3);
-  std::uint64_t state = 0x9e3779b97f4a7c15ULL;
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;  // LCG texture
-      const double texture = static_cast<double>(state >> 40) / (1 << 24) * 30.0 - 15.0;
-      for (int c = 0; c < 3; ++c) {
-        double v = 30.0 + 180.0 * ((x + c * 97) % width) / width;
-        if (((x / 61) + (y / 47) + c) % 2 == 0) v += 35.0;
-        v += 20.0 * std::sin(0.013 * y + 0.7 * c) + texture;
-        image.at(c, y, x) = v;
-      }
-    }
-  }
+  const fss::Image image = fss::bench::synthetic_test_image(width, height);
   const auto bytes = fss::encode_png8(image);
   std::ofstream out(argv[3], std::ios::binary);
   out.write(reinterpret_cast<const char*>(bytes.data()),

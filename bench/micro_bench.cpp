@@ -1,19 +1,26 @@
 // Micro-benchmarks: the photon-noise samplers against the floor of normal
 // and Poisson generation (our xoshiro256** alone, a ziggurat normal, the C++
 // library's normal_distribution and, when libgsl-dev is installed, GSL's
-// ziggurat and Poisson), and one batch of row FFTs. items_per_second counts
-// variates (pixels for the row samplers: one normal-branch variate each).
+// ziggurat and Poisson), one batch of row FFTs, and RMSE_CI on real
+// restorations. items_per_second counts variates (pixels for the row
+// samplers: one normal-branch variate each; pixels of all channels for
+// RMSE_CI).
 #include <benchmark/benchmark.h>
 
 #include <complex>
+#include <map>
 #include <random>
 #include <vector>
 
 #include "fss/core/fft.h"
+#include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/model/noise.h"
 #include "fss/pipeline/geometry.h"
+#include "fss/pipeline/metrics.h"
 #include "fss/pipeline/restore.h"
+#include "fss/pipeline/simulate.h"
+#include "synthetic_image.h"
 #include "ziggurat.h"
 
 #ifdef FSS_BENCH_HAVE_GSL
@@ -285,6 +292,56 @@ void BM_PoissonRowSamplerShifted(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * width);
 }
 BENCHMARK(BM_PoissonRowSamplerShifted)->Arg(512)->Arg(4000);
+
+// RMSE_CI as Simulate takes it: the ground truth (the input, 8-bit levels)
+// against a noisy restoration (raskar code, v = 1, snr 100), over the run's
+// RMSE_CI window. Case 0: camera.png (a 252 x 512 window, gray); case 1:
+// the generated 4000 x 3000 RGB image of bench/run.sh (3740 x 3000, three
+// channels; its restoration takes a few seconds, once).
+struct RmseCiCase {
+  fss::Image input;
+  fss::SimulationReport report;
+};
+
+const RmseCiCase& rmse_ci_case(int which) {
+  static std::map<int, RmseCiCase> cases;
+  auto found = cases.find(which);
+  if (found != cases.end()) return found->second;
+  RmseCiCase c;
+  if (which == 0) {
+    c.input = fss::read_png(FSS_SOURCE_DIR "/data/camera.png");
+  } else {
+    c.input = fss::bench::synthetic_test_image(4000, 3000);
+    for (double& v : c.input.data) v = fss::png8_sample(v);  // as read from its PNG
+  }
+  fss::SimulationOptions options;
+  options.noise = fss::NoiseModel::kAggregated;
+  c.report = fss::Simulate(options, c.input, *fss::builtin_code("raskar"));
+  return cases.emplace(which, std::move(c)).first->second;
+}
+
+void BM_RmseContrastInvariant(benchmark::State& state) {
+  const RmseCiCase& c = rmse_ci_case(static_cast<int>(state.range(0)));
+  const int threads = static_cast<int>(state.range(1));
+  const fss::SimulationReport& r = c.report;
+  double sink = 0.0;
+  for (auto _ : state) {
+    sink += fss::rmse_contrast_invariant(c.input, r.output_first_column(), r.restored,
+                                         r.rmse_ci_first, r.rmse_ci_end, threads);
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations() * (r.rmse_ci_end - r.rmse_ci_first) *
+                          r.restored.height * r.restored.channels);
+}
+BENCHMARK(BM_RmseContrastInvariant)
+    ->ArgNames({"case", "threads"})
+    ->Args({0, 1})
+    ->Args({0, 2})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->MeasureProcessCPUTime()
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 // NOLINTEND(clang-analyzer-deadcode.DeadStores)

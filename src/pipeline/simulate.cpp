@@ -455,16 +455,14 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t input = w * h * c * sizeof(double);
   const std::size_t outputs =
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
-  // RMSE_CI (metrics.h): 16 bytes a pixel and two sorter buffers of half a
-  // byte a pixel, at least 2 MiB (one per sorting thread); 20 bytes when a
-  // and b are sorted at the same time (windows of at most kParallelSortPixels).
+  // RMSE_CI (metrics.h): 16 bytes and at most 1 bit a pixel of one
+  // channel's window (its records, a's group starts), and buffers of a
+  // bounded size: two threads' level counts (1 MiB) and sorters (1.75
+  // MiB), the groups of an 8- or 16-bit ground truth (at most 65536: 1.25
+  // MiB with their values and starts), b's tied runs (512 KiB), the 16-bit
+  // levels (512 KiB): 5 MiB, 5.5 with the allocator's.
   const std::size_t ci_pixels = ci_width * h;
-  const std::size_t sorter = std::max<std::size_t>(ci_pixels / 2, std::size_t{2} << 20);
-  // Plus the group bookkeeping of the tie expectation: two bits a pixel and
-  // 8 bytes per distinct ground-truth value (at most 65536 of them).
-  const std::size_t groups = ci_pixels / 4 + 8 * std::size_t{65536};
-  const std::size_t midway =
-      (ci_pixels <= kParallelSortPixels ? 20 * ci_pixels : 16 * ci_pixels) + 2 * sorter + groups;
+  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{11} << 19);
   // The four image PNGs, each at most a byte a sample (ISA-L stores what it
   // cannot compress), encoded row by row straight into their files' bytes:
   // no raster of samples, no copy (src/io/png_write.cpp); and the encoders'

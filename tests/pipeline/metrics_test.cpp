@@ -6,9 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -21,6 +27,7 @@
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/simulate.h"
+#include "pipeline/rmse_ci_corpus.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -525,9 +532,8 @@ TEST(RmseContrastInvariant, ZeroPerChannelWithDifferentMaps) {
   EXPECT_LT(rmse_contrast_invariant(a, b, 0, 12), 1e-12);
 }
 
-// Sorting a and b at the same time (more than one thread, a window of at
-// most kParallelSortPixels) gives the bits of sorting them one after the
-// other.
+// Two threads and all hardware threads give the bits of one (below
+// kParallelRmseCiPixels pixels a channel, as here, one thread works).
 TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
   const Image a = random_image(300, 200, 3, 31, 0.0, 255.0, true);
   const Image b = random_image(300, 200, 3, 32, -30.0, 290.0, false);
@@ -539,9 +545,9 @@ TEST(RmseContrastInvariant, ThreadsDoNotChangeTheResult) {
             rmse_contrast_invariant(a, 5, crop_columns(b, 5, 290), 5, 285, 1));
 }
 
-// Windows above the sorter's buffer (2^18 keys) are split in place and the
-// parts sorted on two threads; the passes over the ranks run in two ranges.
-// Both ground truths (counted and sorted) give the bits of one thread.
+// A larger window: the two threads split b's sorted ranks at one of a's
+// group starts (a bucket there is sorted first). Both ground truths
+// (counted and sorted) give the bits of one thread.
 TEST(RmseContrastInvariant, TwoThreadsOnALargeWindowGiveTheBitsOfOne) {
   for (const bool integers : {true, false}) {
     const Image a = random_image(720, 500, 1, 51, 0.0, 255.0, integers);
@@ -571,10 +577,10 @@ TEST(RmseContrastInvariant, IntegerGroundTruthCountedAsSorted) {
   }
 }
 
-// The radix sorter's short runs, buffered passes and in-place splits, with
-// values that share all but their lowest bits (the sort keys drop those, so
-// their exact order is restored afterwards), negatives, -0 and +0, huge and
-// tiny magnitudes and integer ties: the plain closed form agrees.
+// Short runs, buckets sorted in cache and split in place, with values that
+// share all but their lowest bits (an earlier radix sort dropped those bits
+// from its keys), negatives, -0 and +0, huge and tiny magnitudes and
+// integer ties: the plain closed form agrees.
 TEST(RmseContrastInvariant, MatchesThePlainClosedFormOnAwkwardValues) {
   for (const auto& [width, height] : {std::pair{7, 5}, {40, 30}, {310, 211}, {700, 500}}) {
     Image a = random_image(width, height, 1, 21, -5.0, 260.0, true);
@@ -594,7 +600,7 @@ TEST(RmseContrastInvariant, MatchesThePlainClosedFormOnAwkwardValues) {
         case 3:
           b.data[i] = -1e-300 * static_cast<double>(rng() % 7);
           break;
-        case 4:  // 1 + k ulp: equal in the sort keys, not in value
+        case 4:  // 1 + k ulp: equal but for their lowest bits
           b.data[i] = 1.0 + std::ldexp(static_cast<double>(rng() % 4), -52);
           a.data[i] = 3.0 + std::ldexp(static_cast<double>(rng() % 4), -51);
           break;
@@ -611,9 +617,9 @@ TEST(RmseContrastInvariant, MatchesThePlainClosedFormOnAwkwardValues) {
   }
 }
 
-// Values that differ only in their lowest bits (the sort keys drop those
-// bits, so the exact order is restored afterwards) form separate groups of
-// the right sizes: two values on one side, all distinct on the other.
+// Values that differ only in their lowest bits (an earlier radix sort
+// dropped those bits from its keys) form separate groups of the right
+// sizes: two values on one side, all distinct on the other.
 TEST(RmseContrastInvariant, ValuesEqualButForTheirLowestBitsAreDistinctGroups) {
   const Image spread = random_image(60, 40, 1, 24, 0.0, 255.0, false);
   Image near = random_image(60, 40, 1, 25, 0.0, 1.0, false);
@@ -662,6 +668,172 @@ TEST(RmseContrastInvariant, ReferenceCases) {
     ++checked;
   }
   EXPECT_EQ(checked, 6);
+}
+
+std::string hex_bits(double value) {
+  std::ostringstream out;
+  out << std::hex << std::setw(16) << std::setfill('0') << std::bit_cast<std::uint64_t>(value);
+  return out.str();
+}
+
+// The bits of every case of the corpus (rmse_ci_corpus.h), with 1 and 2
+// threads, as recorded in tests/fixtures/rmse_ci_corpus_bits.txt (made by
+// the radix-sort implementation before the bucket sort, and unchanged
+// since). FSS_RECORD_RMSE_CI_CORPUS=FILE writes the current bits to FILE
+// instead of checking them.
+TEST(RmseContrastInvariant, CorpusGivesTheRecordedBits) {
+  const char* record = std::getenv("FSS_RECORD_RMSE_CI_CORPUS");
+  std::map<std::string, std::string> recorded;
+  if (record == nullptr) {
+    std::istringstream lines(test::read_file(test::fixture_path("rmse_ci_corpus_bits.txt")));
+    std::string name;
+    std::string bits;
+    while (lines >> name >> bits) recorded[name] = bits;
+    ASSERT_GT(recorded.size(), 700u);
+  }
+  std::ostringstream written;
+  std::size_t checked = 0;
+  test::for_each_corpus_case([&](const test::CorpusCase& k) {
+    const double one = rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end, 1);
+    const double two = rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end, 2);
+    EXPECT_EQ(hex_bits(two), hex_bits(one)) << k.name;
+    if (record != nullptr) {
+      written << k.name << " " << hex_bits(one) << "\n";
+      return;
+    }
+    const auto found = recorded.find(k.name);
+    ASSERT_NE(found, recorded.end()) << k.name;
+    EXPECT_EQ(hex_bits(one), found->second) << k.name << ": " << std::setprecision(17) << one;
+    ++checked;
+  });
+  if (record != nullptr) {
+    std::ofstream(record) << written.str();
+    GTEST_SKIP() << "recorded the corpus's bits in " << record;
+  }
+  EXPECT_EQ(checked, recorded.size());
+}
+
+// The plain reference (sorts of pairs, every sum in rank order) gives the
+// same bits on every case of the corpus.
+TEST(RmseContrastInvariant, CorpusMatchesThePlainReferenceBitForBit) {
+  test::for_each_corpus_case([&](const test::CorpusCase& k) {
+    const double expected =
+        test::reference_rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end);
+    EXPECT_EQ(hex_bits(rmse_contrast_invariant(k.a, k.a_offset, k.b, k.first, k.end, 2)),
+              hex_bits(expected))
+        << k.name << ": expected " << std::setprecision(17) << expected;
+  });
+}
+
+// rmse_contrast_invariant against the plain reference, bit for bit, with
+// 1 and 2 threads.
+::testing::AssertionResult same_bits_as_reference(const Image& a, int a_offset, const Image& b,
+                                                  int first, int end) {
+  const std::string expected =
+      hex_bits(test::reference_rmse_contrast_invariant(a, a_offset, b, first, end));
+  for (const int threads : {1, 2}) {
+    const std::string got = hex_bits(rmse_contrast_invariant(a, a_offset, b, first, end, threads));
+    if (got != expected) {
+      return ::testing::AssertionFailure()
+             << threads << " thread(s): " << got << ", reference " << expected;
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// A window of width x height, 2 channels, with many ties on both sides: the
+// ground truth (2 columns more on each side) at 17 levels, as 8-bit (kind
+// 0), 16-bit as k / 257 (1), integers to 65535 (2) or floats (3); the
+// restoration the level plus noise, a third rounded to quarters, a third to
+// integers.
+std::pair<Image, Image> random_ties(int width, int height, int kind, std::mt19937_64& rng) {
+  Image a(width + 4, height, 2);
+  Image b(width, height, 2);
+  std::uniform_real_distribution<double> gray(0.0, 255.0);
+  std::normal_distribution<double> noise(0.0, 2.5);
+  for (int c = 0; c < 2; ++c) {
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const double level = std::round(gray(rng) / 16.0) * 16.0;
+        const double ground[] = {level, std::round(level * 257.0 + 3.0) / 257.0, level * 257.0,
+                                 static_cast<double>(static_cast<float>(level / 255.0))};
+        a.at(c, y, x + 2) = ground[kind];
+        const double restored = level + noise(rng);
+        const double rounded[] = {std::round(4.0 * restored) / 4.0, std::round(restored), restored};
+        b.at(c, y, x) = rounded[(x + y) % 3];
+      }
+    }
+  }
+  return {std::move(a), std::move(b)};
+}
+
+// Random windows with many ties on both sides, below and above the size at
+// which two threads share the work: the reference's bits.
+TEST(RmseContrastInvariant, MatchesThePlainReferenceOnRandomTies) {
+  std::mt19937_64 rng(61);
+  for (const auto& [width, height] : {std::pair{13, 7}, {150, 90}, {300, 400}}) {
+    for (int kind = 0; kind < 4; ++kind) {
+      const auto [a, b] = random_ties(width, height, kind, rng);
+      EXPECT_TRUE(same_bits_as_reference(a, 2, b, 0, width))
+          << width << "x" << height << ", kind " << kind;
+    }
+  }
+}
+
+// The bucket sort's edge cases: every value equal on one side or both, one
+// huge outlier, +-1e300 (squares overflow), values spanning the doubles,
+// denormals only, many equal restored values, b's runs of two (more than the
+// one pass keeps: summed again), a single ground-truth group with two
+// threads, one-pixel windows.
+TEST(RmseContrastInvariant, MatchesThePlainReferenceOnBucketEdgeCases) {
+  std::mt19937_64 rng(62);
+  std::uniform_real_distribution<double> gray(0.0, 255.0);
+  const std::vector<std::pair<std::string, std::function<double(std::size_t)>>> bs = {
+      {"all equal", [](std::size_t) { return 7.5; }},
+      {"one outlier", [&](std::size_t i) { return i == 4321 ? 1e150 : gray(rng); }},
+      {"two outliers",
+       [&](std::size_t i) { return i == 99     ? -1e150
+                                   : i == 5000 ? 1e150
+                                               : gray(rng); }},
+      {"+-1e300", [&](std::size_t i) { return i % 9 == 0 ? (i % 2 ? 1e300 : -1e300) : gray(rng); }},
+      {"whole range",
+       [&](std::size_t i) { return i % 50 == 0 ? (i % 100 ? 1.7e308 : -1.7e308) : gray(rng); }},
+      {"denormals", [&](std::size_t) { return static_cast<double>(rng() % 5000) * 4.9e-324; }},
+      {"many equal", [&](std::size_t i) { return i % 4 == 0 ? gray(rng) : 128.0; }},
+      {"pairs",
+       [](std::size_t i) {
+         const std::size_t pair = (i * 7919) % 20000 / 2;  // each value twice
+         return static_cast<double>(pair) * 0.01;
+       }},
+      {"integers", [&](std::size_t) { return std::round(gray(rng)); }},
+  };
+  const std::vector<std::pair<std::string, std::function<double(std::size_t)>>> as = {
+      {"8-bit", [&](std::size_t) { return std::round(gray(rng)); }},
+      {"constant", [](std::size_t) { return 3.0; }},
+      {"constant float", [](std::size_t) { return 0.3; }},
+      {"float", [&](std::size_t) { return gray(rng) / 255.0; }},
+  };
+  for (const auto& [a_name, a_value] : as) {
+    for (const auto& [b_name, b_value] : bs) {
+      Image a(100, 200, 1);
+      Image b(100, 200, 1);
+      for (std::size_t i = 0; i < a.data.size(); ++i) {
+        a.data[i] = a_value(i);
+        b.data[i] = b_value(i);
+      }
+      EXPECT_TRUE(same_bits_as_reference(a, 0, b, 0, 100)) << a_name << ", " << b_name;
+      EXPECT_TRUE(same_bits_as_reference(a, 0, b, 37, 38)) << a_name << ", " << b_name;
+      const Image one_a = crop_columns(a, 5, 1);
+      const Image one_b = crop_columns(b, 5, 1);
+      EXPECT_TRUE(same_bits_as_reference(crop_columns(one_a, 0, 1), 0, one_b, 0, 1))
+          << a_name << ", " << b_name;
+    }
+  }
+  Image one_a(1, 1, 3);
+  Image one_b(1, 1, 3);
+  one_a.data = {-0.0, 5.0, 1e300};
+  one_b.data = {0.0, -3.0, 4.9e-324};
+  EXPECT_TRUE(same_bits_as_reference(one_a, 0, one_b, 0, 1));
 }
 
 double min_of(const Image& image) {

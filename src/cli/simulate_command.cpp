@@ -285,8 +285,9 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   for (const auto& warning : report.warnings) {
     fss::write_stderr("fssim: warning: " + fss::escape_control_characters(warning) + "\n");
   }
-  context->activity = "drawing the plots";
-  if (plots.valid()) output_options.rendered_plots = plots.get();  // else drawn when written
+  // The plots are waited for by the files that show them, the image PNGs
+  // made meanwhile; without a thread they are drawn when written.
+  if (plots.valid()) output_options.plots_in_progress = plots.share();
   context->activity = "writing the outputs to '" + outdir_ + "'";
   const std::vector<std::string> builtins = fss::builtin_code_names();
   if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {

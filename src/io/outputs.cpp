@@ -29,8 +29,14 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   const std::vector<RunFile> files = files_to_write(options);
   const std::vector<std::string> names = output_file_names(options);
-  const RunFileSources sources{
-      report, input, input_path, observed, options.rendered_plots, names, options.image_depth};
+  const RunFileSources sources{report,
+                               input,
+                               input_path,
+                               observed,
+                               options.rendered_plots,
+                               options.plots_in_progress,
+                               names,
+                               options.image_depth};
   // Each file is made as it is staged, on the report's threads, each taking
   // the next file: the four image files cost nearly all of it and come first,
   // so fixed blocks would give them all to one thread; and a file's bytes are

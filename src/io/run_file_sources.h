@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <future>
 #include <optional>
 #include <string>
 #include <variant>
@@ -28,8 +29,16 @@ struct RunFileSources {
   const std::string& input_path;  // as given, for report.json and report.html
   ObservedSource observed;
   const std::optional<RunPlots>& plots_drawn_ahead;
+  const std::shared_future<RunPlots>& plots_in_progress;
   const std::vector<std::string>& names;  // every file written, in order
   PngDepth image_depth = PngDepth::k8;    // of observed, restored, groundtruth, residual.png
+
+  // The plots drawn ahead: ready, or waited for while another thread draws
+  // them; null when the outputs draw them.
+  const RunPlots* drawn_plots() const {
+    if (plots_drawn_ahead) return &*plots_drawn_ahead;
+    return plots_in_progress.valid() ? &plots_in_progress.get() : nullptr;
+  }
 };
 
 }  // namespace fss

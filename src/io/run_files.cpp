@@ -138,11 +138,11 @@ std::string make_report_json(const RunFileSources& s) {
 }
 
 std::string make_code_png(const RunFileSources& s) {
-  return as_string(run_code_png(s.report, s.plots_drawn_ahead));
+  return as_string(run_code_png(s.report, s.drawn_plots()));
 }
 
 std::string make_spectrum_png(const RunFileSources& s) {
-  return as_string(run_spectrum_png(s.report, s.plots_drawn_ahead));
+  return as_string(run_spectrum_png(s.report, s.drawn_plots()));
 }
 
 std::string make_sheet(const RunFileSources& s) {

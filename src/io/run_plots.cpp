@@ -64,13 +64,23 @@ RunPlots render_run_plots(const ShutterCode& code, const SimulationOptions& opti
 
 std::vector<std::uint8_t> run_code_png(const SimulationReport& report,
                                        const std::optional<RunPlots>& drawn_ahead) {
-  if (drawn_ahead) return checked(*drawn_ahead, report).code_png;
-  return plot_code_png(report.gains, report.code_name);
+  return run_code_png(report, drawn_ahead ? &*drawn_ahead : nullptr);
 }
 
 std::vector<std::uint8_t> run_spectrum_png(const SimulationReport& report,
                                            const std::optional<RunPlots>& drawn_ahead) {
-  if (drawn_ahead) return checked(*drawn_ahead, report).spectrum_png;
+  return run_spectrum_png(report, drawn_ahead ? &*drawn_ahead : nullptr);
+}
+
+std::vector<std::uint8_t> run_code_png(const SimulationReport& report,
+                                       const RunPlots* drawn_ahead) {
+  if (drawn_ahead != nullptr) return checked(*drawn_ahead, report).code_png;
+  return plot_code_png(report.gains, report.code_name);
+}
+
+std::vector<std::uint8_t> run_spectrum_png(const SimulationReport& report,
+                                           const RunPlots* drawn_ahead) {
+  if (drawn_ahead != nullptr) return checked(*drawn_ahead, report).spectrum_png;
   return plot_spectrum_png(report.gains, report.code_name, report.options.velocity_px_per_slot,
                            report.options.dt, report.kernel);
 }

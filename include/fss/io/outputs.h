@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,10 @@ struct OutputOptions {
   // report's code and motion, used instead of drawing them again; a usage
   // error if they were drawn for another run. Empty: write_outputs draws them.
   std::optional<RunPlots> rendered_plots;
+  // code.png and spectrum.png being drawn on another thread (render_run_plots),
+  // when rendered_plots is empty: the files that show them wait for them, the
+  // others are made meanwhile. Not valid: write_outputs draws them.
+  std::shared_future<RunPlots> plots_in_progress;
 };
 
 // Bytes a sample of the output crop that the outputs `options` asks for take

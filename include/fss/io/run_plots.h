@@ -36,5 +36,9 @@ std::vector<std::uint8_t> run_code_png(const SimulationReport& report,
                                        const std::optional<RunPlots>& drawn_ahead);
 std::vector<std::uint8_t> run_spectrum_png(const SimulationReport& report,
                                            const std::optional<RunPlots>& drawn_ahead);
+// The same, the plots drawn ahead given by address (null: none).
+std::vector<std::uint8_t> run_code_png(const SimulationReport& report, const RunPlots* drawn_ahead);
+std::vector<std::uint8_t> run_spectrum_png(const SimulationReport& report,
+                                           const RunPlots* drawn_ahead);
 
 }  // namespace fss

@@ -298,7 +298,9 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
   const std::size_t n = e.size();
   // The charge P, drawn as accumulate() draws it: normals from lane 0, and
   // Knuth's variates from lane 1 in place of the unused normals.
-  draw_charge(lambda_, id, load_intensities(e, readout.dark_electrons));
+  // (Two statements: the span of lambda_ must be taken after it is resized.)
+  const std::size_t knuth_pixels = load_intensities(e, readout.dark_electrons);
+  draw_charge(lambda_, id, knuth_pixels);
   // The read noise's normals from lane 4 (zeros without read noise).
   if (readout.read_noise_electrons != 0.0) {
     draw_normals(lane_stream(id, id.frame, NoiseLane::kReadNoise), n, u1_, u2_, read_normals_,

@@ -75,26 +75,10 @@ double stated_estimate_bytes(const std::string& arguments, double limit = 1.0) {
   return estimate;
 }
 
-// True in a build with AddressSanitizer (scripts/test-sanitize.sh), whose
-// shadow memory and freed-memory quarantine roughly double fssim's peak: the
-// estimate is of fssim's own memory, so the comparison means nothing there.
-constexpr bool kAddressSanitizer =
-#if defined(__SANITIZE_ADDRESS__)
-    true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-    true;
-#else
-    false;
-#endif
-#else
-    false;
-#endif
-
 class MemoryEstimate : public ::testing::TestWithParam<int> {};
 
 TEST_P(MemoryEstimate, IsAtOrAboveTheMeasuredPeak) {
-  if (kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's own memory would be measured";
+  if (test::kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's own memory would be measured";
   const int channels = GetParam();
   test::TempDir dir;
   const fs::path input = dir / "input.png";
@@ -121,7 +105,7 @@ TEST_P(MemoryEstimate, IsAtOrAboveTheMeasuredPeak) {
 // lower bound, which assumes 8-bit outputs) is then not made, and the
 // estimate stated is the one made after decoding, with the outputs' depth.
 TEST_P(MemoryEstimate, SixteenBitOutputsAreCounted) {
-  if (kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's own memory would be measured";
+  if (test::kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's own memory would be measured";
   const int channels = GetParam();
   test::TempDir dir;
   const fs::path input = dir / "input.tif";

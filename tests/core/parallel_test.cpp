@@ -3,32 +3,18 @@
 #include "fss/core/parallel.h"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <atomic>
-#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "support/test_util.h"
+
 namespace fss {
 namespace {
-
-// AddressSanitizer reserves terabytes of address space: no RLIMIT_AS test then.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 TEST(ParallelFor, EveryIndexExactlyOnceInContiguousBlocks) {
   for (const int threads : {0, 1, 2, 3, 7, 64}) {
@@ -80,20 +66,8 @@ TEST(ParallelForEach, RethrowsTheFirstExceptionByIndex) {
   }
 }
 
-// Address space for the process as it is plus `extra` bytes.
-void limit_address_space(std::size_t extra) {
-  long pages = 0;
-  if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
-    if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
-    std::fclose(statm);
-  }
-  const rlim_t limit = static_cast<rlim_t>(pages) * ::sysconf(_SC_PAGESIZE) + extra;
-  const rlimit value{limit, limit};
-  if (pages == 0 || ::setrlimit(RLIMIT_AS, &value) != 0) std::_Exit(2);
-}
-
 TEST(ParallelForDeathTest, RunsEveryBlockWhenThreadsCannotStart) {
-  if (kAddressSanitizer) GTEST_SKIP() << "RLIMIT_AS cannot be used under AddressSanitizer";
+  if (test::kAddressSanitizer) GTEST_SKIP() << "RLIMIT_AS cannot be used under AddressSanitizer";
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   // With room for a few 8 MiB thread stacks only, most of the 64 threads
   // cannot start; their blocks must still run (before the fix, the exception
@@ -102,7 +76,7 @@ TEST(ParallelForDeathTest, RunsEveryBlockWhenThreadsCannotStart) {
       {
         constexpr int kCount = 64;
         std::vector<std::atomic<int>> hits(kCount);
-        limit_address_space(std::size_t{40} << 20);
+        test::limit_address_space(std::size_t{40} << 20);
         parallel_for(kCount, kCount, [&](int begin, int end) {
           for (int i = begin; i < end; ++i) hits[i].fetch_add(1);
         });

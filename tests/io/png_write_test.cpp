@@ -9,8 +9,6 @@
 #include "io/png_samples.h"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -33,19 +31,6 @@ namespace fss {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
-
-// AddressSanitizer reserves terabytes of address space: no RLIMIT_AS test then.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 std::uint32_t be32(const std::uint8_t* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
@@ -458,26 +443,14 @@ TEST(PngWrite, ExceptionOfTheRowsGoesThrough) {
                std::logic_error);
 }
 
-// Address space for the process as it is plus `extra` bytes.
-void limit_address_space(std::size_t extra) {
-  long pages = 0;
-  if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
-    if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
-    std::fclose(statm);
-  }
-  const rlim_t limit = static_cast<rlim_t>(pages) * ::sysconf(_SC_PAGESIZE) + extra;
-  const rlimit value{limit, limit};
-  if (pages == 0 || ::setrlimit(RLIMIT_AS, &value) != 0) std::_Exit(2);
-}
-
 // Out of memory while encoding: a runtime fss::Error saying so.
 TEST(PngWriteDeathTest, OutOfMemoryIsAnError) {
-  if (kAddressSanitizer) GTEST_SKIP() << "RLIMIT_AS cannot be used under AddressSanitizer";
+  if (test::kAddressSanitizer) GTEST_SKIP() << "RLIMIT_AS cannot be used under AddressSanitizer";
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(
       {
         const Image image(3000, 3000, 3, 100.0);  // 27 M samples, allocated before the limit
-        limit_address_space(std::size_t{1} << 20);
+        test::limit_address_space(std::size_t{1} << 20);
         try {
           encode_png(image, PngDepth::k8);
         } catch (const Error& e) {

@@ -1,5 +1,6 @@
 #include "support/test_util.h"
 
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -87,6 +88,17 @@ Image make_test_image(int width, int height, int channels, std::uint64_t seed) {
     }
   }
   return image;
+}
+
+void limit_address_space(std::size_t extra) {
+  long pages = 0;  // the process's present size, /proc/self/statm's first field
+  if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(statm, "%ld", &pages) != 1) pages = 0;
+    std::fclose(statm);
+  }
+  const rlim_t limit = static_cast<rlim_t>(pages) * ::sysconf(_SC_PAGESIZE) + extra;
+  const rlimit value{limit, limit};
+  if (pages == 0 || ::setrlimit(RLIMIT_AS, &value) != 0) std::_Exit(2);
 }
 
 std::string quote(const std::filesystem::path& path) { return "'" + path.string() + "'"; }

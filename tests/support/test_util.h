@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <initializer_list>
@@ -93,6 +94,27 @@ std::vector<double> paper_gains(const std::string& name);
 // max |a - b| over all samples; a and b must have the same size.
 double max_abs_difference(const Image& a, const Image& b);
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
+
+// True in a build with AddressSanitizer (scripts/test-sanitize.sh). It
+// reserves terabytes of address space, so no RLIMIT_AS test can run there,
+// and its shadow memory and quarantine roughly double a process's peak.
+inline constexpr bool kAddressSanitizer =
+#if defined(__SANITIZE_ADDRESS__)
+    true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    true;
+#else
+    false;
+#endif
+#else
+    false;
+#endif
+
+// Limits the address space (RLIMIT_AS) of the calling process to its
+// present size plus `extra` bytes; exits with status 2 when it cannot (for
+// the body of a death test).
+void limit_address_space(std::size_t extra);
 
 // A path in single quotes, for a command line run by run_command.
 std::string quote(const std::filesystem::path& path);

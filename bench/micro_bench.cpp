@@ -119,7 +119,8 @@ void BM_BoxMullerRow(benchmark::State& state) {
 }
 BENCHMARK(BM_BoxMullerRow)->Arg(512)->Arg(4000);
 
-// The same generator inline (bench/ziggurat.h): the bare cost of xoshiro256**.
+// The same generator as a bare state (bench/ziggurat.h): xoshiro256** alone,
+// to compare with BM_Xoshiro.
 void BM_InlineXoshiro(benchmark::State& state) {
   fss_bench::InlineXoshiro stream(fss::RandomStream(1, 0, 0, 0));
   std::uint64_t sink = 0;
@@ -282,7 +283,7 @@ void BM_PoissonRowSamplerShifted(benchmark::State& state) {
   fss::PoissonRowSampler sampler(100.0);
   std::vector<double> lambda;
   std::vector<double> root;
-  const std::size_t knuth = sampler.intensities_of(e, lambda, root);
+  const std::size_t knuth = sampler.intensities_of(e, 0.0, lambda, root);
   std::uint64_t row = 0;
   for (auto _ : state) {
     sampler.accumulate(fss::PoissonRowSampler::Intensities{lambda, root, knuth}, {1, 0, 0, row++},

@@ -210,26 +210,6 @@ double poisson_snr_variance(double e, double lambda2) {
 
 PoissonRowSampler::PoissonRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
 
-std::size_t PoissonRowSampler::load_intensities(std::span<const double> e, double dark) {
-  const std::size_t n = e.size();
-  lambda_.resize(n);
-  std::size_t knuth_pixels = 0;
-  detail::run_vectorized([&]() __attribute__((always_inline)) {
-    // Locals, not the captured references, so that the loop vectorizes.
-    const double* __restrict intensity = e.data();
-    double* __restrict lambda = lambda_.data();
-    const double lambda2 = lambda2_;
-    const double dark_electrons = dark;
-    std::size_t count = 0;
-    for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark_electrons;
-      count += lambda[x] < kKnuthLimit ? 1 : 0;
-    }
-    knuth_pixels = count;
-  });
-  return knuth_pixels;
-}
-
 void PoissonRowSampler::draw_charge(std::span<const double> lambda, const RowNoiseId& id,
                                     std::size_t knuth_pixels) {
   const std::size_t n = lambda.size();
@@ -241,7 +221,7 @@ void PoissonRowSampler::draw_charge(std::span<const double> lambda, const RowNoi
   }
 }
 
-std::size_t PoissonRowSampler::intensities_of(std::span<const double> e,
+std::size_t PoissonRowSampler::intensities_of(std::span<const double> e, double dark,
                                               std::vector<double>& lambda_row,
                                               std::vector<double>& root_row) const {
   const std::size_t n = e.size();
@@ -249,13 +229,15 @@ std::size_t PoissonRowSampler::intensities_of(std::span<const double> e,
   root_row.resize(n);
   std::size_t knuth_pixels = 0;
   detail::run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
     const double* __restrict intensity = e.data();
     double* __restrict lambda = lambda_row.data();
     double* __restrict root = root_row.data();
     const double lambda2 = lambda2_;
+    const double dark_electrons = dark;
     std::size_t count = 0;
     for (std::size_t x = 0; x < n; ++x) {
-      lambda[x] = std::max(intensity[x], 0.0) * lambda2;
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark_electrons;
       root[x] = std::sqrt(lambda[x]);
       count += lambda[x] < kKnuthLimit ? 1 : 0;
     }
@@ -266,7 +248,7 @@ std::size_t PoissonRowSampler::intensities_of(std::span<const double> e,
 
 void PoissonRowSampler::accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                                    std::span<double> out) {
-  const std::size_t knuth_pixels = intensities_of(e, lambda_, root_);
+  const std::size_t knuth_pixels = intensities_of(e, 0.0, lambda_, root_);
   accumulate(Intensities{lambda_, root_, knuth_pixels}, id, gain, out);
 }
 
@@ -299,7 +281,7 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
   // The charge P, drawn as accumulate() draws it: normals from lane 0, and
   // Knuth's variates from lane 1 in place of the unused normals.
   // (Two statements: the span of lambda_ must be taken after it is resized.)
-  const std::size_t knuth_pixels = load_intensities(e, readout.dark_electrons);
+  const std::size_t knuth_pixels = intensities_of(e, readout.dark_electrons, lambda_, root_);
   draw_charge(lambda_, id, knuth_pixels);
   // The read noise's normals from lane 4 (zeros without read noise).
   if (readout.read_noise_electrons != 0.0) {
@@ -312,6 +294,7 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
   // the loop vectorizes)
   detail::run_vectorized([&]() __attribute__((always_inline)) {
     const double* __restrict lambda = lambda_.data();
+    const double* __restrict root = root_.data();
     const double* __restrict normal = normals_.data();
     const double* __restrict read = read_normals_.data();
     double* __restrict sum = out.data();
@@ -323,7 +306,7 @@ void PoissonRowSampler::accumulate_readout(std::span<const double> e, const RowN
     const double adc_gain = adc ? readout.adc_gain_electrons_per_count : 1.0;
     const double adc_max = readout.adc_max_counts;
     for (std::size_t x = 0; x < n; ++x) {
-      const double rounded = round_nonnegative(lambda[x] + std::sqrt(lambda[x]) * normal[x]);
+      const double rounded = round_nonnegative(lambda[x] + root[x] * normal[x]);
       const double charge = lambda[x] < kKnuthLimit ? normal[x] : rounded;
       const double q = std::min(charge, well) + sigma * read[x];
       const double counted = std::min(round_nonnegative(q / adc_gain), adc_max) * adc_gain;

@@ -316,7 +316,8 @@ void RowObserver::add_noisy_slot(std::size_t k, std::span<const double> e, const
     return;
   }
   if (!scratch.intensities_ready) {
-    scratch.knuth_pixels = scratch.sampler.intensities_of(shift.e0, scratch.lambda, scratch.root);
+    scratch.knuth_pixels =
+        scratch.sampler.intensities_of(shift.e0, 0.0, scratch.lambda, scratch.root);
     repeat_twice(scratch.lambda);
     repeat_twice(scratch.root);
     scratch.intensities_ready = true;
@@ -366,9 +367,8 @@ void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const
   // e_k(x) = e_0((x - s k) mod W) = doubled[W - offset + x], doubled = e_0 e_0:
   // each slot's exposure is a window of one buffer, no copy per slot.
   const auto w = static_cast<std::size_t>(width_);
-  scratch.doubled.resize(2 * w);
-  std::copy(e0.begin(), e0.end(), scratch.doubled.begin());
-  std::copy(e0.begin(), e0.end(), scratch.doubled.begin() + width_);
+  scratch.doubled.assign(e0.begin(), e0.end());
+  repeat_twice(scratch.doubled);
   const std::span<const double> first_period(scratch.doubled.data(), w);
   for (std::size_t k = 0; k < gains_.size(); ++k) {
     if (gains_[k] == 0.0) continue;

@@ -83,9 +83,10 @@ class PoissonRowSampler {
   void accumulate(std::span<const double> e, const RowNoiseId& id, double gain,
                   std::span<double> out);
 
-  // A row's intensities lambda[x] = max(e[x], 0) lambda2 and their square
+  // A row's intensities lambda[x] = max(e[x], 0) lambda2 + dark (photo and
+  // dark electrons, one Poisson; dark is 0 without a sensor) and their square
   // roots, with the number of pixels on Knuth's branch (lambda < 50): what
-  // accumulate() computes from e first. A row whose frames are circular
+  // accumulate() and accumulate_readout() compute from e first. A row whose frames are circular
   // shifts of one exposure computes them once (intensities_of) and gives
   // each frame a window of them (the count is the same for every shift).
   struct Intensities {
@@ -94,7 +95,7 @@ class PoissonRowSampler {
     std::size_t knuth_pixels = 0;
   };
   // lambda and root (resized to e's size) of exposure e; returns the count.
-  std::size_t intensities_of(std::span<const double> e, std::vector<double>& lambda,
+  std::size_t intensities_of(std::span<const double> e, double dark, std::vector<double>& lambda,
                              std::vector<double>& root) const;
   // The same as accumulate(e, ...) for the exposure whose intensities these are.
   void accumulate(const Intensities& row, const RowNoiseId& id, double gain, std::span<double> out);
@@ -113,9 +114,6 @@ class PoissonRowSampler {
   void add_read_noise(const RowNoiseId& id, double scale, std::span<double> out);
 
  private:
-  // lambda_[x] = max(e[x], 0) lambda2 + dark (photo and dark electrons, one
-  // Poisson); returns the number of pixels on Knuth's branch (lambda < 50).
-  std::size_t load_intensities(std::span<const double> e, double dark);
   // normals_[x] = pixel x's normal (kFrameNormal lane), replaced by its
   // Knuth variate (kFrameKnuth lane, pixel order) where lambda[x] < 50.
   void draw_charge(std::span<const double> lambda, const RowNoiseId& id, std::size_t knuth_pixels);

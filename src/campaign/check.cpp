@@ -6,6 +6,7 @@
 #include <map>
 
 #include "campaign/campaign_text.h"
+#include "campaign/user_input.h"
 #include "core/text_util.h"
 #include "fss/campaign/results.h"
 #include "fss/core/error.h"
@@ -19,9 +20,10 @@ int CheckReport::failures() const {
 }
 
 bool CheckOptions::IsValid(std::string* error) const {
+  // Named as the options of 'campaign check' that set them.
   for (const auto& [name, value] :
-       {std::pair{"abs_tolerance", abs_tolerance}, std::pair{"rel_tolerance", rel_tolerance},
-        std::pair{"k_standard_errors", k_standard_errors}}) {
+       {std::pair{"--abs", abs_tolerance}, std::pair{"--rel", rel_tolerance},
+        std::pair{"--k-se", k_standard_errors}}) {
     if (!(value >= 0.0) || !std::isfinite(value)) {
       if (error)
         *error = std::string(name) + " = " + format_exact(value) + ": must be finite and >= 0";
@@ -30,6 +32,20 @@ bool CheckOptions::IsValid(std::string* error) const {
   }
   return true;
 }
+
+namespace {
+
+// A file name in a message: quoted, control bytes escaped.
+std::string shown(const std::string& name) {
+  std::string text = "'";
+  text += escape_control_characters(name);
+  return text + "'";
+}
+
+// A cell or column name of a CSV file in a message: one short line.
+std::string cell_text(const std::string& text) { return shorten_for_message(text, 80); }
+
+}  // namespace
 
 std::vector<std::vector<std::string>> parse_csv(const std::string& text, const std::string& name) {
   std::vector<std::vector<std::string>> rows;
@@ -63,7 +79,7 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
       any = true;
     }
   }
-  if (quoted) throw_usage_error("'" + name + "': a quoted field is not closed");
+  if (quoted) throw_usage_error(shown(name) + ": a quoted field is not closed");
   if (!field.empty() || !row.empty()) {
     row.push_back(std::move(field));
     rows.push_back(std::move(row));
@@ -71,12 +87,12 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
   (void)any;
   for (std::size_t r = 1; r < rows.size(); ++r) {
     if (rows[r].size() != rows[0].size()) {
-      throw_usage_error("'" + name + "': line " + std::to_string(r + 1) + " has " +
+      throw_usage_error(shown(name) + ": line " + std::to_string(r + 1) + " has " +
                         std::to_string(rows[r].size()) + " fields, the header " +
                         std::to_string(rows[0].size()));
     }
   }
-  if (rows.empty()) throw_usage_error("'" + name + "': no header line");
+  if (rows.empty()) throw_usage_error(shown(name) + ": no header line");
   return rows;
 }
 
@@ -167,13 +183,14 @@ CheckCase Comparison::compare(std::size_t r, std::size_t e, const std::string& c
   const double g = number(got), w = number(want);
   if (std::isnan(w) || std::isinf(w)) {  // text, or a non-finite number: equal text
     c.passed = got == want;
-    c.message = setting + ": " + column + " is '" + got + "', expected '" + want + "'";
+    c.message = setting + ": " + cell_text(column) + " is '" + cell_text(got) + "', expected '" +
+                cell_text(want) + "'";
     return c;
   }
   const double d = g - w;
   double tolerance = std::max(options.abs_tolerance, options.rel_tolerance * std::abs(w));
-  std::string rule = "abs " + format_exact(options.abs_tolerance) + ", rel " +
-                     format_exact(options.rel_tolerance);
+  std::string rule =
+      "abs " + format_exact(options.abs_tolerance) + ", rel " + format_exact(options.rel_tolerance);
   if (options.k_standard_errors > 0.0 && column.size() > 5 &&
       column.compare(column.size() - 5, 5, "_mean") == 0) {
     const double se_r = standard_error(results, r, column),
@@ -185,9 +202,13 @@ CheckCase Comparison::compare(std::size_t r, std::size_t e, const std::string& c
     }
   }
   c.passed = std::abs(d) <= tolerance;  // false for a missing or non-finite result
-  c.message = setting + ": " + column + " " + (got.empty() ? "missing" : got) + ", expected " +
-              want + " (difference " + format_number(d) + ", tolerance " +
-              format_number(tolerance) + ": " + rule + ")";
+  // The difference only when it is a number (a result that is text, missing
+  // or infinite has none).
+  const std::string difference =
+      std::isfinite(d) ? "difference " + format_number(d) + ", " : std::string();
+  c.message = setting + ": " + cell_text(column) + " " +
+              (got.empty() ? "missing" : cell_text(got)) + ", expected " + cell_text(want) + " (" +
+              difference + "tolerance " + format_number(tolerance) + ": " + rule + ")";
   return c;
 }
 
@@ -205,11 +226,17 @@ void choose_columns(const Table& results, const std::string& results_name, const
     if (is_setting(c)) keys.push_back(c);
     if (options.columns.empty() && compared_by_default(c)) quantities.push_back(c);
   }
+  if (keys.empty()) {
+    std::string names;
+    for (const char* k : kSettingColumns) names += (names.empty() ? "" : ", ") + std::string(k);
+    throw_usage_error(shown(expected_name) + " has none of the setting columns (" + names +
+                      "): nothing tells which result row each of its rows is");
+  }
   for (const auto* list : {&keys, &quantities}) {
     for (const std::string& c : *list) {
       if (results.column.count(c) == 0 || expected.column.count(c) == 0) {
-        throw_usage_error("column '" + c + "' is missing from '" +
-                          (results.column.count(c) != 0 ? expected_name : results_name) + "'");
+        throw_usage_error("column '" + cell_text(c) + "' is missing from " +
+                          shown(results.column.count(c) != 0 ? expected_name : results_name));
       }
     }
   }
@@ -223,7 +250,7 @@ std::string setting_label(const Table& expected, std::size_t e,
     if (!setting.empty()) setting += ' ';
     setting += k;
     setting += '=';
-    setting += *expected.cell(e, k);
+    setting += cell_text(*expected.cell(e, k));
   }
   return setting;
 }
@@ -257,9 +284,8 @@ CheckReport CheckCampaignResults(const std::string& results_csv, const std::stri
     const std::size_t match = matching_row(results, expected, e, keys);
     if (match == 0) {
       std::string message = setting;
-      message += ": no such row in '";
-      message += results_name;
-      message += "'";
+      message += ": no such row in ";
+      message += shown(results_name);
       report.cases.push_back({setting, "", false, message});
       continue;
     }
@@ -268,6 +294,18 @@ CheckReport CheckCampaignResults(const std::string& results_csv, const std::stri
     }
   }
   return report;
+}
+
+CheckReport CheckCampaignResultFiles(const std::string& results_path,
+                                     const std::string& expected_path,
+                                     const CheckOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  const std::string results =
+      campaign_input::read_text_file(results_path, kMaxCheckFileBytes, "results file");
+  const std::string expected =
+      campaign_input::read_text_file(expected_path, kMaxCheckFileBytes, "expectations file");
+  return CheckCampaignResults(results, results_path, expected, expected_path, options);
 }
 
 namespace {

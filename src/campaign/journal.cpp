@@ -5,12 +5,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
+#include <stdexcept>
 
+#include "campaign/user_input.h"
 #include "fss/core/error.h"
 
 namespace fss::campaign_journal {
@@ -23,42 +23,109 @@ using Json = nlohmann::json;
   throw_runtime_error("campaign journal '" + escape_control_characters(path) + "': " + what);
 }
 
-std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (!in && !in.eof()) fail(path, "cannot be read");
-  return bytes.str();
+// j[key] as an integer; throws std::invalid_argument if it is none.
+long long integer_at(const Json& j, const char* key) {
+  const std::optional<long long> n = campaign_input::json_integer(j.at(key));
+  if (!n) throw std::invalid_argument(std::string("'") + key + "' is not an integer");
+  return *n;
 }
 
-void parse_header(const std::string& path, const std::string& line, Contents& c) {
+std::string line_text(int number) { return "line " + std::to_string(number); }
+
+Json parse_line(const std::string& path, std::string_view line, int number) {
+  std::string error;
+  std::optional<Json> j = campaign_input::parse_json(line, &error);
+  if (!j) fail(path, "malformed " + line_text(number) + ": " + error);
+  if (!j->is_object()) fail(path, "malformed " + line_text(number) + ": expected an object");
+  return std::move(*j);
+}
+
+void parse_header(const std::string& path, std::string_view line, Contents& c) {
+  const Json j = parse_line(path, line, 1);
   try {
-    const Json j = Json::parse(line);
-    if (j.at("fssim_campaign_journal").get<int>() != 1) fail(path, "unknown journal version");
+    if (integer_at(j, "fssim_campaign_journal") != 1) fail(path, "unknown journal version");
     c.campaign_json = j.at("campaign").get<std::string>();
     c.campaign_sha256 = j.at("campaign_sha256").get<std::string>();
-    c.shard = parse_shard(j.at("shard").get<std::string>());
-    c.settings = j.at("settings").get<long long>();
+    c.settings = integer_at(j, "settings");
+    const std::string shard = j.at("shard").get<std::string>();
+    try {
+      c.shard = parse_shard(shard);
+    } catch (const Error&) {
+      fail(path, "malformed header line: shard '" + shorten_for_message(shard) + "'");
+    }
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    fail(path, std::string("malformed header line: ") + e.what());
+    fail(path, "malformed header line: " + shorten_for_message(e.what(), 200));
+  }
+  if (c.settings < 1 || c.settings > kMaxCampaignSettings) {
+    fail(path, "malformed header line: " + std::to_string(c.settings) + " settings");
   }
 }
 
-void parse_row(const std::string& path, const std::string& line, int number, Contents& c) {
+// Whether `text` is a number as JSON writes it (and shortest() does):
+// -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?, whose value is finite.
+bool is_json_number(const std::string& text) {
+  std::size_t i = 0;
+  const auto digits = [&] {
+    const std::size_t start = i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') ++i;
+    return i - start;
+  };
+  if (i < text.size() && text[i] == '-') ++i;
+  const std::size_t start = i;
+  const std::size_t integer = digits();
+  if (integer == 0 || (integer > 1 && text[start] == '0')) return false;
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    if (digits() == 0) return false;
+  }
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    if (digits() == 0) return false;
+  }
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  return i == text.size() && ec == std::errc() && end == text.data() + text.size();
+}
+
+// Whether `cell` is a value of a column of `kind` as a row holds it: a
+// number (or empty, inf, -inf, nan), true or false.
+bool fits(const std::string& cell, ColumnKind kind) {
+  if (kind == ColumnKind::kText || cell.empty()) return true;
+  if (kind == ColumnKind::kBoolean) return cell == "true" || cell == "false";
+  return cell == "inf" || cell == "-inf" || cell == "nan" || is_json_number(cell);
+}
+
+bool row_fits(const ResultRow& row, const std::vector<ResultColumn>& columns) {
+  if (row.size() != columns.size()) return false;
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    if (!fits(row[i], columns[i].kind)) return false;
+  }
+  return true;
+}
+
+void parse_row(const std::string& path, std::string_view line, int number, Contents& c) {
+  const Json j = parse_line(path, line, number);
+  const std::string where = line_text(number);
+  long long index = -1;
   try {
-    const Json j = Json::parse(line);
-    const long long index = j.at("index").get<long long>();
+    index = integer_at(j, "index");
     ResultRow row = j.at("row").get<ResultRow>();
-    if (index < 0 || index >= c.settings || row.size() != campaign_columns().size()) {
-      fail(path, "line " + std::to_string(number) + " does not fit the campaign");
+    if (index < 0 || index >= c.settings || !row_fits(row, campaign_columns())) {
+      fail(path, where + " does not fit the campaign");
+    }
+    if (index % c.shard.count != c.shard.index - 1) {
+      fail(path, where + " holds setting " + std::to_string(index) + ", which belongs to shard " +
+                     shard_text({static_cast<int>(index % c.shard.count) + 1, c.shard.count}) +
+                     ", not to this journal's shard " + shard_text(c.shard));
     }
     if (const auto trials = j.find("trials"); trials != j.end()) {
       std::vector<ResultRow> rows = trials->get<std::vector<ResultRow>>();
       for (const ResultRow& trial : rows) {
-        if (trial.size() != trial_columns().size()) {
-          fail(path, "line " + std::to_string(number) + " has a trial row that does not fit");
+        if (!row_fits(trial, trial_columns())) {
+          fail(path, where + " has a trial row that does not fit");
         }
       }
       c.trial_rows[index] = std::move(rows);
@@ -67,7 +134,7 @@ void parse_row(const std::string& path, const std::string& line, int number, Con
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    fail(path, "malformed line " + std::to_string(number) + ": " + e.what());
+    fail(path, "malformed " + where + ": " + shorten_for_message(e.what(), 200));
   }
 }
 
@@ -83,23 +150,39 @@ long long shard_size(long long settings, const CampaignShard& shard) {
 }
 
 std::optional<Contents> read(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return std::nullopt;
-  const std::string bytes = read_all(path);
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT) return std::nullopt;
+    fail(path, std::string("cannot be read: ") + std::strerror(errno));
+  }
+  if (::stat(path.c_str(), &st) != 0) {
+    fail(path, std::string("cannot be read: ") + std::strerror(errno));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    fail(path,
+         "not an fssim campaign journal (not a regular file); move it away or use another "
+         "directory");
+  }
+  return parse(campaign_input::read_text_file(path, kMaxCampaignJournalBytes, "campaign journal"),
+               path);
+}
+
+Contents parse(std::string_view bytes, const std::string& path) {
   Contents c;
   c.file_bytes = bytes.size();
   const std::size_t header_end = bytes.find('\n');
-  if (header_end == std::string::npos) {
-    // Killed while the header was being written: nothing ran yet.
-    std::filesystem::remove(path, ec);
-    return std::nullopt;
+  if (header_end == std::string_view::npos) {
+    // fssim writes the header whole (renamed into place): this is not its.
+    fail(path,
+         "not an fssim campaign journal (no complete header line); move it away or use "
+         "another directory");
   }
   parse_header(path, bytes.substr(0, header_end), c);
   std::size_t begin = header_end + 1;
   int number = 2;
   while (begin < bytes.size()) {
     const std::size_t end = bytes.find('\n', begin);
-    if (end == std::string::npos) break;  // a torn last line: cut off on append
+    if (end == std::string_view::npos) break;  // a torn last line: cut off on append
     parse_row(path, bytes.substr(begin, end - begin), number++, c);
     begin = end + 1;
   }

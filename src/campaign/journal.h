@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "fss/campaign/results.h"
 #include "fss/campaign/run.h"
@@ -24,9 +25,21 @@ struct Contents {
   std::size_t file_bytes = 0;
 };
 
-// The journal at `path`, or nullopt when there is none (or only a torn
-// header, which is removed). Throws a runtime fss::Error for a corrupt line.
+// The journal at `path`, or nullopt when there is none. Throws a runtime
+// fss::Error, and touches nothing, for a journal larger than
+// kMaxCampaignJournalBytes, a directory or anything else not a journal, and
+// a corrupt line (parse).
 std::optional<Contents> read(const std::string& path);
+
+// The journal whose bytes are `bytes` (`path` names it in messages). Refuses
+// (a runtime fss::Error naming `path` and the line) bytes without a complete
+// header line (the header is written whole, renamed into place: such a file
+// is not fssim's), a malformed header or row line, JSON nested deeper than
+// campaign_input::kMaxJsonDepth, a row whose index is outside the campaign
+// or belongs to another shard, and a row whose cells do not fit their
+// columns. A last line without its newline is torn: left out of `rows` and
+// `valid_bytes`.
+Contents parse(std::string_view bytes, const std::string& path);
 
 // The header line of a journal (newline included).
 std::string header_line(const ResolvedCampaign& campaign, const CampaignShard& shard);

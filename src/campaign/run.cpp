@@ -4,20 +4,24 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "campaign/journal.h"
+#include "campaign/user_input.h"
 #include "fss/campaign/sha256.h"
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
+#include "fss/io/safe_write.h"
+#include "fss/model/code.h"
+#include "io/created_directories.h"
 
 namespace fss {
 
@@ -52,30 +56,46 @@ bool CampaignRunOptions::IsValid(std::string* error) const {
   return false;
 }
 
+namespace {
+
+// Writes `bytes` to `fd`, fsyncs and closes it: 0 or the errno.
+int write_sync_close(int fd, const std::string& bytes) {
+  int error = 0;
+  for (std::size_t written = 0; error == 0 && written < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) error = n < 0 ? errno : ENOSPC;
+    if (n > 0) written += static_cast<std::size_t>(n);
+  }
+  if (error == 0 && ::fsync(fd) != 0) error = errno;
+  if (::close(fd) != 0 && error == 0) error = errno;
+  return error;
+}
+
+}  // namespace
+
 void write_file_durably(const std::string& path, const std::string& bytes) {
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string temp_name = ".";
-  temp_name += target.filename().string();
-  temp_name += ".tmp";
-  const std::string temp = (dir / temp_name).string();
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  bool ok = fd >= 0;
-  std::size_t written = 0;
-  while (ok && written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    ok = n > 0;
-    if (ok) written += static_cast<std::size_t>(n);
+  // A new temporary named for this process (O_EXCL: never a file already
+  // there, nor one a symbolic link points to).
+  static std::atomic<unsigned> counter{0};
+  std::string temp;
+  int fd = -1;
+  for (int attempt = 0; fd < 0 && attempt < 100; ++attempt) {
+    std::string name = ".";
+    name += target.filename().string();
+    name += ".fssim-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".tmp";
+    temp = (dir / name).string();
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) break;
   }
-  const int saved = errno;
-  ok = ok && ::fsync(fd) == 0;
-  if (fd >= 0) ::close(fd);
-  if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::error_code ec;
-    fs::remove(temp, ec);
+  int error = fd < 0 ? errno : write_sync_close(fd, bytes);
+  if (fd >= 0 && error == 0 && std::rename(temp.c_str(), path.c_str()) != 0) error = errno;
+  if (error != 0) {
+    if (fd >= 0) ::unlink(temp.c_str());  // created above: ours
     throw_runtime_error("cannot write '" + escape_control_characters(path) +
-                        "': " + std::strerror(saved ? saved : errno));
+                        "': " + std::strerror(error));
   }
   const int dir_fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir_fd >= 0) {
@@ -85,6 +105,8 @@ void write_file_durably(const std::string& path, const std::string& bytes) {
 }
 
 namespace {
+
+constexpr const char* kLockName = ".campaign.lock";
 
 std::string manifest(const ResolvedCampaign& campaign, const CampaignShard& shard) {
   const nlohmann::json j = {{"schema_version", kCampaignSchemaVersion},
@@ -118,7 +140,15 @@ void write_results(const std::string& dir, const ResolvedCampaign& campaign,
   if (rows_out != nullptr) *rows_out = std::move(rows);
 }
 
-std::string short_hash(const std::string& sha256) { return sha256.substr(0, 12); }
+std::string short_hash(const std::string& sha256) {
+  return escape_control_characters(sha256.substr(0, 12));
+}
+
+std::string shown_path(const std::string& path) {
+  std::string shown = "'";
+  shown += escape_control_characters(path);
+  return shown + "'";
+}
 
 // The journal of dir for this campaign and shard: read (refusing another
 // campaign or shard) or started.
@@ -131,33 +161,34 @@ journal::Contents open_journal(const ResolvedCampaign& campaign, const std::stri
     contents = journal::read(path);
   }
   if (contents->campaign_sha256 != campaign.sha256) {
-    throw_usage_error("'" + escape_control_characters(dir) + "' holds another campaign (" +
+    throw_usage_error(shown_path(dir) + " holds another campaign (" +
                       short_hash(contents->campaign_sha256) + ", see its " + kCampaignJournal +
                       ") than this specification (" + short_hash(campaign.sha256) +
                       "): the images, codes or values changed; use a new output directory");
   }
+  if (contents->settings != campaign.setting_count()) {
+    throw_runtime_error("campaign journal " + shown_path(path) + ": its header counts " +
+                        std::to_string(contents->settings) + " settings, the campaign " +
+                        std::to_string(campaign.setting_count()));
+  }
   if (contents->shard.index != shard.index || contents->shard.count != shard.count) {
-    throw_usage_error("'" + escape_control_characters(dir) + "' holds shard " +
-                      journal::shard_text(contents->shard) + " of this campaign, not shard " +
-                      journal::shard_text(shard) + "; use one directory per shard");
+    throw_usage_error(shown_path(dir) + " holds shard " + journal::shard_text(contents->shard) +
+                      " of this campaign, not shard " + journal::shard_text(shard) +
+                      "; use one directory per shard");
   }
   return *contents;
 }
 
-// Decodes image `i` of the campaign, checking that the file still has the
-// digest the campaign was made with.
+// Decodes image `i` of the campaign (a PNG file of at most
+// kMaxCampaignImageBytes), checking that the file still has the digest the
+// campaign was made with.
 Image load_image(const ResolvedCampaign& campaign, int i) {
   const CampaignImage& image = campaign.images[i];
-  std::ifstream in(image.path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (!in && !in.eof()) {
-    throw_runtime_error("cannot read image '" + escape_control_characters(image.path) + "'");
-  }
-  const std::string data = bytes.str();
+  const std::string data =
+      campaign_input::read_png_file(image.path, kMaxCampaignImageBytes, "image");
   if (sha256_hex(data) != image.sha256) {
-    throw_runtime_error("image '" + escape_control_characters(image.path) +
-                        "' changed since the campaign started (its SHA-256 differs)");
+    throw_runtime_error("image " + shown_path(image.path) +
+                        " changed since the campaign started (its SHA-256 differs)");
   }
   return decode_png(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), image.path);
 }
@@ -168,16 +199,15 @@ Image load_image(const ResolvedCampaign& campaign, int i) {
 class DirectoryLock {
  public:
   explicit DirectoryLock(const std::string& dir) {
-    const std::string path = (fs::path(dir) / ".campaign.lock").string();
+    const std::string path = (fs::path(dir) / kLockName).string();
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) {
-      throw_runtime_error("cannot create '" + escape_control_characters(path) +
-                          "': " + std::strerror(errno));
+      throw_runtime_error("cannot create " + shown_path(path) + ": " + std::strerror(errno));
     }
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       ::close(fd_);
-      throw_usage_error("'" + escape_control_characters(dir) +
-                        "' is in use by another fssim campaign run; wait for it or use another "
+      throw_usage_error(shown_path(dir) +
+                        " is in use by another fssim campaign run; wait for it or use another "
                         "directory");
     }
   }
@@ -189,19 +219,68 @@ class DirectoryLock {
   int fd_ = -1;
 };
 
-}  // namespace
+// The files a run or a merge writes into its directory.
+std::vector<std::string> written_names() {
+  return {kCampaignJournal,  kCampaignResultsCsv, kCampaignResultsJsonl,
+          kCampaignManifest, kCampaignTrialsCsv,  kCampaignTrialsJsonl,
+          kLockName};
+}
 
-CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
-                               const CampaignRunOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw_usage_error(error);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) {
-    throw_runtime_error("cannot create the campaign directory '" + escape_control_characters(dir) +
-                        "'");
+// Refuses (a usage fss::Error) to run when a file the command writes into
+// `dir` is one of `inputs` (the same file: device and inode). A file that
+// does not exist yet is no input.
+void refuse_outputs_over_inputs(const std::string& dir, const std::vector<std::string>& inputs) {
+  for (const std::string& name : written_names()) {
+    const std::string output = (fs::path(dir) / name).string();
+    for (const std::string& input : inputs) {
+      if (same_file(output, input)) {
+        throw_usage_error("the output " + shown_path(output) + " would replace the input " +
+                          shown_path(input) + "; use another output directory");
+      }
+    }
   }
-  const DirectoryLock lock(dir);
+}
+
+// The files a campaign reads: its images, its code files, and `others`.
+std::vector<std::string> campaign_inputs(const ResolvedCampaign& campaign,
+                                         const std::vector<std::string>& others) {
+  std::vector<std::string> inputs = others;
+  for (const CampaignImage& image : campaign.images) inputs.push_back(image.path);
+  for (const CampaignCode& code : campaign.codes) {
+    if (!builtin_code(code.name)) inputs.push_back(code.name);
+  }
+  return inputs;
+}
+
+// Creates dir and its missing parents; those created, outermost first.
+std::vector<fs::path> create_campaign_directory(const std::string& dir, const char* what) {
+  std::error_code ec;
+  std::vector<fs::path> created = detail::create_directories_listed(dir, ec);
+  if (ec || !fs::is_directory(dir, ec)) {
+    detail::remove_created_directories(created);
+    throw_runtime_error(std::string("cannot create ") + what + " " + shown_path(dir) +
+                        (ec ? ": " + ec.message() : std::string()));
+  }
+  return created;
+}
+
+// After a failed run into a directory it created: the lock file, and the
+// journal while it holds no setting, are removed (this run wrote both).
+void remove_unstarted_journal(const std::string& dir) {
+  const std::string path = (fs::path(dir) / kCampaignJournal).string();
+  try {
+    const std::optional<journal::Contents> contents = journal::read(path);
+    if (contents && !contents->rows.empty()) return;
+  } catch (const Error&) {
+    return;
+  }
+  ::unlink(path.c_str());
+  ::unlink((fs::path(dir) / kLockName).c_str());
+}
+
+// Runs the settings of the shard missing from dir's journal; dir is locked.
+CampaignRunSummary run_shard(const ResolvedCampaign& campaign, const std::string& dir,
+                             const CampaignRunOptions& options) {
   journal::Contents contents = open_journal(campaign, dir, options.shard);
   const auto start = std::chrono::steady_clock::now();
   const long long settings = campaign.setting_count();
@@ -242,6 +321,29 @@ CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::stri
   return summary;
 }
 
+}  // namespace
+
+CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
+                               const CampaignRunOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  refuse_outputs_over_inputs(dir, campaign_inputs(campaign, options.inputs));
+  const std::vector<fs::path> created = create_campaign_directory(dir, "the campaign directory");
+  try {
+    const DirectoryLock lock(dir);
+    try {
+      return run_shard(campaign, dir, options);
+    } catch (...) {
+      if (!created.empty()) remove_unstarted_journal(dir);
+      throw;
+    }
+  } catch (...) {
+    // A failed run leaves no directory it created but one holding results.
+    detail::remove_created_directories(created);
+    throw;
+  }
+}
+
 namespace {
 
 struct Part {
@@ -253,8 +355,8 @@ Part read_part(const std::string& dir) {
   const std::string path = (fs::path(dir) / kCampaignJournal).string();
   std::optional<journal::Contents> contents = journal::read(path);
   if (!contents) {
-    throw_usage_error("part '" + escape_control_characters(dir) +
-                      "' is not a campaign directory (no " + kCampaignJournal + ")");
+    throw_usage_error("part " + shown_path(dir) + " is not a campaign directory (no " +
+                      kCampaignJournal + ")");
   }
   return {dir, std::move(*contents)};
 }
@@ -264,15 +366,15 @@ void check_parts(const std::vector<Part>& parts) {
   std::set<int> seen;
   for (const Part& part : parts) {
     const journal::Contents& c = part.contents;
-    const std::string name = "part '" + escape_control_characters(part.dir) + "'";
+    const std::string name = "part " + shown_path(part.dir);
     if (c.campaign_sha256 != first.campaign_sha256) {
-      throw_usage_error(name + " belongs to campaign " + short_hash(c.campaign_sha256) + ", '" +
-                        escape_control_characters(parts.front().dir) + "' to campaign " +
+      throw_usage_error(name + " belongs to campaign " + short_hash(c.campaign_sha256) + ", " +
+                        shown_path(parts.front().dir) + " to campaign " +
                         short_hash(first.campaign_sha256) + ": they cannot be merged");
     }
     if (c.shard.count != first.shard.count) {
-      throw_usage_error(name + " is shard " + journal::shard_text(c.shard) + ", but '" +
-                        escape_control_characters(parts.front().dir) + "' is shard " +
+      throw_usage_error(name + " is shard " + journal::shard_text(c.shard) + ", but " +
+                        shown_path(parts.front().dir) + " is shard " +
                         journal::shard_text(first.shard) +
                         ": the parts split the work differently");
     }
@@ -295,27 +397,44 @@ void check_parts(const std::vector<Part>& parts) {
   }
 }
 
-}  // namespace
-
-std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& part_dirs,
-                                          const std::string& dir, ResolvedCampaign* out) {
+// The parts of a merge into dir, read and checked to make one campaign,
+// which *campaign receives.
+std::vector<Part> read_parts(const std::vector<std::string>& part_dirs, const std::string& dir,
+                             ResolvedCampaign* campaign) {
   if (part_dirs.empty()) throw_usage_error("campaign merge needs at least one part");
-  std::vector<Part> parts;
-  std::error_code ec;
+  std::vector<std::string> journals;
   for (const std::string& part : part_dirs) {
-    if (fs::equivalent(part, dir, ec)) {
-      throw_usage_error("the merge output '" + escape_control_characters(dir) +
-                        "' must not be one of the parts");
+    if (same_file(part, dir)) {
+      throw_usage_error("the merge output " + shown_path(dir) + " must not be one of the parts");
     }
-    parts.push_back(read_part(part));
+    journals.push_back((fs::path(part) / kCampaignJournal).string());
   }
+  refuse_outputs_over_inputs(dir, journals);
+  std::vector<Part> parts;
+  for (const std::string& part : part_dirs) parts.push_back(read_part(part));
   check_parts(parts);
-  const ResolvedCampaign campaign =
-      campaign_from_canonical_json(parts.front().contents.campaign_json);
-  if (campaign.sha256 != parts.front().contents.campaign_sha256) {
-    throw_runtime_error("part '" + escape_control_characters(parts.front().dir) +
-                        "': its journal's specification does not match its hash");
+  try {
+    *campaign = campaign_from_canonical_json(parts.front().contents.campaign_json);
+  } catch (const Error& e) {
+    throw_runtime_error("campaign journal " + shown_path(journals.front()) + ": " + e.what());
   }
+  if (campaign->sha256 != parts.front().contents.campaign_sha256) {
+    throw_runtime_error("part " + shown_path(parts.front().dir) +
+                        ": its journal's specification does not match its hash");
+  }
+  for (const Part& part : parts) {
+    if (part.contents.settings != campaign->setting_count()) {
+      throw_runtime_error("part " + shown_path(part.dir) + ": its journal's header counts " +
+                          std::to_string(part.contents.settings) + " settings, the campaign " +
+                          std::to_string(campaign->setting_count()));
+    }
+  }
+  return parts;
+}
+
+// Writes the merged journal and results into dir, which exists.
+std::vector<ResultRow> write_merged(std::vector<Part>& parts, const ResolvedCampaign& campaign,
+                                    const std::string& dir) {
   journal::Contents merged;
   for (Part& part : parts) {
     merged.rows.merge(part.contents.rows);
@@ -327,19 +446,36 @@ std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& part_d
     journal_text += journal::row_line(
         index, row, trials == merged.trial_rows.end() ? nullptr : &trials->second);
   }
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) {
-    throw_runtime_error("cannot create the merge output '" + escape_control_characters(dir) + "'");
-  }
   if (const auto existing = journal::read((fs::path(dir) / kCampaignJournal).string())) {
     if (existing->campaign_sha256 != campaign.sha256) {
-      throw_usage_error("'" + escape_control_characters(dir) + "' holds another campaign (" +
+      throw_usage_error(shown_path(dir) + " holds another campaign (" +
                         short_hash(existing->campaign_sha256) + "); use a new output directory");
     }
   }
   write_file_durably((fs::path(dir) / kCampaignJournal).string(), journal_text);
   std::vector<ResultRow> ordered;
   write_results(dir, campaign, {1, 1}, merged, &ordered);
+  return ordered;
+}
+
+}  // namespace
+
+std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& part_dirs,
+                                          const std::string& dir, ResolvedCampaign* out) {
+  ResolvedCampaign campaign;
+  std::vector<Part> parts = read_parts(part_dirs, dir, &campaign);
+  const std::vector<fs::path> created = create_campaign_directory(dir, "the merge output");
+  std::vector<ResultRow> ordered;
+  try {
+    ordered = write_merged(parts, campaign, dir);
+  } catch (...) {
+    // In a directory this merge created, every file is its own.
+    if (!created.empty()) {
+      for (const std::string& name : written_names()) ::unlink((fs::path(dir) / name).c_str());
+    }
+    detail::remove_created_directories(created);
+    throw;
+  }
   if (out) *out = campaign;
   return ordered;
 }

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
+#include <stdexcept>
 
 #include "campaign/campaign_text.h"
+#include "campaign/user_input.h"
 #include "fss/campaign/sha256.h"
 #include "fss/core/error.h"
 #include "fss/core/number_text.h"
@@ -106,45 +106,94 @@ ValueList parse_value_list(std::string_view text, const std::string& field) {
   return list;
 }
 
+namespace {
+
+// How messages name a field: by its option and its campaign file key, as
+// either may have set it.
+std::string field_name(const char* option, const char* key) {
+  return std::string(option) + " / \"" + key + "\"";
+}
+
+// The fixed sensor parts, named as the options and keys that set them; ""
+// when valid (a read noise value out of range is a row's status instead).
+std::string sensor_error(const SensorModel& sensor) {
+  const auto rule = [](const char* option, const char* key, double value, const char* what) {
+    return field_name(option, key) + " = " + format_exact(value) + ": " + what;
+  };
+  const double dark = sensor.dark_current_electrons_per_slot;
+  if (!(std::isfinite(dark) && dark >= 0.0)) {
+    return rule("--dark-current", "dark_current", dark, "must be finite and >= 0");
+  }
+  const double full = sensor.full_well_electrons.value_or(1.0);
+  if (!(std::isfinite(full) && full > 0.0)) {
+    return rule("--full-well", "full_well", full, "must be finite and > 0");
+  }
+  if (sensor.adc_bits < 0 || sensor.adc_bits > 32) {
+    return rule("--adc-bits", "adc_bits", sensor.adc_bits, "must lie in [1, 32] (or 0 for no ADC)");
+  }
+  const double gain = sensor.adc_gain_electrons_per_count;
+  if (!(std::isfinite(gain) && gain > 0.0)) {
+    return rule("--adc-gain", "adc_gain", gain, "must be finite and > 0");
+  }
+  SensorModel fixed = sensor;
+  fixed.read_noise_electrons = 0.0;
+  std::string error;
+  return fixed.IsValid(&error) ? std::string() : "sensor: " + error;
+}
+
+}  // namespace
+
 bool CampaignSpec::IsValid(std::string* error) const {
   const auto fail = [&](const std::string& message) {
     if (error) *error = message;
     return false;
   };
-  if (inputs.empty()) return fail("inputs: the campaign needs at least one image");
-  if (codes.empty()) return fail("codes: the campaign needs at least one code");
-  if (modes.empty()) return fail("modes: the campaign needs at least one mode");
+  if (inputs.empty()) {
+    return fail(field_name("--input", "input") + ": the campaign needs at least one image");
+  }
+  if (codes.empty()) {
+    return fail(field_name("--code", "code") + ": the campaign needs at least one code");
+  }
+  if (modes.empty()) {
+    return fail(field_name("--mode", "mode") + ": the campaign needs at least one mode");
+  }
   try {
-    parse_value_list(velocity, "velocity");
-    if (!restore_velocity.empty()) parse_value_list(restore_velocity, "restore_velocity");
-    parse_value_list(snr, "snr");
-    parse_value_list(dt, "dt");
-    parse_value_list(read_noise, "read_noise");
+    parse_value_list(velocity, field_name("--velocity", "velocity"));
+    if (!restore_velocity.empty()) {
+      parse_value_list(restore_velocity, field_name("--restore-velocity", "restore_velocity"));
+    }
+    parse_value_list(snr, field_name("--snr", "snr"));
+    parse_value_list(dt, field_name("--dt", "dt"));
+    parse_value_list(read_noise, field_name("--read-noise", "read_noise"));
   } catch (const Error& e) {
     return fail(e.what());
   }
   if (const std::string rule = trials_rule(trials); !rule.empty()) {
-    return fail("trials = " + std::to_string(trials) + ": " + rule);
+    return fail(field_name("--trials", "trials") + " = " + std::to_string(trials) + ": " + rule);
   }
   if (const std::string rule = margin_rule(rmse_margin_columns); !rule.empty()) {
-    return fail("rmse_margin_columns = " + std::to_string(rmse_margin_columns) + ": " + rule);
+    return fail(field_name("--rmse-margin", "rmse_margin") + " = " +
+                std::to_string(rmse_margin_columns) + ": " + rule);
   }
-  // The fixed sensor parts (a read noise value out of range is a row's status).
-  SensorModel fixed = sensor;
-  fixed.read_noise_electrons = 0.0;
-  std::string sensor_error;
-  if (!fixed.IsValid(&sensor_error)) return fail("sensor." + sensor_error);
+  if (const std::string message = sensor_error(sensor); !message.empty()) return fail(message);
   return true;
 }
 
 namespace {
 
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (!in) throw_runtime_error("cannot read image '" + escape_control_characters(path) + "'");
-  return bytes.str();
+// Refuses (a usage fss::Error) a name the canonical JSON cannot hold.
+void require_utf8(const std::string& name, const char* what) {
+  try {
+    static_cast<void>(Json(name).dump());
+  } catch (const Json::exception&) {
+    throw_usage_error(std::string(what) + " '" + shorten_for_message(name, 200) +
+                      "' is not valid UTF-8: a campaign keeps its names in JSON; rename it");
+  }
+}
+
+// The bytes of image `path`: a PNG file of at most kMaxCampaignImageBytes.
+std::string read_image_bytes(const std::string& path) {
+  return campaign_input::read_png_file(path, kMaxCampaignImageBytes, "image");
 }
 
 // The PNG files one input stands for: itself, a directory's *.png, or a
@@ -202,11 +251,18 @@ Json sensor_json(const ResolvedCampaign& c) {
           {"adc_gain", s.adc_gain_electrons_per_count}};
 }
 
+// j[key] as an integer; throws std::invalid_argument if it is none.
+long long integer_at(const Json& j, const char* key) {
+  const std::optional<long long> n = campaign_input::json_integer(j.at(key));
+  if (!n) throw std::invalid_argument(std::string("'") + key + "' is not an integer");
+  return *n;
+}
+
 void sensor_from_json(const Json& j, ResolvedCampaign& c) {
   c.read_noises = values_from_json(j.at("read_noise"));
   c.sensor.dark_current_electrons_per_slot = j.at("dark_current").get<double>();
   if (!j.at("full_well").is_null()) c.sensor.full_well_electrons = j.at("full_well").get<double>();
-  c.sensor.adc_bits = j.at("adc_bits").get<int>();
+  c.sensor.adc_bits = static_cast<int>(std::clamp(integer_at(j, "adc_bits"), -1LL, 64LL));
   c.sensor.adc_gain_electrons_per_count = j.at("adc_gain").get<double>();
 }
 
@@ -266,12 +322,15 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   std::set<std::string> seen;
   for (const std::string& input : spec.inputs) {
     for (const std::string& path : expand_input(input)) {
-      if (seen.insert(path).second) c.images.push_back({path, path, sha256_hex(read_bytes(path))});
+      if (!seen.insert(path).second) continue;
+      require_utf8(path, "image");
+      c.images.push_back({path, path, sha256_hex(read_image_bytes(path))});
     }
   }
   seen.clear();
   for (const std::string& name : spec.codes) {
     if (!seen.insert(name).second) continue;
+    require_utf8(name, "code");
     const ShutterCode code = load_code(name);
     c.codes.push_back({name, code, code_digest(code.gains)});
   }
@@ -301,42 +360,104 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   return c;
 }
 
+namespace {
+
+// Why `c`, read from a canonical JSON, cannot be a campaign fssim resolved;
+// "" when it can.
+std::string canonical_error(const ResolvedCampaign& c) {
+  for (const std::size_t size :
+       {c.images.size(), c.codes.size(), c.modes.size(), c.velocities.values.size(),
+        c.restore_velocities.size(), c.snrs.values.size(), c.dts.values.size(),
+        c.read_noises.values.size()}) {
+    if (size == 0) return "a list of the product is empty";
+  }
+  if (c.setting_count() > kMaxCampaignSettings) {
+    return "more than " + std::to_string(kMaxCampaignSettings) + " settings";
+  }
+  for (const ValueList* list : {&c.velocities, &c.snrs, &c.dts, &c.read_noises}) {
+    if (list->values.size() > static_cast<std::size_t>(kMaxCampaignValues)) {
+      return "a value list longer than " + std::to_string(kMaxCampaignValues);
+    }
+    for (const double v : list->values) {
+      if (!std::isfinite(v)) return "a value that is not finite";
+    }
+  }
+  for (const CampaignCode& k : c.codes) {
+    if (k.code.gains.empty() || k.code.gains.size() > static_cast<std::size_t>(kMaxCodeLength)) {
+      return "code '" + shorten_for_message(k.name) + "' has " +
+             std::to_string(k.code.gains.size()) + " gains";
+    }
+    for (const double g : k.code.gains) {
+      if (!std::isfinite(g)) return "a gain that is not finite";
+    }
+  }
+  if (!trials_rule(c.trials).empty() || !margin_rule(c.rmse_margin_columns).empty()) {
+    return "trials or rmse_margin out of range";
+  }
+  for (const auto& r : c.restore_velocities) {
+    if (r && !std::isfinite(*r)) return "a value that is not finite";
+  }
+  return sensor_error(c.sensor);
+}
+
+// The fields of a canonical JSON `j` into `c` (nlohmann exceptions for a
+// missing key or a wrong type; the values are checked by canonical_error).
+void read_canonical(const Json& j, ResolvedCampaign& c) {
+  for (const Json& i : j.at("images")) {
+    const std::string name = i.at("name").get<std::string>();
+    c.images.push_back({name, name, i.at("sha256").get<std::string>()});
+  }
+  for (const Json& k : j.at("codes")) {
+    const std::string name = k.at("name").get<std::string>();
+    c.codes.push_back({name, ShutterCode{name, k.at("gains").get<std::vector<double>>()},
+                       k.at("sha256").get<std::string>()});
+  }
+  for (const Json& m : j.at("modes")) {
+    const auto mode = shutter_mode_from_string(m.get<std::string>());
+    if (!mode) throw_runtime_error("malformed campaign specification: an unknown mode");
+    c.modes.push_back(*mode);
+  }
+  c.velocities = values_from_json(j.at("velocity"));
+  for (const Json& r : j.at("restore_velocity").at("values")) {
+    c.restore_velocities.push_back(r.is_null() ? std::nullopt
+                                               : std::optional<double>(r.get<double>()));
+  }
+  c.restore_geometric = j.at("restore_velocity").at("geometric").get<bool>();
+  c.snrs = values_from_json(j.at("snr"));
+  c.dts = values_from_json(j.at("dt"));
+  const long long trials = integer_at(j, "trials");
+  const long long margin = integer_at(j, "rmse_margin");
+  c.trials = static_cast<int>(std::clamp(trials, 0LL, 1LL << 30));
+  c.rmse_margin_columns = static_cast<int>(std::clamp(margin, -2LL, 1LL << 30));
+  const std::optional<std::uint64_t> seed = campaign_input::json_unsigned(j.at("seed"));
+  if (!seed) throw std::invalid_argument("'seed' is not an unsigned integer");
+  c.seed = *seed;
+  const auto noise = noise_model_from_string(j.at("noise").get<std::string>());
+  if (!noise) throw_runtime_error("malformed campaign specification: an unknown noise model");
+  c.noise = *noise;
+  c.per_trial = j.value("per_trial", false);
+  if (j.contains("sensor")) sensor_from_json(j.at("sensor"), c);
+}
+
+}  // namespace
+
 ResolvedCampaign campaign_from_canonical_json(const std::string& json) {
+  std::string error;
+  const std::optional<Json> j = campaign_input::parse_json(json, &error);
+  if (!j) throw_runtime_error("malformed campaign specification: " + error);
+  ResolvedCampaign c;
   try {
-    const Json j = Json::parse(json);
-    ResolvedCampaign c;
-    for (const Json& i : j.at("images")) {
-      const std::string name = i.at("name").get<std::string>();
-      c.images.push_back({name, name, i.at("sha256").get<std::string>()});
-    }
-    for (const Json& k : j.at("codes")) {
-      const std::string name = k.at("name").get<std::string>();
-      c.codes.push_back(
-          {name, ShutterCode{name, k.at("gains").get<std::vector<double>>()}, k.at("sha256")});
-    }
-    for (const Json& m : j.at("modes"))
-      c.modes.push_back(*shutter_mode_from_string(m.get<std::string>()));
-    c.velocities = values_from_json(j.at("velocity"));
-    for (const Json& r : j.at("restore_velocity").at("values")) {
-      c.restore_velocities.push_back(r.is_null() ? std::nullopt
-                                                 : std::optional<double>(r.get<double>()));
-    }
-    c.restore_geometric = j.at("restore_velocity").at("geometric").get<bool>();
-    c.snrs = values_from_json(j.at("snr"));
-    c.dts = values_from_json(j.at("dt"));
-    c.trials = j.at("trials").get<int>();
-    c.seed = j.at("seed").get<std::uint64_t>();
-    c.noise = *noise_model_from_string(j.at("noise").get<std::string>());
-    c.rmse_margin_columns = j.at("rmse_margin").get<int>();
-    c.per_trial = j.value("per_trial", false);
-    if (j.contains("sensor")) sensor_from_json(j.at("sensor"), c);
-    seal(c);
-    return c;
+    read_canonical(*j, c);
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    throw_runtime_error(std::string("malformed campaign specification: ") + e.what());
+    throw_runtime_error("malformed campaign specification: " + shorten_for_message(e.what(), 200));
   }
+  if (const std::string why = canonical_error(c); !why.empty()) {
+    throw_runtime_error("malformed campaign specification: " + why);
+  }
+  seal(c);
+  return c;
 }
 
 Setting setting_at(const ResolvedCampaign& c, long long index) {

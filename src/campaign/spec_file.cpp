@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "campaign/campaign_text.h"
+#include "campaign/user_input.h"
 #include "fss/campaign/spec.h"
 #include "fss/core/error.h"
 #include "fss/model/noise.h"
@@ -14,6 +15,7 @@ namespace fss {
 namespace {
 
 using Json = nlohmann::json;
+using campaign_input::describe_json;
 
 // Parses one file, naming it in every message.
 class CampaignFileReader {
@@ -65,12 +67,11 @@ class CampaignFileReader {
   // trials, rmse_margin: an integer; out of int's range it breaks its rule
   // anyway, so it is refused here.
   int Integer(const Json& value, const std::string& key) const {
-    const long long n = value.is_number_integer() ? value.get<long long>() : 0;
-    if (!value.is_number_integer() || n < -2 || n > (1LL << 30)) {
-      Refuse("'" + key + "' takes an integer in range, got " +
-             shorten_for_message(value.dump(-1, ' ', false, Json::error_handler_t::replace)));
+    const std::optional<long long> n = campaign_input::json_integer(value);
+    if (!n || *n < -2 || *n > (1LL << 30)) {
+      Refuse("'" + key + "' takes an integer in range, got " + describe_json(value));
     }
-    return static_cast<int>(n);
+    return static_cast<int>(*n);
   }
 
   bool List(const std::string& key, const Json& value, CampaignSpec& spec) const;
@@ -135,17 +136,16 @@ bool CampaignFileReader::Scalar(const std::string& key, const Json& value,
 bool CampaignFileReader::Sensor(const std::string& key, const Json& value,
                                 CampaignSpec& spec) const {
   if (key == "adc_bits") {
-    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 64) {
-      Refuse("'adc_bits' takes an integer in [1, 32], got " +
-             shorten_for_message(value.dump(-1, ' ', false, Json::error_handler_t::replace)));
+    const std::optional<long long> bits = campaign_input::json_integer(value);
+    if (!bits || *bits < 0 || *bits > 64) {
+      Refuse("'adc_bits' takes an integer in [1, 32], got " + describe_json(value));
     }
-    spec.sensor.adc_bits = value.get<int>();
+    spec.sensor.adc_bits = static_cast<int>(*bits);
     return true;
   }
   if (key != "dark_current" && key != "full_well" && key != "adc_gain") return false;
   if (!value.is_number()) {
-    Refuse("'" + key + "' takes a number, got " +
-           shorten_for_message(value.dump(-1, ' ', false, Json::error_handler_t::replace)));
+    Refuse("'" + key + "' takes a number, got " + describe_json(value));
   }
   const double number = value.get<double>();
   if (key == "dark_current") spec.sensor.dark_current_electrons_per_slot = number;
@@ -158,12 +158,10 @@ bool CampaignFileReader::Sensor(const std::string& key, const Json& value,
 
 CampaignSpec parse_campaign_file(std::string_view text, const std::string& name) {
   const CampaignFileReader reader(name);
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::exception& e) {
-    reader.Refuse(shorten_for_message(e.what(), 200));
-  }
+  std::string error;
+  const std::optional<Json> parsed = campaign_input::parse_json(text, &error);
+  if (!parsed) reader.Refuse(error);
+  const Json& j = *parsed;
   if (!j.is_object()) reader.Refuse("expected an object");
   CampaignSpec spec;
   for (const auto& [key, value] : j.items()) {
@@ -175,6 +173,11 @@ CampaignSpec parse_campaign_file(std::string_view text, const std::string& name)
     }
   }
   return spec;
+}
+
+CampaignSpec read_campaign_file(const std::string& path) {
+  return parse_campaign_file(
+      campaign_input::read_text_file(path, kMaxCampaignFileBytes, "campaign file"), path);
 }
 
 }  // namespace fss

@@ -5,9 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "cli_common.h"
 #include "fss/campaign/check.h"
@@ -15,17 +13,57 @@
 #include "fss/campaign/run.h"
 #include "fss/campaign/spec.h"
 #include "fss/core/error.h"
+#include "fss/io/safe_write.h"
+#include "fss/model/code.h"
 
 namespace fssim {
 
 namespace {
 
-std::string read_text(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fss::throw_runtime_error("cannot read " + what + " '" + path + "'");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
+namespace fs = std::filesystem;
+
+std::string shown_path(const std::string& path) {
+  return "'" + fss::escape_control_characters(path) + "'";
+}
+
+// Refuses (a usage error) output `output`, named `what`, when it is the
+// same file as one of `inputs` (device and inode; a path that does not
+// exist yet is no input).
+void refuse_output_over_inputs(const std::string& what, const std::string& output,
+                               const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) {
+    if (fss::same_file(output, input)) {
+      fss::throw_usage_error(what + " " + shown_path(output) + " would replace the input " +
+                             shown_path(input) + "; choose another path");
+    }
+  }
+}
+
+// The files a campaign reads: the campaign file (if any), its images and its
+// code files.
+std::vector<std::string> campaign_inputs(const std::string& file,
+                                         const fss::ResolvedCampaign& campaign) {
+  std::vector<std::string> inputs;
+  if (!file.empty()) inputs.push_back(file);
+  for (const fss::CampaignImage& image : campaign.images) inputs.push_back(image.path);
+  for (const fss::CampaignCode& code : campaign.codes) {
+    if (!fss::builtin_code(code.name)) inputs.push_back(code.name);
+  }
+  return inputs;
+}
+
+// Refuses, before anything runs, an input inside DIR/figures, where
+// --figures writes.
+void refuse_inputs_among_figures(const std::string& dir, const std::vector<std::string>& inputs) {
+  const fs::path figures = fs::path(dir) / "figures";
+  for (const std::string& input : inputs) {
+    const fs::path parent = fs::path(input).parent_path();
+    if (fss::same_file(parent.empty() ? fs::path(".") : parent, figures)) {
+      fss::throw_usage_error("the input " + shown_path(input) + " is in " +
+                             shown_path(figures.string()) +
+                             ", where --figures writes; choose another output directory");
+    }
+  }
 }
 
 std::vector<fss::ShutterMode> parse_modes(const std::vector<std::string>& names) {
@@ -149,7 +187,7 @@ int CampaignCommand::Run() const {
 
 fss::CampaignSpec CampaignCommand::Spec() const {
   fss::CampaignSpec spec;
-  if (!file_.empty()) spec = fss::parse_campaign_file(read_text(file_, "campaign file"), file_);
+  if (!file_.empty()) spec = fss::read_campaign_file(file_);
   // Without a file every option counts; with one, only those given.
   const auto use = [this](const char* name) { return file_.empty() || app().count(name) > 0; };
   if (use("--input")) spec.inputs = inputs_;
@@ -186,6 +224,8 @@ int CampaignCommand::RunCampaign() const {
   options.shard = fss::parse_shard(shard_);
   options.threads = threads_;
   options.fssim_version = FSS_VERSION;
+  if (!file_.empty()) options.inputs.push_back(file_);
+  if (figures_) refuse_inputs_among_figures(output_, campaign_inputs(file_, campaign));
   if (progress_ && isatty(STDERR_FILENO)) options.progress = print_progress;
   const fss::CampaignRunSummary summary = fss::RunCampaign(campaign, output_, options);
   std::printf("campaign %s: %lld settings (%lld run now, %lld from the journal) in %s\n",
@@ -204,6 +244,7 @@ int CampaignCommand::RunCampaign() const {
 }
 
 int CampaignCommand::Merge() const {
+  if (merge_figures_) refuse_inputs_among_figures(merge_output_, parts_);
   fss::ResolvedCampaign campaign;
   const auto rows = fss::MergeCampaignParts(parts_, merge_output_, &campaign);
   std::printf("merged %zu parts: %zu settings of campaign %s into %s\n", parts_.size(), rows.size(),
@@ -216,8 +257,27 @@ void CampaignCommand::DrawFigures(const fss::ResolvedCampaign& campaign,
                                   const std::vector<std::vector<std::string>>& rows,
                                   const std::string& dir) const {
   const std::vector<fss::CampaignFigure> figures = fss::campaign_figures(campaign, rows);
-  const std::filesystem::path figure_dir = std::filesystem::path(dir) / "figures";
-  std::filesystem::create_directories(figure_dir);
+  const fs::path figure_dir = fs::path(dir) / "figures";
+  // The inputs: the parts' journals of a merge, else the campaign's files.
+  std::vector<std::string> inputs;
+  if (merge_->parsed()) {
+    for (const std::string& part : parts_) {
+      inputs.push_back((fs::path(part) / fss::kCampaignJournal).string());
+    }
+  } else {
+    inputs = campaign_inputs(file_, campaign);
+  }
+  for (const fss::CampaignFigure& f : figures) {
+    for (const char* extension : {".png", ".svg"}) {
+      refuse_output_over_inputs("the figure", (figure_dir / (f.name + extension)).string(), inputs);
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(figure_dir, ec);
+  if (ec) {
+    fss::throw_runtime_error("cannot create " + shown_path(figure_dir.string()) + ": " +
+                             ec.message());
+  }
   for (const fss::CampaignFigure& f : figures) {
     fss::write_file_durably((figure_dir / (f.name + ".png")).string(),
                             std::string(f.png.begin(), f.png.end()));
@@ -232,14 +292,14 @@ int CampaignCommand::Check() const {
   options.abs_tolerance = abs_tolerance_;
   options.rel_tolerance = rel_tolerance_;
   options.k_standard_errors = k_se_;
-  const fss::CheckReport report =
-      fss::CheckCampaignResults(read_text(results_, "results"), results_,
-                                read_text(expected_, "expectations"), expected_, options);
+  if (!junit_.empty()) refuse_output_over_inputs("--junit", junit_, {results_, expected_});
+  const fss::CheckReport report = fss::CheckCampaignResultFiles(results_, expected_, options);
   for (const fss::CheckCase& c : report.cases) {
     if (!c.passed) std::printf("%s\n", c.message.c_str());
   }
   if (!junit_.empty()) {
-    write_file_atomically(junit_, fss::check_junit_xml(report, "fssim campaign check"));
+    fss::write_file_safely(junit_, fss::check_junit_xml(report, "fssim campaign check"),
+                           {results_, expected_});
   }
   std::printf("campaign check: %zu comparisons, %d deviations\n", report.cases.size(),
               report.failures());

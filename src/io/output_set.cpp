@@ -1,8 +1,10 @@
 // A run's outputs published as one set (README, "Guarantees").
 //
 // 1. Stage: every file is written and fsync'ed into a new hidden directory
-//    inside the output directory, ".fssim-stage-*", which holds an flock for
-//    as long as its run lives and a marker file naming it as fssim's.
+//    inside the output directory, ".fssim-stage-*", created with mode 1700
+//    (the sticky bit, which umask leaves, marks it as fssim's from its
+//    creation on), which holds an flock for as long as its run lives and a
+//    marker file naming it as fssim's.
 // 2. Commit: a manifest (".fssim-commit": the inode and name of every new
 //    file) is renamed into the staging directory, which is then fsync'ed.
 // 3. Publish, under an flock on the output directory itself: each new file
@@ -15,7 +17,10 @@
 // that is gone (its flock free) is dealt with: committed ones are published
 // (or rolled back if that fails), the others removed. Which files are new is
 // told by the manifest's inode numbers, so these steps can be redone at any
-// point a run was killed.
+// point a run was killed. Only a directory that is provably fssim's is
+// touched: marked by its mode, owned by this user, holding the marker file,
+// and holding (and its manifest naming) only names of outputs; any other is
+// left alone, even empty.
 #include "fss/io/output_set.h"
 
 #include <dirent.h>
@@ -26,16 +31,19 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <sstream>
+#include <optional>
+#include <set>
 #include <system_error>
 #include <utility>
 
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
 #include "fss/io/safe_write.h"
+#include "io/created_directories.h"
 #include "io/write_all.h"
 
 namespace fss {
@@ -51,6 +59,10 @@ constexpr char kMarkerName[] = ".fssim-staging";
 constexpr char kMarkerText[] = "staging directory of an fssim run: removed by the next run\n";
 constexpr char kCommitName[] = ".fssim-commit";
 constexpr char kCommitTemporary[] = ".fssim-commit.tmp";
+// The mode of a staging directory: the sticky bit marks it as fssim's.
+constexpr mode_t kStageMode = S_ISVTX | 0700;
+// Largest manifest read: a few hundred bytes per output file.
+constexpr std::size_t kMaxManifestBytes = std::size_t{1} << 20;
 
 // A file descriptor closed on destruction.
 class Fd {
@@ -168,21 +180,33 @@ bool publish_backward(int stage_fd, int out_fd, const std::vector<Entry>& manife
   return ok;
 }
 
+// The names in the directory `dir_fd` but "." and "..", or nullopt if it
+// cannot be listed.
+std::optional<std::vector<std::string>> names_in(int dir_fd) {
+  const int copy = ::dup(dir_fd);
+  DIR* dir = copy >= 0 ? ::fdopendir(copy) : nullptr;
+  if (dir == nullptr) {
+    if (copy >= 0) ::close(copy);
+    return std::nullopt;
+  }
+  ::rewinddir(dir);  // the copy shares its position with `dir_fd`: listed before, it is at the end
+  std::vector<std::string> names;
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string name = entry->d_name;
+    if (name != "." && name != "..") names.push_back(name);
+  }
+  ::closedir(dir);
+  return names;
+}
+
 // Removes every entry of the staging directory `stage_name` (files only: it
 // holds nothing else), then the directory itself.
 void remove_stage(int out_fd, int stage_fd, const std::string& stage_name) {
-  DIR* dir = ::fdopendir(::dup(stage_fd));
-  if (dir != nullptr) {
-    std::vector<std::string> names;
-    while (const dirent* entry = ::readdir(dir)) {
-      const std::string name = entry->d_name;
-      if (name != "." && name != "..") names.push_back(name);
-    }
-    ::closedir(dir);
+  if (const auto names = names_in(stage_fd)) {
     // The commit first: a removal killed half way must not be published by
     // recover(). The marker last: until it goes, the directory is known as ours.
     ::unlinkat(stage_fd, kCommitName, 0);
-    for (const std::string& name : names) {
+    for (const std::string& name : *names) {
       if (name != kMarkerName) ::unlinkat(stage_fd, name.c_str(), 0);
     }
     ::unlinkat(stage_fd, kMarkerName, 0);
@@ -199,59 +223,120 @@ std::string format_manifest(const std::vector<Entry>& manifest) {
   return text;
 }
 
-// The manifest of the staging directory `stage_fd`; empty if it was never
-// committed (or the commit cannot be read).
-std::vector<Entry> read_manifest(int stage_fd) {
-  Fd fd(::openat(stage_fd, kCommitName, O_RDONLY | O_CLOEXEC | O_NOFOLLOW));
-  if (fd.get() < 0) return {};
+// The names a staging directory may hold: this call's outputs, the stale
+// names, and the marker and manifest files.
+using KnownNames = std::set<std::string>;
+
+bool is_plain_name(const std::string& name) {
+  return !name.empty() && name != "." && name != ".." &&
+         name.find_first_of(std::string("/\0", 2)) == std::string::npos;
+}
+
+// The regular file `name` of `dir_fd` (not following a symbolic link, never
+// waiting on a FIFO), at most `max_bytes`; nullopt if missing (*missing
+// set), not a regular file, larger or unreadable.
+std::optional<std::string> read_small_file(int dir_fd, const char* name, std::size_t max_bytes,
+                                           bool* missing) {
+  Fd fd(::openat(dir_fd, name, O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK));
+  if (missing != nullptr) *missing = fd.get() < 0 && errno == ENOENT;
+  struct stat st {};
+  if (fd.get() < 0 || ::fstat(fd.get(), &st) != 0 || !S_ISREG(st.st_mode) ||
+      static_cast<std::uintmax_t>(st.st_size) > max_bytes) {
+    return std::nullopt;
+  }
   std::string text;
   char buffer[4096];
-  for (ssize_t got; (got = ::read(fd.get(), buffer, sizeof buffer)) > 0;) text.append(buffer, got);
+  for (ssize_t got; (got = ::read(fd.get(), buffer, sizeof buffer)) != 0;) {
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0 || text.size() + static_cast<std::size_t>(got) > max_bytes) return std::nullopt;
+    text.append(buffer, static_cast<std::size_t>(got));
+  }
+  return text;
+}
+
+// The manifest of the staging directory `stage_fd`: empty if it was never
+// committed; nullopt if it cannot be trusted: unreadable, a line not
+// "INODE NAME", or a name that is not a plain file name of `known`.
+std::optional<std::vector<Entry>> read_manifest(int stage_fd, const KnownNames& known) {
+  bool missing = false;
+  const std::optional<std::string> text =
+      read_small_file(stage_fd, kCommitName, kMaxManifestBytes, &missing);
+  if (!text)
+    return missing ? std::optional<std::vector<Entry>>(std::vector<Entry>{}) : std::nullopt;
   std::vector<Entry> manifest;
-  std::istringstream lines(text);
-  Entry entry;
-  while (lines >> entry.inode >> entry.name) manifest.push_back(entry);
+  std::size_t begin = 0;
+  while (begin < text->size()) {
+    const std::size_t end = text->find('\n', begin);
+    if (end == std::string::npos) return std::nullopt;
+    const std::string line = text->substr(begin, end - begin);
+    begin = end + 1;
+    const std::size_t space = line.find(' ');
+    Entry entry;
+    const char* first = line.data();
+    const char* last = line.data() + (space == std::string::npos ? 0 : space);
+    const auto [ptr, ec] = std::from_chars(first, last, entry.inode);
+    if (space == std::string::npos || space == 0 || ec != std::errc() || ptr != last) {
+      return std::nullopt;
+    }
+    entry.name = line.substr(space + 1);
+    if (!is_plain_name(entry.name) || known.count(entry.name) == 0) return std::nullopt;
+    manifest.push_back(std::move(entry));
+  }
   return manifest;
 }
 
-// Whether `stage_name` in `out_fd` is a staging directory of fssim's, owned
-// by this user and left by a run that is gone; if so, its open, locked
-// descriptor. One without its marker (killed as it was created or removed)
-// is removed if empty.
-Fd open_abandoned_stage(int out_fd, const std::string& stage_name) {
+// Whether `st` is of a staging directory fssim created: a directory of
+// kStageMode owned by this user.
+bool is_marked_stage(const struct stat& st) {
+  return S_ISDIR(st.st_mode) && (st.st_mode & 07777) == kStageMode && st.st_uid == ::geteuid();
+}
+
+// Whether every entry of the staging directory `stage_fd` is one fssim puts
+// there: an output name of `known`, the marker or the manifest.
+bool holds_only_known_names(int stage_fd, const KnownNames& known) {
+  const auto names = names_in(stage_fd);
+  if (!names) return false;
+  return std::all_of(names->begin(), names->end(), [&](const std::string& name) {
+    return name == kMarkerName || name == kCommitName || name == kCommitTemporary ||
+           known.count(name) != 0;
+  });
+}
+
+// Whether `stage_name` in `out_fd` is a staging directory of fssim's (marked
+// by its mode, owned by this user) left by a run that is gone, holding the
+// marker file and only names of `known`; if so, its open, locked descriptor.
+// A marked one without its marker (killed as it was created or removed) is
+// removed if empty; an unmarked one is never touched.
+Fd open_abandoned_stage(int out_fd, const std::string& stage_name, const KnownNames& known) {
   Fd fd(::openat(out_fd, stage_name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
   struct stat st {};
-  if (fd.get() < 0 || ::fstat(fd.get(), &st) != 0 || st.st_uid != ::geteuid()) return Fd();
+  if (fd.get() < 0 || ::fstat(fd.get(), &st) != 0 || !is_marked_stage(st)) return Fd();
   if (lock_fd(fd.get(), LOCK_EX | LOCK_NB) != 0) return Fd();  // its run is alive
-  Fd marker(::openat(fd.get(), kMarkerName, O_RDONLY | O_NOFOLLOW | O_CLOEXEC));
-  if (marker.get() < 0) {
-    ::unlinkat(out_fd, stage_name.c_str(), AT_REMOVEDIR);
+  bool missing = false;
+  const std::optional<std::string> marker =
+      read_small_file(fd.get(), kMarkerName, sizeof kMarkerText, &missing);
+  if (missing) {
+    ::unlinkat(out_fd, stage_name.c_str(), AT_REMOVEDIR);  // only if empty
     return Fd();
   }
-  char text[sizeof kMarkerText] = {};
-  const ssize_t got = ::read(marker.get(), text, sizeof text - 1);
-  if (got != static_cast<ssize_t>(sizeof kMarkerText - 1) || std::strcmp(text, kMarkerText) != 0) {
-    return Fd();
-  }
+  if (!marker || *marker != kMarkerText || !holds_only_known_names(fd.get(), known)) return Fd();
   return fd;
 }
 
 // Completes or removes what killed runs left in the output directory: a
 // committed set is published (rolled back if it cannot be), anything else
 // staged is removed. Called with the output directory locked.
-void recover(int out_fd, const fs::path& outdir) {
+void recover(int out_fd, const fs::path& outdir, const KnownNames& known) {
   std::vector<std::string> stages;
-  if (DIR* dir = ::fdopendir(::dup(out_fd)); dir != nullptr) {
-    while (const dirent* entry = ::readdir(dir)) {
-      const std::string name = entry->d_name;
-      if (name.rfind(kStagePrefix, 0) == 0) stages.push_back(name);
-    }
-    ::closedir(dir);
+  for (const std::string& name : names_in(out_fd).value_or(std::vector<std::string>{})) {
+    if (name.rfind(kStagePrefix, 0) == 0) stages.push_back(name);
   }
   for (const std::string& name : stages) {
-    const Fd stage = open_abandoned_stage(out_fd, name);
+    const Fd stage = open_abandoned_stage(out_fd, name, known);
     if (stage.get() < 0) continue;
-    const std::vector<Entry> manifest = read_manifest(stage.get());
+    const std::optional<std::vector<Entry>> read = read_manifest(stage.get(), known);
+    if (!read) continue;  // not provably fssim's: left alone
+    const std::vector<Entry>& manifest = *read;
     try {
       publish_forward(stage.get(), out_fd, manifest, outdir);
     } catch (const Error&) {
@@ -283,15 +368,24 @@ Stage create_stage(int out_fd, const fs::path& outdir) {
   for (int attempt = 0;; ++attempt) {
     const std::string name = kStagePrefix + std::to_string(::getpid()) + "-" + std::to_string(now) +
                              "-" + std::to_string(counter++);
-    if (::mkdirat(out_fd, name.c_str(), 0700) != 0) {
+    if (::mkdirat(out_fd, name.c_str(), kStageMode) != 0) {
       if (errno == EEXIST && attempt < 100) continue;
       fail(errno);
     }
-    Stage stage{Fd(::openat(out_fd, name.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)), name, {}};
+    Stage stage{Fd(::openat(out_fd, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)),
+                name,
+                {}};
     if (stage.fd.get() < 0 || lock_fd(stage.fd.get(), LOCK_EX) != 0) {
       const int error = errno;
       ::unlinkat(out_fd, name.c_str(), AT_REMOVEDIR);
       fail(error);
+    }
+    // Linux keeps the sticky bit of mkdir's mode; where a file system drops
+    // it, it is set now. A directory left unmarked still serves this run,
+    // which removes it itself; only its recovery by a later run is lost.
+    struct stat st {};
+    if (::fstat(stage.fd.get(), &st) == 0 && !is_marked_stage(st)) {
+      ::fchmod(stage.fd.get(), kStageMode);
     }
     ::flock(out_fd, LOCK_UN);
     return stage;
@@ -326,15 +420,16 @@ void stage_and_commit(Stage& stage, const fs::path& outdir, const std::vector<Ou
   }
 }
 
-// Creates `outdir` if missing; whether it did.
-bool create_output_directory(const fs::path& outdir) {
+// Creates `outdir` if missing; the directories created, outermost first.
+std::vector<fs::path> create_output_directory(const fs::path& outdir) {
   std::error_code ec;
   if (fs::exists(outdir, ec) && !fs::is_directory(outdir, ec)) {
     throw_runtime_error("output directory '" + outdir.string() + "' exists and is not a directory");
   }
-  if (fs::is_directory(outdir, ec)) return false;
-  const bool created = fs::create_directories(outdir, ec);
+  if (fs::is_directory(outdir, ec)) return {};
+  std::vector<fs::path> created = detail::create_directories_listed(outdir, ec);
   if (ec) {
+    detail::remove_created_directories(created);
     throw_runtime_error("cannot create output directory '" + outdir.string() +
                         "': " + ec.message());
   }
@@ -383,6 +478,13 @@ void publish(Stage& stage, int out_fd, const fs::path& outdir, bool* half_publis
   }
 }
 
+KnownNames known_names(const std::vector<OutputFile>& files,
+                       const std::vector<std::string>& stale_names) {
+  KnownNames known(stale_names.begin(), stale_names.end());
+  for (const OutputFile& file : files) known.insert(file.name);
+  return known;
+}
+
 // Stages, commits and publishes `files`; the output directory is open as
 // `out_fd`. A failure before publishing removes what was staged.
 void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>& files,
@@ -396,7 +498,7 @@ void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>
       throw_runtime_error("cannot lock output directory '" + outdir.string() +
                           "': " + error_text(error));
     }
-    recover(out_fd, outdir);
+    recover(out_fd, outdir, known_names(files, stale_names));
     check_targets(outdir, files, protected_inputs);
     publish(stage, out_fd, outdir, &half_published);
   } catch (...) {
@@ -415,7 +517,7 @@ void write_output_set(const fs::path& outdir, const std::vector<OutputFile>& fil
                       const std::vector<std::string>& stale_names, int threads) {
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   check_targets(outdir, files, protected_inputs);
-  const bool created = create_output_directory(outdir);
+  const std::vector<fs::path> created = create_output_directory(outdir);
   try {
     const Fd out(::open(outdir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
     if (out.get() < 0) {
@@ -424,11 +526,42 @@ void write_output_set(const fs::path& outdir, const std::vector<OutputFile>& fil
     }
     write_set(out.get(), outdir, files, protected_inputs, stale_names, threads);
   } catch (...) {
-    // A failed run leaves no new directory (rmdir only removes it empty).
-    if (created) ::rmdir(outdir.c_str());
+    // A failed run leaves no directory it created (each removed only empty).
+    detail::remove_created_directories(created);
     throw;
   }
 }
+
+namespace detail {
+
+std::vector<fs::path> create_directories_listed(const fs::path& dir, std::error_code& ec) {
+  ec.clear();
+  // The missing ones, innermost first (a trailing '/' names no directory).
+  std::vector<fs::path> missing;
+  for (fs::path p = dir.has_filename() ? dir : dir.parent_path(); !p.empty(); p = p.parent_path()) {
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) == 0 || errno != ENOENT) break;
+    missing.push_back(p);
+    if (!p.has_parent_path() || p.parent_path() == p) break;
+  }
+  std::vector<fs::path> created;
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+    if (::mkdir(it->c_str(), 0777) == 0) {
+      created.push_back(*it);
+    } else if (errno != EEXIST) {
+      ec.assign(errno, std::generic_category());
+      return created;
+    }
+  }
+  if (!fs::is_directory(dir, ec) && !ec) ec = std::make_error_code(std::errc::not_a_directory);
+  return created;
+}
+
+void remove_created_directories(const std::vector<fs::path>& created) {
+  for (auto it = created.rbegin(); it != created.rend(); ++it) ::rmdir(it->c_str());
+}
+
+}  // namespace detail
 
 void write_file_atomically(const fs::path& path, const std::string& bytes) {
   write_file_safely(path, bytes);

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 
 #include "fss/campaign/check.h"
@@ -348,7 +349,7 @@ TEST(Campaign, SensorIsInTheHashTheSettingsAndTheRows) {
   EXPECT_NE(resolve_campaign(spec).sha256, c.sha256);
   spec.sensor.full_well_electrons = -3.0;
   EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
-                                 {"sensor.full_well_electrons = -3: must be finite and > 0"}));
+                                 {"--full-well / \"full_well\" = -3: must be finite and > 0"}));
 }
 
 std::string results_of(const fs::path& dir) {
@@ -475,6 +476,154 @@ TEST(Campaign, MergeRefusesForeignMissingDuplicateAndIncompleteParts) {
   EXPECT_FALSE(fs::exists(fs::path(out) / kCampaignResultsCsv));
 }
 
+std::string lines_text(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
+}
+
+// Shard 1/2 whose journal holds a row of shard 2/2 in place of one of its
+// own: as many rows as it should have, but one setting missing in all.
+TEST(Campaign, AJournalHoldingAnotherShardsRowIsRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  std::vector<std::string> parts;
+  for (int i = 1; i <= 2; ++i) {
+    CampaignRunOptions options;
+    options.shard = {i, 2};
+    parts.push_back((tmp / ("p" + std::to_string(i))).string());
+    RunCampaign(c, parts.back(), options);
+  }
+  const fs::path journal = fs::path(parts[0]) / kCampaignJournal;
+  std::vector<std::string> first = test::lines_of(test::read_file(journal));
+  const std::vector<std::string> second =
+      test::lines_of(test::read_file(fs::path(parts[1]) / kCampaignJournal));
+  first[2] = second[1];  // setting 1 (shard 2/2) on line 3, where setting 2 was
+  test::write_file(journal, lines_text(first));
+  const std::string out = (tmp / "merged").string();
+  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts(parts, out); }, ErrorKind::kRuntime,
+                                 {journal.string(), "line 3", "setting 1", "shard 2/2"}));
+  EXPECT_FALSE(fs::exists(out));
+  CampaignRunOptions options;
+  options.shard = {1, 2};
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, parts[0], options); }, ErrorKind::kRuntime,
+                                 {journal.string(), "line 3"}));
+}
+
+// fssim writes a journal's header whole (renamed into place): a journal.jsonl
+// without a complete header line is not fssim's, and is never removed.
+TEST(Campaign, AJournalWithoutACompleteHeaderIsRefusedNotRemoved) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  CampaignRunOptions second;
+  second.shard = {2, 2};
+  const std::string p2 = (tmp / "p2").string();
+  RunCampaign(c, p2, second);
+  const std::string header = test::lines_of(test::read_file(fs::path(p2) / kCampaignJournal))[0];
+  for (const std::string& text : {std::string(), header, std::string("my notes")}) {
+    const fs::path dir = tmp / "dir";
+    fs::create_directories(dir);
+    test::write_file(dir / kCampaignJournal, text);
+    EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, dir.string(), {}); }, ErrorKind::kRuntime,
+                                   {"not an fssim campaign journal"}));
+    EXPECT_TRUE(test::throws_error(
+        [&] {
+          MergeCampaignParts({dir.string(), p2}, "merged");
+        },
+        ErrorKind::kRuntime, {"not an fssim campaign journal"}));
+    EXPECT_EQ(test::read_file(dir / kCampaignJournal), text);
+    fs::remove_all(dir);
+  }
+  // Nor is a directory of that name, even empty.
+  fs::create_directories(tmp / "dir" / kCampaignJournal);
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, (tmp / "dir").string(), {}); },
+                                 ErrorKind::kRuntime, {"not an fssim campaign journal"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        MergeCampaignParts({(tmp / "dir").string(), p2}, "m");
+      },
+      ErrorKind::kRuntime, {"not an fssim campaign journal"}));
+  EXPECT_TRUE(fs::is_directory(tmp / "dir" / kCampaignJournal));
+}
+
+TEST(Campaign, JournalLinesNestedTooDeeplyAreRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const fs::path dir = tmp / "out";
+  RunCampaign(c, dir.string(), {});
+  std::vector<std::string> lines = test::lines_of(test::read_file(dir / kCampaignJournal));
+  lines[1] = "{\"index\": 0, \"row\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  test::write_file(dir / kCampaignJournal, lines_text(lines));
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, dir.string(), {}); }, ErrorKind::kRuntime,
+                                 {"line 2", "nested deeper than 64 levels"}));
+}
+
+TEST(Campaign, AForgedSpecificationIsRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string json = c.canonical_json;
+    json.replace(json.find(from), from.size(), to);
+    return json;
+  };
+  for (const std::string& json :
+       {replaced("\"numerical\"", "\"digital\""),
+        replaced("\"noise\":\"poisson\"", "\"noise\":\"x\""),
+        replaced("\"modes\":[\"numerical\"]", "\"modes\":[]"),
+        replaced("\"trials\":2", "\"trials\":-4"),
+        replaced("\"modes\"",
+                 "\"deep\":" + std::string(200, '[') + std::string(200, ']') + ",\"modes\"")}) {
+    EXPECT_TRUE(test::throws_error([&] { campaign_from_canonical_json(json); }, ErrorKind::kRuntime,
+                                   {"malformed campaign specification"}))
+        << json;
+  }
+}
+
+TEST(Campaign, AFailedRunLeavesNoDirectoryItCreated) {
+  test::TempDir tmp;
+  const CampaignSpec spec = small_spec(tmp);
+  const ResolvedCampaign c = resolve_campaign(spec);
+  write_crop(tmp.path(), "crop.png", 300);  // the image changes after the campaign resolved
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, (tmp / "new/a/b").string(), {}); },
+                                 ErrorKind::kRuntime, {"changed since the campaign started"}));
+  EXPECT_FALSE(fs::exists(tmp / "new"));
+  fs::create_directories(tmp / "old");
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, (tmp / "old/c").string(), {}); },
+                                 ErrorKind::kRuntime));
+  EXPECT_TRUE(test::list_directory(tmp / "old").empty());
+}
+
+TEST(Campaign, ANameThatIsNotUtf8IsRefused) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.inputs = {write_crop(tmp.path(), "caf\xe9.png")};
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"image '", "' is not valid UTF-8"}));
+}
+
+TEST(Campaign, AnOutputThatIsAnInputIsRefused) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  const fs::path out = tmp / "out";
+  fs::create_directories(out);
+  // A code file named as an output, and the campaign file as campaign.json.
+  test::write_file(out / kCampaignResultsCsv, "1 0 1 1 0 0 1 1\n");
+  spec.codes = {(out / kCampaignResultsCsv).string()};
+  EXPECT_TRUE(test::throws_error(
+      [&] { RunCampaign(resolve_campaign(spec), out.string(), {}); }, ErrorKind::kUsage,
+      {"would replace the input", (out / kCampaignResultsCsv).string()}));
+  EXPECT_EQ(test::read_file(out / kCampaignResultsCsv), "1 0 1 1 0 0 1 1\n");
+  spec = small_spec(tmp);
+  test::write_file(out / kCampaignManifest, "{}");
+  CampaignRunOptions options;
+  options.inputs = {(out / kCampaignManifest).string()};
+  EXPECT_TRUE(
+      test::throws_error([&] { RunCampaign(resolve_campaign(spec), out.string(), options); },
+                         ErrorKind::kUsage, {"would replace the input"}));
+  EXPECT_EQ(test::read_file(out / kCampaignManifest), "{}");
+  EXPECT_FALSE(fs::exists(out / kCampaignJournal));
+}
+
 const char kResults[] =
     "image,code,mode,velocity,snr,dt,trials,rmse_mean,rmse_sd,status\n"
     "data/camera.png,raskar,numerical,1,100,1,20,2.36,0.016,ok\n"
@@ -516,6 +665,42 @@ TEST(Check, RefusesMalformedInput) {
                                  {"x.csv", "line 2"}));
   EXPECT_TRUE(test::throws_error([&] { parse_csv("a\n\"1\n", "x.csv"); }, ErrorKind::kUsage,
                                  {"not closed"}));
+}
+
+TEST(Check, RefusesExpectationsWithoutSettingColumns) {
+  EXPECT_TRUE(test::throws_error(
+      [&] { CheckCampaignResults(kResults, "r.csv", "rmse_mean\n2.36\n2.2\n", "e.csv", {}); },
+      ErrorKind::kUsage, {"'e.csv' has none of the setting columns"}));
+}
+
+TEST(Check, MessagesNameTheOptionsAndAreOneLineWithoutNaN) {
+  CheckOptions options;
+  options.abs_tolerance = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(
+      test::throws_error([&] { CheckCampaignResults(kResults, "r", kResults, "e", options); },
+                         ErrorKind::kUsage, {"--abs = inf"}));
+  options = {};
+  options.k_standard_errors = -1;
+  EXPECT_TRUE(
+      test::throws_error([&] { CheckCampaignResults(kResults, "r", kResults, "e", options); },
+                         ErrorKind::kUsage, {"--k-se = -1"}));
+  CampaignSpec spec;
+  spec.inputs = {"a.png"};
+  spec.codes = {"raskar"};
+  spec.rmse_margin_columns = -5;
+  std::string error;
+  EXPECT_FALSE(spec.IsValid(&error));
+  EXPECT_NE(error.find("--rmse-margin / \"rmse_margin\" = -5"), std::string::npos) << error;
+  // A cell holding a line break, and a result with no number.
+  const std::string results = "code,rmse_mean,status\n\"rask\nar\",,\"o\nk\"\nmip,inf,okay\n";
+  const std::string expected = "code,rmse_mean,status\n\"rask\nar\",2,ok\nmip,2,ok\n";
+  const CheckReport report = CheckCampaignResults(results, "r", expected, "e", {});
+  ASSERT_EQ(report.cases.size(), 4u);
+  for (const CheckCase& c : report.cases) {
+    EXPECT_FALSE(c.passed);
+    EXPECT_EQ(c.message.find('\n'), std::string::npos) << c.message;
+    EXPECT_EQ(c.message.find("nan"), std::string::npos) << c.message;
+  }
 }
 
 TEST(Figures, OneFigurePerSweptQuantityAndFixedSetting) {

@@ -264,6 +264,129 @@ TEST_F(CampaignCli, ProgressOnATerminalOnly) {
   EXPECT_NE(tty.out.find("ETA"), std::string::npos);
 }
 
+// A campaign file whose "trials" is an array nested 100,000 deep: refused
+// while it is parsed, in one line naming the file.
+TEST_F(CampaignCli, DeeplyNestedCampaignFileIsRefused) {
+  const fs::path file = tmp_ / "deep.json";
+  test::write_file(
+      file, "{\"trials\": " + std::string(100000, '[') + "1" + std::string(100000, ']') + "}");
+  const auto r = run_fssim("campaign -f " + quote(file) + " -o " + quote(tmp_ / "x"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err, "fssim: error: campaign file '" + file.string() +
+                       "': arrays and objects nested deeper than 64 levels\n");
+  // A value that is not an integer is named by its kind, not printed whole.
+  test::write_file(file, "{\"trials\": [\"" + std::string(20000, '7') + "\", 2, 3]}");
+  const auto list = run_fssim("campaign -f " + quote(file) + " -o " + quote(tmp_ / "x"));
+  EXPECT_EQ(list.exit_code, 2);
+  EXPECT_EQ(list.err, "fssim: error: campaign file '" + file.string() +
+                          "': 'trials' takes an integer in range, got an array of 3\n");
+  EXPECT_FALSE(fs::exists(tmp_ / "x"));
+}
+
+// No output of a campaign command replaces one of its inputs.
+TEST_F(CampaignCli, OutputsThatAreInputsAreRefused) {
+  const std::string csv = "image,code,rmse_mean\ncrop.png,short.txt,1\n";
+  test::write_file(tmp_ / "r.csv", csv);
+  test::write_file(tmp_ / "e.csv", csv);
+  for (const char* input : {"r.csv", "e.csv"}) {
+    const auto r = run_fssim("campaign check " + quote(tmp_ / "r.csv") + " " +
+                             quote(tmp_ / "e.csv") + " --junit " + quote(tmp_ / "." / input));
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.err.find("--junit"), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_file(tmp_ / input), csv);
+  }
+  // The campaign file kept in the output directory under an output's name.
+  const fs::path out = tmp_ / "out";
+  fs::create_directories(out);
+  const std::string spec = "{\"input\": \"" + image_ + "\", \"code\": \"" + code_ + "\"}";
+  test::write_file(out / "campaign.json", spec);
+  const auto file =
+      run_fssim("campaign --no-progress -f " + quote(out / "campaign.json") + " -o " + quote(out));
+  EXPECT_EQ(file.exit_code, 2);
+  EXPECT_NE(file.err.find("would replace the input"), std::string::npos) << file.err;
+  EXPECT_EQ(test::read_file(out / "campaign.json"), spec);
+  // An input image where --figures draws, refused before anything runs.
+  fs::create_directories(tmp_ / "fig" / "figures");
+  const fs::path image = tmp_ / "fig" / "figures" / "rmse_vs_snr_1.png";
+  fs::copy_file(image_, image);
+  const std::string args = "campaign --no-progress -i " + quote(image) + " -c " + quote(code_) +
+                           " --snr 20:640:x2 --trials 1 --figures -o " + quote(tmp_ / "fig");
+  const auto figures = run_fssim(args);
+  EXPECT_EQ(figures.exit_code, 2);
+  EXPECT_NE(figures.err.find("where --figures writes"), std::string::npos) << figures.err;
+  EXPECT_EQ(test::read_file(image), test::read_file(image_));
+  EXPECT_FALSE(fs::exists(tmp_ / "fig" / "journal.jsonl"));
+}
+
+// Every file a campaign command reads is bounded before it is read: an
+// endless stream, or a file larger than its kind may be, is refused at once
+// naming it (under a 3 GB address space, where reading it whole would fail).
+TEST_F(CampaignCli, UnboundedInputsAreRefusedNamingTheFile) {
+  const auto run = [](const std::string& args) {
+    return test::run_command("ulimit -v 3000000; exec timeout 60 " + quote(FSSIM_BINARY_PATH) +
+                             " " + args);
+  };
+  const std::string out = " -o " + quote(tmp_ / "x");
+  const auto file = run("campaign -f /dev/zero" + out);
+  EXPECT_EQ(file.exit_code, 1);
+  EXPECT_EQ(file.err,
+            "fssim: error: campaign file '/dev/zero' is not a text file (it holds a NUL byte)\n");
+  const auto image = run("campaign -i /dev/zero -c raskar" + out);
+  EXPECT_EQ(image.exit_code, 1);
+  EXPECT_EQ(image.err, "fssim: error: image '/dev/zero' is not a PNG file\n");
+  test::write_file(tmp_ / "e.csv", "image,rmse_mean\na.png,1\n");
+  const auto results = run("campaign check /dev/zero " + quote(tmp_ / "e.csv"));
+  EXPECT_EQ(results.exit_code, 1);
+  EXPECT_NE(results.err.find("results file '/dev/zero'"), std::string::npos) << results.err;
+  // A stream of text past the largest campaign file.
+  const auto stream =
+      test::run_command("{ yes | (ulimit -v 3000000; exec timeout 60 " + quote(FSSIM_BINARY_PATH) +
+                        " campaign -f /dev/stdin" + out + "); }");
+  EXPECT_EQ(stream.exit_code, 1);
+  EXPECT_EQ(stream.err,
+            "fssim: error: campaign file '/dev/stdin' is larger than 16.0 MiB, the most a "
+            "campaign file may have\n");
+  // Large regular files (sparse: no disk used) are refused by their size.
+  test::write_file(tmp_ / "big.json", "");
+  fs::resize_file(tmp_ / "big.json", (std::uintmax_t{16} << 20) + 1);
+  const auto big = run("campaign -f " + quote(tmp_ / "big.json") + out);
+  EXPECT_EQ(big.exit_code, 1);
+  EXPECT_EQ(big.err, "fssim: error: campaign file '" + (tmp_ / "big.json").string() +
+                         "' is larger than 16.0 MiB, the most a campaign file may have\n");
+  test::write_file(tmp_ / "big.csv", "");
+  fs::resize_file(tmp_ / "big.csv", (std::uintmax_t{1} << 30) + 1);
+  const auto csv = run("campaign check " + quote(tmp_ / "big.csv") + " " + quote(tmp_ / "e.csv"));
+  EXPECT_EQ(csv.exit_code, 1);
+  EXPECT_EQ(csv.err, "fssim: error: results file '" + (tmp_ / "big.csv").string() +
+                         "' is larger than 1.0 GiB, the most a results file may have\n");
+  EXPECT_FALSE(fs::exists(tmp_ / "x"));
+}
+
+// A part's journal that is not fssim's (empty, no complete header line, a
+// directory, an endless stream) is refused by merge and never removed.
+TEST_F(CampaignCli, MergeRefusesAndKeepsAJournalThatIsNotFssims) {
+  const fs::path part = tmp_ / "part";
+  fs::create_directories(part);
+  for (const std::string& text : {std::string(), std::string("{\"fssim_campaign_journal\": 1")}) {
+    test::write_file(part / "journal.jsonl", text);
+    const auto r = run_fssim("campaign merge -o " + quote(tmp_ / "m") + " " + quote(part));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("not an fssim campaign journal"), std::string::npos) << r.err;
+    EXPECT_EQ(test::read_file(part / "journal.jsonl"), text);
+    const auto run = run_fssim(args_ + " -o " + quote(part));
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(test::read_file(part / "journal.jsonl"), text);
+  }
+  fs::remove(part / "journal.jsonl");
+  fs::create_symlink("/dev/zero", part / "journal.jsonl");
+  const auto zero =
+      test::run_command("ulimit -v 3000000; exec timeout 60 " + quote(FSSIM_BINARY_PATH) +
+                        " campaign merge -o " + quote(tmp_ / "m") + " " + quote(part));
+  EXPECT_EQ(zero.exit_code, 1);
+  EXPECT_NE(zero.err.find((part / "journal.jsonl").string()), std::string::npos) << zero.err;
+  EXPECT_FALSE(fs::exists(tmp_ / "m"));
+}
+
 // The reference program's Table 1 figures on camera.png (mean of 12 runs)
 // and its noise-free Raskar run, checked as CI would.
 TEST(CampaignCheck, AgreesWithTheReferenceProgram) {

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the seed corpus of the fuzz targets: tests/fuzz/corpus/{png,tiff,code,campaign_file,range}/.
+"""Writes the seed corpus of the fuzz targets: tests/fuzz/corpus/{png,tiff,code,campaign_file,
+campaign_journal,campaign_check,range}/.
 
 The files are committed; this script documents how they were made and remakes
 them (python3 standard library only): python3 tests/fuzz/make_corpus.py
@@ -10,10 +11,16 @@ unsigned, 32-bit float), gray, gray + alpha, RGB and RGBA, both byte orders,
 strips and tiles, contiguous and separate planes, no compression, PackBits and
 Deflate, BigTIFF, and layouts that are refused (palette, signed, 64-bit float,
 two pages).
+Journals and results are those of small campaigns that fssim runs (its path in
+$FSSIM, default build/fssim; without it they are left as they are), and
+variants of them: torn, a row of another shard, a header alone, too deep.
 Files named regression-* are inputs the fuzzer found; this script leaves them.
 """
 import os
+import shutil
 import struct
+import subprocess
+import tempfile
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -326,7 +333,77 @@ def write_campaign_files(directory):
         "unknown-key.json": '{"inputs": ["a.png"]}',
         "not-object.json": '[1, 2, 3]',
         "truncated.json": '{"velocity": "1:2',
+        "deep.json": '{"trials": ' + "[" * 100 + "1" + "]" * 100 + "}",
     })
+
+
+# Small campaigns whose journals seed fuzz_campaign_journal: (name, options).
+CAMPAIGNS = [
+    ("one", ["-c", "c.txt", "snapshot", "--velocity", "0.5,1", "--trials", "1"]),
+    ("shard-per-trial", ["-c", "c.txt", "--velocity", "0.5,1,2", "--trials", "2", "--per-trial",
+                         "--shard", "2/2"]),
+    ("sensor", ["-c", "c.txt", "--mode", "analog", "--velocity", "1", "--trials", "1",
+                "--read-noise", "0,2", "--full-well", "1000", "--adc-bits", "10",
+                "--adc-gain", "2"]),
+]
+
+
+def run_campaigns(fssim, work):
+    """Runs CAMPAIGNS in `work` (relative paths, so that the journals name no
+    temporary directory); the journal and results.csv of each, by name."""
+    with open(os.path.join(work, "a.png"), "wb") as f:
+        f.write(png(40, 2, 8, 0, lambda x, y: ((x * 7 + y * 13) % 256,)))
+    with open(os.path.join(work, "c.txt"), "w") as f:
+        f.write("1 0 1 1\n")
+    out = {}
+    for name, options in CAMPAIGNS:
+        subprocess.run([fssim, "campaign", "--no-progress", "--threads", "1", "-i", "a.png",
+                        "--snr", "100", "-o", name] + options, cwd=work, check=True,
+                       stdout=subprocess.DEVNULL)
+        with open(os.path.join(work, name, "journal.jsonl")) as f:
+            journal = f.read()
+        with open(os.path.join(work, name, "results.csv")) as f:
+            out[name] = (journal, f.read())
+    return out
+
+
+def write_campaign_runs(journal_dir, check_dir):
+    fssim = os.environ.get("FSSIM", os.path.join(HERE, "..", "..", "build", "fssim"))
+    if not os.access(fssim, os.X_OK):
+        print("make_corpus: no fssim at %s: campaign journals and results left as they are" % fssim)
+        return
+    work = tempfile.mkdtemp()
+    try:
+        runs = run_campaigns(fssim, work)
+    finally:
+        shutil.rmtree(work)
+    journals, checks = {}, {}
+    for name, (journal, results) in runs.items():
+        journals[name + ".jsonl"] = journal
+        lines = journal.split("\n")
+        header = lines[0] + "\n"
+        journals[name + "-torn.jsonl"] = journal[:len(header) + len(lines[1]) // 2]
+        journals[name + "-header.jsonl"] = header
+        # The first byte chooses the tolerances (fuzz_campaign_check.cpp).
+        checks[name + ".csv"] = "\x00" + results
+        rows = results.split("\n")
+        subset = ",".join(rows[0].split(",")[:6] + ["rmse_mean"])
+        picked = [row.split(",") for row in rows[1:] if row]
+        index = rows[0].split(",").index("rmse_mean")
+        expected = subset + "\n" + "".join(
+            ",".join(r[:6] + [r[index]]) + "\n" for r in picked)
+        checks[name + "-subset.csv"] = "\x05" + results + "\n--\n" + expected
+    one = runs["one"][0].split("\n")
+    # A row of shard 2/2 in a journal of 1/1 is fine; one of 1/2 in 2/2 is not.
+    shard = runs["shard-per-trial"][0].split("\n")
+    journals["foreign-row.jsonl"] = shard[0] + "\n" + one[1] + "\n"
+    journals["deep.jsonl"] = one[0] + "\n" + "[" * 100 + "]" * 100 + "\n"
+    checks["no-settings.csv"] = "\x00rmse_mean\n1\n--\nrmse_mean\n2\n"
+    checks["quoted.csv"] = "\x03code,rmse_mean,status\n\"a,\"\"b\"\"\n\",,ok\r\n--\n" \
+                           "code,rmse_mean,status\n\"a,\"\"b\"\"\n\",1,\"o\nk\"\n"
+    write_texts(journal_dir, journals)
+    write_texts(check_dir, checks)
+
 
 
 def write_ranges(directory):
@@ -350,3 +427,8 @@ if __name__ == "__main__":
         directory = os.path.join(HERE, "corpus", kind)
         os.makedirs(directory, exist_ok=True)
         writer(directory)
+    journal_dir = os.path.join(HERE, "corpus", "campaign_journal")
+    check_dir = os.path.join(HERE, "corpus", "campaign_check")
+    os.makedirs(journal_dir, exist_ok=True)
+    os.makedirs(check_dir, exist_ok=True)
+    write_campaign_runs(journal_dir, check_dir)

@@ -4,6 +4,7 @@
 #include "fss/io/outputs.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 
 #include "fss/core/error.h"
 #include "fss/io/html_report.h"
+#include "fss/io/output_set.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
 #include "fss/io/report_json.h"
@@ -476,6 +478,82 @@ TEST_F(WriteOutputs, StagingNeverReplacesOrRemovesOtherFiles) {
 TEST_F(WriteOutputs, EmptyOutdirIsAUsageError) {
   EXPECT_TRUE(test::throws_error([&] { write_outputs("", report(), small_input(), "input.png"); },
                                  ErrorKind::kUsage, {"output directory"}));
+}
+
+// A directory named as a staging directory of fssim's, made as a killed run
+// would have left it: mode 1700 (fssim's mark), the marker file, and the
+// manifest `commit` when not empty.
+fs::path forge_stage(const fs::path& outdir, const std::string& name, const std::string& commit) {
+  const fs::path stage = outdir / name;
+  fs::create_directory(stage);
+  EXPECT_EQ(::chmod(stage.c_str(), 01700), 0);
+  test::write_file(stage / ".fssim-staging",
+                   "staging directory of an fssim run: removed by the next run\n");
+  if (!commit.empty()) test::write_file(stage / ".fssim-commit", commit);
+  return stage;
+}
+
+TEST_F(WriteOutputs, UnmarkedStagingDirectoriesAreLeftAloneEvenEmpty) {
+  // A user's empty directories with a staging name, without fssim's mark.
+  const fs::path outdir = dir_ / "out";
+  fs::create_directories(outdir / ".fssim-stage-mine");
+  fs::create_directory(outdir / ".fssim-stage-1-2-3");
+  ASSERT_EQ(::chmod((outdir / ".fssim-stage-1-2-3").c_str(), 0700), 0);
+  write_outputs(outdir, report(), small_input(), "input.png");
+  EXPECT_TRUE(fs::is_directory(outdir / ".fssim-stage-mine"));
+  EXPECT_TRUE(fs::is_directory(outdir / ".fssim-stage-1-2-3"));
+  // A marked one left empty (a run killed as it created it) is fssim's: removed.
+  fs::create_directory(outdir / ".fssim-stage-4-5-6");
+  ASSERT_EQ(::chmod((outdir / ".fssim-stage-4-5-6").c_str(), 01700), 0);
+  write_outputs(outdir, report(), small_input(), "input.png");
+  EXPECT_FALSE(fs::exists(outdir / ".fssim-stage-4-5-6"));
+  EXPECT_TRUE(fs::is_directory(outdir / ".fssim-stage-mine"));
+}
+
+TEST_F(WriteOutputs, AForgedManifestMovesAndRemovesNothing) {
+  const fs::path outdir = dir_ / "out";
+  fs::create_directories(outdir);
+  test::write_file(outdir / "notes.txt", "my notes");
+  test::write_file(dir_ / "victim.txt", "outside");
+  const fs::path remove = forge_stage(outdir, ".fssim-stage-1-1-1", "0 notes.txt\n");
+  const fs::path move_in = forge_stage(outdir, ".fssim-stage-2-2-2", "0 ../victim.txt\n");
+  // A new file of a name that is no output, published by its inode.
+  const fs::path inode = forge_stage(outdir, ".fssim-stage-3-3-3", "");
+  test::write_file(inode / "payload.txt", "payload");
+  struct stat st {};
+  ASSERT_EQ(::stat((inode / "payload.txt").c_str(), &st), 0);
+  test::write_file(inode / ".fssim-commit", std::to_string(st.st_ino) + " payload.txt\n");
+  // Uncommitted, but holding a file that is no output: not provably fssim's.
+  const fs::path stranger = forge_stage(outdir, ".fssim-stage-4-4-4", "");
+  test::write_file(stranger / "letter.txt", "keep");
+  write_outputs(outdir, report(), small_input(), "input.png");
+  EXPECT_EQ(test::read_file(outdir / "notes.txt"), "my notes");
+  EXPECT_EQ(test::read_file(dir_ / "victim.txt"), "outside");
+  EXPECT_FALSE(fs::exists(outdir / "victim.txt"));
+  EXPECT_FALSE(fs::exists(outdir / "payload.txt"));
+  EXPECT_EQ(test::read_file(stranger / "letter.txt"), "keep");
+  for (const fs::path& stage : {remove, move_in, inode, stranger}) {
+    EXPECT_TRUE(fs::exists(stage / ".fssim-staging")) << stage;
+  }
+  expect_complete_outputs(outdir, "input.png");
+}
+
+TEST(WriteOutputSet, AFailedWriteRemovesEveryDirectoryItCreated) {
+  test::TempDir dir;
+  fs::create_directory(dir / "old");
+  const std::vector<OutputFile> failing = {
+      {"a.txt", "a", {}}, {"b.txt", "", []() -> std::string { throw_runtime_error("no b"); }}};
+  for (const fs::path& outdir : {dir / "new/a/b", dir / "old/c/d/", dir / "old/e/./f"}) {
+    EXPECT_TRUE(test::throws_error([&] { write_output_set(outdir, failing, {}); },
+                                   ErrorKind::kRuntime, {"no b"}));
+  }
+  EXPECT_EQ(test::list_directory(dir.path()), std::vector<std::string>{"old"});
+  EXPECT_TRUE(test::list_directory(dir / "old").empty());
+  // An existing directory stays, and so does one that became non-empty.
+  write_output_set(dir / "old/g", {{"a.txt", "a", {}}}, {});
+  EXPECT_TRUE(test::throws_error([&] { write_output_set(dir / "old/g/h", failing, {}); },
+                                 ErrorKind::kRuntime));
+  EXPECT_EQ(test::list_directory(dir / "old/g"), std::vector<std::string>{"a.txt"});
 }
 
 }  // namespace

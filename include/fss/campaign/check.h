@@ -3,6 +3,7 @@
 // their settings, each quantity compared with its tolerance.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -42,11 +43,22 @@ struct CheckReport {
 // mode, velocity, restore_velocity, snr, dt, noise, rmse_margin) select the
 // result row: numbers compare as numbers, and an image given as a bare file
 // name matches a result image of that file name. `*_name` arguments name the
-// files in messages. Throws a usage fss::Error for malformed CSV or a
-// column RESULTS lacks.
+// files in messages. Throws a usage fss::Error for malformed CSV, a column
+// RESULTS lacks, or an EXPECTED without any setting column.
 CheckReport CheckCampaignResults(const std::string& results_csv, const std::string& results_name,
                                  const std::string& expected_csv, const std::string& expected_name,
                                  const CheckOptions& options);
+
+// Largest results or expectations file 'campaign check' reads (checked
+// before reading; a stream is cut there): the results.csv of some million
+// settings.
+inline constexpr std::size_t kMaxCheckFileBytes = std::size_t{1} << 30;
+
+// CheckCampaignResults on the files at `results_path` and `expected_path`,
+// each read bounded by kMaxCheckFileBytes (a runtime fss::Error naming the
+// file when larger or unreadable).
+CheckReport CheckCampaignResultFiles(const std::string& results_path,
+                                     const std::string& expected_path, const CheckOptions& options);
 
 // The report as JUnit XML: one test case per comparison.
 std::string check_junit_xml(const CheckReport& report, const std::string& suite_name);

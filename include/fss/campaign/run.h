@@ -45,6 +45,9 @@ struct CampaignRunOptions {
   int threads = 0;
   std::size_t max_memory_bytes = 0;
   std::string fssim_version;
+  // Files the run reads besides the campaign's images and code files (the
+  // campaign file): none of them may be a file the run writes.
+  std::vector<std::string> inputs;
   // Called after each setting (and once at the start); may be empty.
   std::function<void(const CampaignProgress&)> progress;
 
@@ -69,19 +72,24 @@ inline constexpr const char* kCampaignManifest = "campaign.json";
 // With per_trial: one row per trial (trial_columns), settings in product order.
 inline constexpr const char* kCampaignTrialsCsv = "trials.csv";
 inline constexpr const char* kCampaignTrialsJsonl = "trials.jsonl";
+// Largest journal read (checked before reading): some million settings.
+inline constexpr std::size_t kMaxCampaignJournalBytes = std::size_t{2} << 30;
 
 // Runs the settings of `options.shard` missing from dir's journal (dir is
 // created if needed) and writes the result files. Throws a usage fss::Error
-// when dir holds another campaign or shard, a runtime one when a file cannot
-// be read or written or a setting fails at run time (the journal keeps what
-// finished).
+// when dir holds another campaign or shard, or when a file it writes is one
+// of its inputs (images, code files, options.inputs), a runtime one when a
+// file cannot be read or written or a setting fails at run time (the journal
+// keeps what finished; a failed run before any setting finished leaves no
+// directory it created).
 CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
                                const CampaignRunOptions& options);
 
 // Merges the directories of the shards 1/N .. N/N of one campaign into dir:
 // refuses (usage fss::Error) parts of different campaigns (hash), different
 // N, a shard given twice or missing, and a part whose journal lacks some of
-// its settings. Writes the files a single-machine run writes, byte for byte.
+// its settings, and an output file that is one of the parts' journals.
+// Writes the files a single-machine run writes, byte for byte.
 // Also writes dir's journal, as a finished single-machine run leaves it.
 // Returns the rows in product order; *campaign (when not null) receives the
 // campaign.

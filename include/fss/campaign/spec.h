@@ -4,6 +4,7 @@
 // its own seed. Conventions: fss/fss.h.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,6 +20,11 @@ namespace fss {
 // Most values one value list may hold, and most settings of a campaign.
 inline constexpr int kMaxCampaignValues = 10000;
 inline constexpr long long kMaxCampaignSettings = 10'000'000;
+// Largest campaign file and campaign image read (checked before reading; a
+// stream is cut there): a campaign file of any real size, and a PNG file of
+// the largest image decoded, are far smaller.
+inline constexpr std::size_t kMaxCampaignFileBytes = std::size_t{16} << 20;
+inline constexpr std::size_t kMaxCampaignImageBytes = std::size_t{1} << 30;
 
 // Values of one swept quantity and how they were written.
 struct ValueList {
@@ -68,6 +74,10 @@ struct CampaignSpec {
 // CampaignSpec::IsValid. Throws a usage fss::Error naming the file (`name`)
 // for malformed JSON, an unknown key or a value of the wrong type.
 CampaignSpec parse_campaign_file(std::string_view text, const std::string& name);
+
+// Reads the campaign file at `path` (at most kMaxCampaignFileBytes; a
+// runtime fss::Error naming it when larger or unreadable) and parses it.
+CampaignSpec read_campaign_file(const std::string& path);
 
 // One image of a campaign: its name (the path as expanded), path and digest.
 struct CampaignImage {

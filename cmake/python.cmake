@@ -60,7 +60,7 @@ message(STATUS "Python module: built for ${Python3_EXECUTABLE} (${Python3_VERSIO
 # A static libfss goes into a shared module.
 set_target_properties(fss PROPERTIES POSITION_INDEPENDENT_CODE ON)
 # NO_EXTRAS: no link-time optimization (it only slows the link down here).
-pybind11_add_module(fss_python MODULE NO_EXTRAS python/fss_module.cpp)
+pybind11_add_module(fss_python MODULE NO_EXTRAS python/fss_module.cpp python/arguments.cpp)
 set_target_properties(fss_python PROPERTIES OUTPUT_NAME fss LIBRARY_OUTPUT_DIRECTORY
                                             ${PROJECT_BINARY_DIR}/python)
 target_link_libraries(fss_python PRIVATE fss)

@@ -10,22 +10,31 @@
 //    clamped (fssim's PNG files hold them rounded and clamped to 0..255).
 //  - The dicts of a simulation are report.json's sections, converted from the
 //    very text fssim writes; non-finite values are None there as in JSON.
-//  - fss::Error becomes ValueError (usage errors) or RuntimeError (the rest),
-//    with the library's message.
+//  - Arguments: this file turns each Python object into a C++ value (a
+//    TypeError naming the argument when it has the wrong type);
+//    arguments.h checks and converts the values as fssim checks its options.
+//  - Errors: fss::Error becomes ValueError (usage errors) or RuntimeError
+//    (the rest), with the library's message; a failed allocation becomes
+//    MemoryError. Every message is one line.
 //  - Every computation runs with the GIL released.
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "arguments.h"
 #include "fss/core/error.h"
 #include "fss/core/image.h"
 #include "fss/design/analyze.h"
@@ -34,73 +43,169 @@
 #include "fss/io/png_io.h"
 #include "fss/io/report_json.h"
 #include "fss/model/code.h"
-#include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/simulate.h"
 
 namespace py = pybind11;
+namespace args = fss::python;
 
 namespace {
 
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+// An allocation that failed, with what was being done: MemoryError.
+class OutOfMemory : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // ---------------------------------------------------------------------------
-// Arguments
+// Python objects as C++ values
 
-[[noreturn]] void throw_value_error(const std::string& message) { throw py::value_error(message); }
-
-// The dtype kinds accepted for images and gains: bool, signed and unsigned
-// integers, floating point.
-void check_real_dtype(const py::array& array, const std::string& what) {
-  const char kind = array.dtype().kind();
-  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f') {
-    throw_value_error(what + ": dtype " + py::str(array.dtype()).cast<std::string>() +
-                      " is not a real numeric type (expected bool, integer or float)");
-  }
+[[noreturn]] void throw_type_error(const char* argument, const std::string& expected,
+                                   py::handle value) {
+  throw py::type_error(
+      std::string(argument) + ": expected " + expected + ", not " +
+      fss::shorten_for_message(py::type::of(value).attr("__name__").cast<std::string>()));
 }
 
-std::string shape_text(const py::array& array) {
-  std::string text = "(";
-  for (py::ssize_t d = 0; d < array.ndim(); ++d) {
-    text += (d > 0 ? ", " : "") + std::to_string(array.shape(d));
-  }
-  return text + (array.ndim() == 1 ? ",)" : ")");
+// repr(value), short and on one line, for a message.
+std::string short_repr(py::handle value) {
+  return fss::shorten_for_message(py::repr(value).cast<std::string>());
 }
 
-// An H x W or H x W x C (C = 1 or 3) array as a planar fss::Image:
-// data[(c H + y) W + x] = array[y, x, c].
-fss::Image image_from_array(const py::array& array) {
-  check_real_dtype(array, "image");
-  const bool layout_ok =
-      array.ndim() == 2 || (array.ndim() == 3 && (array.shape(2) == 1 || array.shape(2) == 3));
-  if (!layout_ok) {
-    throw_value_error("image: shape " + shape_text(array) +
-                      " is not H x W (gray) or H x W x 3 (RGB)");
+// A real number: float, int, numpy scalars and size-1 arrays (anything
+// float() takes but complex numbers and text).
+double float_argument(py::handle value, const char* argument) {
+  const bool complex = PyComplex_Check(value.ptr()) != 0 ||
+                       (py::hasattr(value, "dtype") &&
+                        py::getattr(value, "dtype").attr("kind").cast<std::string>() == "c");
+  if (complex || PyUnicode_Check(value.ptr()) != 0 || PyBytes_Check(value.ptr()) != 0) {
+    throw_type_error(argument, "a real number", value);
   }
-  const py::ssize_t height = array.shape(0);
-  const py::ssize_t width = array.shape(1);
-  if (height < 1 || width < 1 || height > fss::kMaxImageSide || width > fss::kMaxImageSide) {
-    throw_value_error("image: shape " + shape_text(array) + " must have 1 to " +
-                      std::to_string(fss::kMaxImageSide) + " rows and columns");
-  }
-  const int channels = array.ndim() == 3 ? static_cast<int>(array.shape(2)) : 1;
-  const DoubleArray values = DoubleArray::ensure(array);
-  if (!values) throw py::error_already_set();
-  fss::Image image(static_cast<int>(width), static_cast<int>(height), channels);
-  const double* source = values.data();
-  for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < image.width; ++x) {
-      for (int c = 0; c < channels; ++c) {
-        const double value = *source++;
-        if (!std::isfinite(value)) {
-          throw_value_error("image: value " + fss::format_number(value) + " at row " +
-                            std::to_string(y) + ", column " + std::to_string(x) + " is not finite");
-        }
-        image.at(c, y, x) = value;
-      }
+  const double result = PyFloat_AsDouble(value.ptr());
+  if (result == -1.0 && PyErr_Occurred() != nullptr) {
+    if (PyErr_ExceptionMatches(PyExc_TypeError) != 0) {
+      PyErr_Clear();
+      throw_type_error(argument, "a real number", value);
     }
+    if (PyErr_ExceptionMatches(PyExc_OverflowError) != 0) {
+      PyErr_Clear();
+      throw py::value_error(std::string(argument) + " = " + short_repr(value) +
+                            ": too large for a double-precision number");
+    }
+    throw py::error_already_set();
   }
-  return image;
+  return result;
+}
+
+std::optional<double> optional_float(py::handle value, const char* argument) {
+  if (value.is_none()) return std::nullopt;
+  return float_argument(value, argument);
+}
+
+// An integer (int, numpy integers, bool: what operator.index takes but
+// numpy.bool_) as a Python int.
+py::int_ python_int(py::handle value, const char* argument) {
+  // numpy.bool_ as an index is deprecated by numpy itself.
+  if (py::isinstance(value, py::module_::import("numpy").attr("bool_"))) {
+    throw_type_error(argument, "an integer", value);
+  }
+  PyObject* index = PyNumber_Index(value.ptr());
+  if (index == nullptr) {
+    if (PyErr_ExceptionMatches(PyExc_TypeError) == 0) throw py::error_already_set();
+    PyErr_Clear();
+    throw_type_error(argument, "an integer", value);
+  }
+  return py::reinterpret_steal<py::int_>(index);
+}
+
+long long int_argument(py::handle value, const char* argument) {
+  const py::int_ number = python_int(value, argument);
+  int overflow = 0;
+  const long long result = PyLong_AsLongLongAndOverflow(number.ptr(), &overflow);
+  if (overflow != 0) {
+    throw py::value_error(std::string(argument) + " = " + short_repr(number) +
+                          ": too large for a 64-bit integer");
+  }
+  if (result == -1 && PyErr_Occurred() != nullptr) throw py::error_already_set();
+  return result;
+}
+
+std::optional<long long> optional_int(py::handle value, const char* argument) {
+  if (value.is_none()) return std::nullopt;
+  return int_argument(value, argument);
+}
+
+// An integer in [0, 2^64 - 1] (seeds, byte counts): "<argument> = <value>:
+// must be an integer in [0, 18446744073709551615]<note>" outside.
+std::uint64_t uint64_argument(py::handle value, const char* argument, const char* note = "") {
+  const py::int_ number = python_int(value, argument);
+  if (number < py::int_(0) || number > py::int_(UINT64_MAX)) {
+    throw py::value_error(std::string(argument) + " = " + short_repr(number) +
+                          ": must be an integer in [0, " + std::to_string(UINT64_MAX) + "]" + note);
+  }
+  return number.cast<std::uint64_t>();
+}
+
+bool bool_argument(py::handle value, const char* argument) {
+  const bool numpy_bool = py::isinstance(value, py::module_::import("numpy").attr("bool_"));
+  if (!PyBool_Check(value.ptr()) && !numpy_bool) throw_type_error(argument, "True or False", value);
+  return PyObject_IsTrue(value.ptr()) == 1;
+}
+
+// A str, as UTF-8 (what cannot be encoded as \\uXXXX, for the message).
+std::string string_argument(py::handle value, const char* argument) {
+  if (!PyUnicode_Check(value.ptr())) throw_type_error(argument, "a str", value);
+  PyObject* bytes = PyUnicode_AsEncodedString(value.ptr(), "utf-8", "backslashreplace");
+  if (bytes == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::bytes>(bytes).cast<std::string>();
+}
+
+// A path (str, bytes or os.PathLike) as the bytes the file system sees
+// (os.fsencode), without a NUL byte.
+std::string path_argument(py::handle value, const char* argument) {
+  const py::module_ os = py::module_::import("os");
+  py::object path;
+  try {
+    path = os.attr("fspath")(value);
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_TypeError)) throw;
+    throw_type_error(argument, "a str, bytes or os.PathLike", value);
+  }
+  std::string text = os.attr("fsencode")(path).cast<std::string>();
+  args::check_no_nul(argument, text);
+  return text;
+}
+
+// numpy.asarray(value); what numpy cannot make an array of (a ragged list)
+// is a ValueError "<argument>: expected <expected> (<numpy's reason>)".
+py::array array_argument(py::handle value, const char* argument, const char* expected) {
+  try {
+    return py::module_::import("numpy").attr("asarray")(value);
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_ValueError) && !e.matches(PyExc_TypeError)) throw;
+    throw py::value_error(std::string(argument) + ": expected " + expected + " (" +
+                          fss::shorten_for_message(py::str(e.value()).cast<std::string>(), 80) +
+                          ")");
+  }
+}
+
+// What arguments.h reads of an array: its memory, shape, strides, dtype.
+args::ArrayView view_of(const py::array& array) {
+  args::ArrayView view;
+  view.data = array.data();
+  view.shape.assign(array.shape(), array.shape() + array.ndim());
+  view.strides.assign(array.strides(), array.strides() + array.ndim());
+  view.kind = array.dtype().kind();
+  view.itemsize = static_cast<std::size_t>(array.dtype().itemsize());
+  view.native = array.dtype().attr("isnative").cast<bool>();
+  view.dtype = py::str(array.dtype()).cast<std::string>();
+  return view;
+}
+
+// `array` itself when arguments.h reads its dtype, else a float64 copy.
+py::array readable(const py::array& array) {
+  if (args::is_readable(view_of(array))) return array;
+  return array.attr("astype")("float64");
 }
 
 // A planar image as an H x W (one channel) or H x W x 3 float64 array.
@@ -123,51 +228,22 @@ py::array_t<double> array_from_vector(const std::vector<double>& values) {
   return array;
 }
 
-// `code=`: a built-in name or a code file (str or os.PathLike), or a
+// `code=`: a built-in name or a code file (str, bytes or os.PathLike), or a
 // sequence of gains (named "array" in the report).
 fss::ShutterCode code_from_object(const py::object& code) {
-  if (py::isinstance<py::str>(code) || py::hasattr(code, "__fspath__")) {
-    const std::string name = py::module_::import("os").attr("fspath")(code).cast<std::string>();
+  if (py::isinstance<py::str>(code) || py::isinstance<py::bytes>(code) ||
+      py::hasattr(code, "__fspath__")) {
+    const std::string name = path_argument(code, "code");
     py::gil_scoped_release release;
     return fss::load_code(name);
   }
-  const py::array array = py::array::ensure(code);
-  if (!array) {
-    throw_value_error("code: expected a built-in name, a code file or a sequence of gains");
+  const py::array array =
+      array_argument(code, "code", "a built-in name, a code file or a sequence of gains");
+  args::check_real_dtype(view_of(array), "code");
+  if (array.ndim() == 1 && array.shape(0) > fss::kMaxCodeLength) {
+    return args::code_from_view(view_of(array));  // refuses it without a copy
   }
-  check_real_dtype(array, "code");
-  if (array.ndim() != 1) {
-    throw_value_error("code: gains of shape " + shape_text(array) + " are not one-dimensional");
-  }
-  const DoubleArray gains = DoubleArray::ensure(array);
-  if (!gains) throw py::error_already_set();
-  fss::ShutterCode result{"array", std::vector<double>(gains.data(), gains.data() + gains.size())};
-  for (const double gain : result.gains) {
-    if (!std::isfinite(gain)) {
-      throw_value_error("code: gain " + fss::format_number(gain) + " is not finite");
-    }
-  }
-  return result;
-}
-
-fss::ShutterMode mode_from_string(const std::string& mode) {
-  const std::optional<fss::ShutterMode> parsed = fss::shutter_mode_from_string(mode);
-  if (!parsed) throw_value_error("mode: '" + mode + "' is not 'numerical' or 'analog'");
-  return *parsed;
-}
-
-fss::NoiseModel noise_from_string(const std::string& noise) {
-  const std::optional<fss::NoiseModel> parsed = fss::noise_model_from_string(noise);
-  if (!parsed) throw_value_error("noise: '" + noise + "' is not 'poisson' or 'none'");
-  return *parsed;
-}
-
-// A non-negative Python int as a uint64 seed.
-std::uint64_t seed_from_int(const py::int_& seed) {
-  if (seed < py::int_(0) || seed > py::int_(UINT64_MAX)) {
-    throw_value_error("seed: " + py::repr(seed).cast<std::string>() + " must lie in [0, 2^64 - 1]");
-  }
-  return seed.cast<std::uint64_t>();
+  return args::code_from_view(view_of(readable(array)));
 }
 
 // ---------------------------------------------------------------------------
@@ -204,56 +280,67 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
   return result;
 }
 
-struct SimulateArguments {
-  py::object code;
-  std::string mode;
-  double velocity;
-  double snr;
-  double dt;
-  py::int_ seed;
-  int trials;
-  std::string noise;
-  std::optional<double> restore_velocity;
-  int threads;
-  std::optional<int> rmse_margin;
-  std::size_t max_memory;
-  fss::SensorModel sensor;  // docs/method.md §10
+// The keywords of fss.simulate, as Python objects.
+struct SimulateCall {
+  py::object image, code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
+      rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain;
 };
 
-// The sensor keywords as a SensorModel (checked by Simulate's rules).
-fss::SensorModel sensor_from(double read_noise, double dark_current,
-                             std::optional<double> full_well, int adc_bits, double adc_gain) {
-  fss::SensorModel sensor;
-  sensor.read_noise_electrons = read_noise;
-  sensor.dark_current_electrons_per_slot = dark_current;
-  sensor.full_well_electrons = full_well;
-  sensor.adc_bits = adc_bits;
-  sensor.adc_gain_electrons_per_count = adc_gain;
-  return sensor;
+args::SimulateArguments simulate_arguments(const SimulateCall& c) {
+  args::SimulateArguments a;
+  a.mode = string_argument(c.mode, "mode");
+  a.velocity = float_argument(c.velocity, "velocity");
+  a.snr = float_argument(c.snr, "snr");
+  a.dt = float_argument(c.dt, "dt");
+  a.seed = uint64_argument(c.seed, "seed");
+  a.trials = int_argument(c.trials, "trials");
+  a.noise = string_argument(c.noise, "noise");
+  a.restore_velocity = optional_float(c.restore_velocity, "restore_velocity");
+  a.threads = int_argument(c.threads, "threads");
+  a.rmse_margin = optional_int(c.rmse_margin, "rmse_margin");
+  a.max_memory = uint64_argument(c.max_memory, "max_memory", " (bytes; 0: no limit)");
+  a.read_noise = float_argument(c.read_noise, "read_noise");
+  a.dark_current = float_argument(c.dark_current, "dark_current");
+  a.full_well = optional_float(c.full_well, "full_well");
+  a.adc_bits = int_argument(c.adc_bits, "adc_bits");
+  a.adc_gain = optional_float(c.adc_gain, "adc_gain");
+  return a;
 }
 
-SimulationResult simulate(const py::array& image_array, const SimulateArguments& a) {
-  fss::SimulationOptions options;
-  options.mode = mode_from_string(a.mode);
-  options.velocity_px_per_slot = a.velocity;
-  options.restore_velocity_px_per_slot = a.restore_velocity;
-  options.snr = a.snr;
-  options.dt = a.dt;
-  options.seed = seed_from_int(a.seed);
-  options.trials = a.trials;
-  options.noise = noise_from_string(a.noise);
-  options.threads = a.threads;
-  options.rmse_margin_columns = a.rmse_margin.value_or(-1);
-  options.max_memory_bytes = a.max_memory;
-  options.sensor = a.sensor;
-  const fss::ShutterCode code = code_from_object(a.code);
-  const fss::Image input = image_from_array(image_array);
+// The run once the options, the code and the array's shape are checked. A
+// float64 copy of an array of another dtype (readable) is freed before the
+// run starts: with the image it takes 16 bytes a sample, less than the run
+// itself (the image and at least two outputs).
+SimulationResult run_simulation(const py::array& array, const fss::SimulationOptions& options,
+                                const fss::ShutterCode& code) {
+  fss::Image input = args::image_from_view(view_of(readable(array)));
   fss::SimulationReport report;
   {
     py::gil_scoped_release release;
     report = fss::Simulate(options, input, code);
   }
   return make_result(report, input);
+}
+
+SimulationResult simulate(const SimulateCall& call) {
+  const fss::SimulationOptions options = args::simulation_options(simulate_arguments(call));
+  const fss::ShutterCode code = code_from_object(call.code);
+  const py::array array =
+      array_argument(call.image, "image", "an array of gray levels, H x W or H x W x 3");
+  const args::ArrayView view = view_of(array);
+  args::check_real_dtype(view, "image");
+  const args::ImageSize size = args::image_size(view.shape);
+  args::check_simulation_memory(options, code, size);  // before any copy of the array
+  try {
+    return run_simulation(array, options, code);
+  } catch (const std::bad_alloc&) {
+    throw OutOfMemory(
+        "out of memory while simulating a " + std::to_string(size.width) + " x " +
+        std::to_string(size.height) + " x " + std::to_string(size.channels) +
+        " image (it needs about " +
+        fss::format_bytes(static_cast<double>(args::simulation_memory_bytes(options, code, size))) +
+        "; max_memory refuses such a run before it starts)");
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -289,32 +376,32 @@ py::dict analysis_dict(const fss::CodeAnalysis& a) {
   return d;
 }
 
-py::dict analyze(const py::object& code_object, double velocity, double dt, double snr,
-                 const std::string& mode, int grid) {
+py::dict analyze(const py::object& code_object, const py::object& velocity_object,
+                 const py::object& dt_object, const py::object& snr_object,
+                 const py::object& mode_object, const py::object& grid_object) {
+  const double velocity = float_argument(velocity_object, "velocity");
+  const double dt = float_argument(dt_object, "dt");
+  const double snr = float_argument(snr_object, "snr");
+  const fss::ShutterMode mode = args::mode_argument(string_argument(mode_object, "mode"));
+  const int grid =
+      args::int_argument("grid", int_argument(grid_object, "grid"), 0, fss::kMaxAnalysisGridPoints);
+  args::check_analysis_arguments(velocity, dt, snr);
   const fss::ShutterCode code = code_from_object(code_object);
-  const fss::ShutterMode shutter_mode = mode_from_string(mode);
   fss::CodeAnalysis analysis;
   {
     py::gil_scoped_release release;
-    analysis = fss::analyze_code(code, velocity, dt, snr, shutter_mode, grid);
+    analysis = fss::analyze_code(code, velocity, dt, snr, mode, grid);
   }
   return analysis_dict(analysis);
 }
 
-py::array_t<double> generate(const std::string& family, int length, double velocity, double dt,
-                             const py::int_& seed, bool analog) {
-  fss::GenerateOptions options;
-  const std::optional<fss::CodeFamily> parsed = fss::code_family_from_string(family);
-  if (!parsed) {
-    throw_value_error("family: '" + family +
-                      "' is not one of sinc, mip, random, snapshot, accumulation");
-  }
-  options.family = *parsed;
-  options.length = length;
-  options.velocity_px_per_slot = velocity;
-  options.dt = dt;
-  options.seed = seed_from_int(seed);
-  options.analog = analog;
+py::array_t<double> generate(const py::object& family, const py::object& length,
+                             const py::object& velocity, const py::object& dt,
+                             const py::object& seed, const py::object& analog) {
+  const fss::GenerateOptions options =
+      args::generate_options(string_argument(family, "family"), int_argument(length, "length"),
+                             float_argument(velocity, "velocity"), float_argument(dt, "dt"),
+                             uint64_argument(seed, "seed"), bool_argument(analog, "analog"));
   fss::ShutterCode code;
   {
     py::gil_scoped_release release;
@@ -323,33 +410,26 @@ py::array_t<double> generate(const std::string& family, int length, double veloc
   return array_from_vector(code.gains);
 }
 
-struct OptimizeArguments {
-  int length;
-  double velocity;
-  double dt;
-  double snr;
-  std::string mode;
-  bool binary;
-  double min_light;
-  int restarts;
-  int iterations;
-  py::int_ seed;
-  int grid_points;
+// The keywords of fss.optimize_code, as Python objects.
+struct OptimizeCall {
+  py::object length, velocity, dt, snr, mode, binary, min_light, restarts, iterations, seed,
+      grid_points;
 };
 
-py::dict optimize(const OptimizeArguments& a) {
-  fss::OptimizeOptions options;
-  options.length = a.length;
-  options.velocity_px_per_slot = a.velocity;
-  options.dt = a.dt;
-  options.snr = a.snr;
-  options.mode = mode_from_string(a.mode);
-  options.binary = a.binary;
-  options.min_light_slots = a.min_light;
-  options.restarts = a.restarts;
-  options.max_iterations = a.iterations;
-  options.seed = seed_from_int(a.seed);
-  options.grid_points = a.grid_points;
+py::dict optimize(const OptimizeCall& c) {
+  args::OptimizeArguments a;
+  a.length = int_argument(c.length, "length");
+  a.velocity = float_argument(c.velocity, "velocity");
+  a.dt = float_argument(c.dt, "dt");
+  a.snr = float_argument(c.snr, "snr");
+  a.mode = string_argument(c.mode, "mode");
+  a.binary = bool_argument(c.binary, "binary");
+  a.min_light = float_argument(c.min_light, "min_light");
+  a.restarts = int_argument(c.restarts, "restarts");
+  a.iterations = int_argument(c.iterations, "iterations");
+  a.seed = uint64_argument(c.seed, "seed");
+  a.grid_points = int_argument(c.grid_points, "grid_points");
+  const fss::OptimizeOptions options = args::optimize_options(a);
   fss::OptimizationResult result;
   {
     py::gil_scoped_release release;
@@ -366,26 +446,22 @@ py::dict optimize(const OptimizeArguments& a) {
 }
 
 // K(xi) at every frequency of `xi` (radians per pixel), same shape.
-py::object transfer(const py::object& code_object, const py::object& xi, double velocity,
-                    double dt) {
+py::object transfer(const py::object& code_object, const py::object& xi,
+                    const py::object& velocity_object, const py::object& dt_object) {
+  const double velocity = float_argument(velocity_object, "velocity");
+  const double dt = float_argument(dt_object, "dt");
   const fss::ShutterCode code = code_from_object(code_object);
-  const py::array xi_array = py::array::ensure(xi);
-  if (!xi_array) throw_value_error("xi: expected a number or an array of numbers");
-  check_real_dtype(xi_array, "xi");
-  const DoubleArray frequencies = DoubleArray::ensure(xi_array);
-  if (!frequencies) throw py::error_already_set();
-  std::vector<py::ssize_t> shape(frequencies.shape(), frequencies.shape() + frequencies.ndim());
+  const py::array xi_array = array_argument(xi, "xi", "a number or an array of numbers");
+  args::check_real_dtype(view_of(xi_array), "xi");
+  const std::vector<double> frequencies = args::values_from_view(view_of(readable(xi_array)), "xi");
+  const std::vector<py::ssize_t> shape(xi_array.shape(), xi_array.shape() + xi_array.ndim());
   py::array_t<std::complex<double>> values(shape);
-  const double* in = frequencies.data();
-  std::complex<double>* out = values.mutable_data();
-  const py::ssize_t count = frequencies.size();
   {
     py::gil_scoped_release release;
-    for (py::ssize_t i = 0; i < count; ++i) {
-      out[i] = fss::transfer_function(code.gains, velocity, dt, in[i]);
-    }
+    args::transfer_values(code, frequencies, velocity, dt,
+                          {values.mutable_data(), frequencies.size()});
   }
-  if (frequencies.ndim() == 0) return py::cast(out[0]);
+  if (xi_array.ndim() == 0) return py::cast(*values.data());
   return values;
 }
 
@@ -393,15 +469,27 @@ py::array_t<double> read_code(const py::object& name_or_path) {
   return array_from_vector(code_from_object(name_or_path).gains);
 }
 
-py::array_t<double> read_png(const py::object& path_object) {
-  const std::string path =
-      py::module_::import("os").attr("fspath")(path_object).cast<std::string>();
+py::array_t<double> read_png(const py::object& path_object, const py::object& max_memory) {
+  const std::string path = path_argument(path_object, "path");
+  const std::uint64_t limit = uint64_argument(max_memory, "max_memory", " (bytes; 0: no limit)");
   fss::Image image;
   {
     py::gil_scoped_release release;
-    image = fss::read_png(path);
+    image = fss::read_png(path, static_cast<std::size_t>(std::min<std::uint64_t>(limit, SIZE_MAX)));
   }
   return array_from_image(image);
+}
+
+// Sets a Python exception of `type` with `message` on one line, as fssim
+// writes its errors: control bytes (a newline in a file name) and bytes that
+// are not UTF-8 as \xNN.
+void set_error(PyObject* type, const char* message) {
+  const std::string line = fss::escape_control_characters(message);
+  PyObject* text =
+      PyUnicode_DecodeUTF8(line.data(), static_cast<Py_ssize_t>(line.size()), "backslashreplace");
+  if (text == nullptr) return;  // the decoding's own error stays set
+  PyErr_SetObject(type, text);
+  Py_DECREF(text);
 }
 
 // pybind11 calls the translator with every C++ exception an exposed function
@@ -412,8 +500,17 @@ void register_errors() {
     try {
       if (pointer) std::rethrow_exception(pointer);
     } catch (const fss::Error& e) {
-      PyErr_SetString(e.kind() == fss::ErrorKind::kUsage ? PyExc_ValueError : PyExc_RuntimeError,
-                      e.what());
+      set_error(e.kind() == fss::ErrorKind::kUsage ? PyExc_ValueError : PyExc_RuntimeError,
+                e.what());
+    } catch (const OutOfMemory& e) {
+      set_error(PyExc_MemoryError, e.what());
+    } catch (const std::bad_alloc&) {
+      set_error(PyExc_MemoryError,
+                "out of memory: an allocation failed (the call needs more memory than the "
+                "process may use)");
+    } catch (const std::length_error&) {
+      set_error(PyExc_MemoryError,
+                "out of memory: a buffer larger than the address space was asked for");
     }
   });
 }
@@ -444,28 +541,32 @@ void define_result(py::module_& m) {
 void define_simulate(py::module_& m) {
   m.def(
       "simulate",
-      [](const py::array& image, const py::object& code, const std::string& mode, double velocity,
-         double snr, double dt, const py::int_& seed, int trials, const std::string& noise,
-         std::optional<double> restore_velocity, int threads, std::optional<int> rmse_margin,
-         std::size_t max_memory, double read_noise, double dark_current,
-         std::optional<double> full_well, int adc_bits, double adc_gain) {
-        return simulate(
-            image, {code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
-                    rmse_margin, max_memory,
-                    sensor_from(read_noise, dark_current, full_well, adc_bits, adc_gain)});
+      [](const py::object& image, const py::object& code, const py::object& mode,
+         const py::object& velocity, const py::object& snr, const py::object& dt,
+         const py::object& seed, const py::object& trials, const py::object& noise,
+         const py::object& restore_velocity, const py::object& threads,
+         const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
+         const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
+         const py::object& adc_gain) {
+        return simulate({image, code, mode, velocity, snr, dt, seed, trials, noise,
+                         restore_velocity, threads, rmse_margin, max_memory, read_noise,
+                         dark_current, full_well, adc_bits, adc_gain});
       },
       py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
       py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
       py::arg("trials") = 1, py::arg("noise") = "poisson", py::arg("restore_velocity") = py::none(),
       py::arg("threads") = 0, py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
       py::arg("read_noise") = 0.0, py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(),
-      py::arg("adc_bits") = 0, py::arg("adc_gain") = 1.0,
+      py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(),
       "Simulates a flutter shutter run on `image` (H x W or H x W x 3, gray levels on the "
-      "0..255 scale) as `fssim --input` does; returns a SimulationResult. The sensor "
-      "(docs/method.md §10): read_noise (electrons RMS per readout), dark_current (electrons "
-      "per slot), full_well (electrons, None: none), adc_bits (0: no ADC) and adc_gain "
-      "(electrons per count); all off by default. With a sensor, result.report['sensor'] "
-      "holds them and result.prediction['exact'] says whether the prediction is exact.");
+      "0..255 scale) as `fssim --input` does; returns a SimulationResult. Every number is "
+      "checked as fssim checks its option (a ValueError naming the keyword). max_memory "
+      "(bytes, 0: no limit) refuses, from the image's shape alone, a run estimated to need "
+      "more. The sensor (docs/method.md §10): read_noise (electrons RMS per readout), "
+      "dark_current (electrons per slot), full_well (electrons, None: none), adc_bits (0: no "
+      "ADC) and adc_gain (electrons per count, default 1; only with adc_bits); all off by "
+      "default. With a sensor, result.report['sensor'] holds them and "
+      "result.prediction['exact'] says whether the prediction is exact.");
 }
 
 void define_codes(py::module_& m) {
@@ -479,8 +580,10 @@ void define_codes(py::module_& m) {
         "Gains of a sinc, mip, random, snapshot or accumulation code, as `fssim code generate`.");
   m.def(
       "optimize_code",
-      [](int length, double velocity, double dt, double snr, const std::string& mode, bool binary,
-         double min_light, int restarts, int iterations, const py::int_& seed, int grid_points) {
+      [](const py::object& length, const py::object& velocity, const py::object& dt,
+         const py::object& snr, const py::object& mode, const py::object& binary,
+         const py::object& min_light, const py::object& restarts, const py::object& iterations,
+         const py::object& seed, const py::object& grid_points) {
         return optimize({length, velocity, dt, snr, mode, binary, min_light, restarts, iterations,
                          seed, grid_points});
       },
@@ -494,8 +597,10 @@ void define_codes(py::module_& m) {
         "K(xi) of a code (complex), xi in radians per pixel: a number or an array.");
   m.def("read_code", &read_code, py::arg("code"),
         "Gains of a built-in code or a code file (float64 array).");
-  m.def("read_png", &read_png, py::arg("path"),
-        "A PNG as fssim reads it: float64 gray levels on the 0..255 scale (16-bit / 257).");
+  m.def("read_png", &read_png, py::arg("path"), py::kw_only(), py::arg("max_memory") = 0,
+        "A PNG as fssim reads it: float64 gray levels on the 0..255 scale (16-bit / 257). "
+        "max_memory (bytes; 0: no limit) refuses a file, or a decoding, that needs more, "
+        "before reading it.");
   m.def("builtin_codes", &fss::builtin_code_names, "Names of the built-in codes.");
 }
 

@@ -55,11 +55,11 @@ def test_runtime_errors_have_fssims_messages(fssim, gray, camera, tmp_path):
     ({"velocity": float("nan")}, "must be a finite number"),
     ({"trials": 0}, "trials = 0: must be >= 1"),
     ({"mode": "digital"}, "mode: 'digital' is not 'numerical' or 'analog'"),
-    ({"noise": "gauss"}, "noise: 'gauss' is not 'poisson' or 'none'"),
-    ({"seed": -1}, "seed: -1 must lie in [0, 2^64 - 1]"),
+    ({"noise": "gauss"}, "noise: 'gauss' is not 'poisson', 'aggregated' or 'none'"),
+    ({"seed": -1}, "seed = -1: must be an integer in [0, 18446744073709551615]"),
     ({"code": [0, 0]}, "zero"),
     ({"code": [[1, 2]]}, "code: gains of shape (1, 2) are not one-dimensional"),
-    ({"code": [1, float("inf")]}, "code: gain inf is not finite"),
+    ({"code": [1, float("inf")]}, "code: gain inf at index 1 is not finite"),
 ])
 def test_bad_options(gray, keywords, message):
     with pytest.raises(ValueError) as error:

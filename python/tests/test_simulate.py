@@ -135,5 +135,5 @@ def test_sensor_keywords(camera):
         "full_well_electrons": None, "adc_bits": 0, "adc_gain_electrons_per_count": 1.0}
     assert result.prediction["exact"] is True
     assert result.prediction["rmse"] > plain.prediction["rmse"]
-    with pytest.raises(ValueError, match="sensor.read_noise_electrons = -1"):
+    with pytest.raises(ValueError, match="read_noise = -1: must be finite and >= 0"):
         fss.simulate(image, read_noise=-1)

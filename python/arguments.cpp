@@ -1,0 +1,427 @@
+#include "arguments.h"
+
+#include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+
+#include "fss/core/error.h"
+#include "fss/design/analyze.h"
+#include "fss/io/png_io.h"
+#include "fss/model/transfer.h"
+#include "fss/pipeline/geometry.h"
+#include "fss/pipeline/option_rules.h"
+
+namespace fss::python {
+
+namespace {
+
+using Names = std::pair<std::string_view, std::string_view>;
+
+// A user's text in a message: control bytes as \xNN, at most 40 characters.
+std::string quote_text(std::string_view text) {
+  std::string quoted_text(1, '\'');
+  quoted_text += shorten_for_message(text);
+  quoted_text += '\'';
+  return quoted_text;
+}
+
+[[noreturn]] void throw_rule(std::string_view argument, const std::string& value,
+                             const std::string& rule) {
+  throw_usage_error(std::string(argument) + " = " + value + ": " + rule);
+}
+
+}  // namespace
+
+std::string rename_field(const std::string& message, FieldNames names) {
+  const std::string_view text(message);
+  for (const auto& [field, argument] : names) {
+    if (text.size() > field.size() && text.substr(0, field.size()) == field &&
+        text[field.size()] == ' ') {
+      return std::string(argument) + message.substr(field.size());
+    }
+  }
+  return message;
+}
+
+void check_no_nul(std::string_view argument, std::string_view text) {
+  if (text.find('\0') != std::string_view::npos) {
+    throw_usage_error(std::string(argument) + ": " + quote_text(text) +
+                      " contains a NUL byte (not allowed in a path or a name)");
+  }
+}
+
+int int_argument(std::string_view argument, long long value, long long minimum, long long maximum) {
+  if (value < INT_MIN || value > INT_MAX) {
+    throw_rule(
+        argument, std::to_string(value),
+        "must be an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+  }
+  return static_cast<int>(value);
+}
+
+void check_velocity(std::string_view argument, double value) {
+  if (const std::string rule = velocity_rule(value); !rule.empty()) {
+    throw_rule(argument, format_exact(value), rule);
+  }
+}
+
+void check_scale(std::string_view argument, double value) {
+  if (const std::string rule = scale_rule(value); !rule.empty()) {
+    throw_rule(argument, format_exact(value), rule);
+  }
+}
+
+fss::ShutterMode mode_argument(std::string_view text) {
+  const std::optional<ShutterMode> mode = shutter_mode_from_string(text);
+  if (!mode) throw_usage_error("mode: " + quote_text(text) + " is not 'numerical' or 'analog'");
+  return *mode;
+}
+
+// ---------------------------------------------------------------------------
+// fss.simulate
+
+namespace {
+
+constexpr std::array<Names, 8> kSimulateNames = {{
+    {"velocity_px_per_slot", "velocity"},
+    {"restore_velocity_px_per_slot", "restore_velocity"},
+    {"rmse_margin_columns", "rmse_margin"},
+    {"sensor.read_noise_electrons", "read_noise"},
+    {"sensor.dark_current_electrons_per_slot", "dark_current"},
+    {"sensor.full_well_electrons", "full_well"},
+    {"sensor.adc_bits", "adc_bits"},
+    {"sensor.adc_gain_electrons_per_count", "adc_gain"},
+}};
+
+NoiseModel noise_argument(std::string_view text) {
+  const std::optional<NoiseModel> noise = noise_model_from_string(text);
+  if (!noise) {
+    throw_usage_error("noise: " + quote_text(text) + " is not 'poisson', 'aggregated' or 'none'");
+  }
+  return *noise;
+}
+
+}  // namespace
+
+SimulationOptions simulation_options(const SimulateArguments& a) {
+  SimulationOptions options;
+  options.mode = mode_argument(a.mode);
+  options.noise = noise_argument(a.noise);
+  options.velocity_px_per_slot = a.velocity;
+  options.restore_velocity_px_per_slot = a.restore_velocity;
+  options.snr = a.snr;
+  options.dt = a.dt;
+  options.seed = a.seed;
+  options.trials = int_argument("trials", a.trials, 1, INT_MAX);
+  options.threads = int_argument("threads", a.threads, 0, INT_MAX);
+  options.rmse_margin_columns =
+      a.rmse_margin ? int_argument("rmse_margin", *a.rmse_margin, 0, kMaxMarginColumns) : -1;
+  options.max_memory_bytes = static_cast<std::size_t>(a.max_memory);
+  options.sensor.read_noise_electrons = a.read_noise;
+  options.sensor.dark_current_electrons_per_slot = a.dark_current;
+  options.sensor.full_well_electrons = a.full_well;
+  options.sensor.adc_bits = int_argument("adc_bits", a.adc_bits, 0, 32);
+  options.sensor.adc_gain_electrons_per_count = a.adc_gain.value_or(1.0);
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(rename_field(error, kSimulateNames));
+  if (a.adc_gain && options.sensor.adc_bits == 0) {
+    throw_usage_error("adc_gain: needs adc_bits (without an ADC there are no counts)");
+  }
+  return options;
+}
+
+// ---------------------------------------------------------------------------
+// Arrays
+
+namespace {
+
+// Calls visit(T{}) with T the C++ type of a readable dtype; false when the
+// dtype is not readable. bool stands for numpy's bool (a byte, 0 or not).
+template <typename Visit>
+bool visit_dtype(const ArrayView& view, Visit&& visit) {
+  if (!view.native) return false;
+  const std::size_t size = view.itemsize;
+  switch (view.kind) {
+    case 'b':
+      if (size == 1) return visit(bool{}), true;
+      return false;
+    case 'i':
+      if (size == 1) return visit(std::int8_t{}), true;
+      if (size == 2) return visit(std::int16_t{}), true;
+      if (size == 4) return visit(std::int32_t{}), true;
+      if (size == 8) return visit(std::int64_t{}), true;
+      return false;
+    case 'u':
+      if (size == 1) return visit(std::uint8_t{}), true;
+      if (size == 2) return visit(std::uint16_t{}), true;
+      if (size == 4) return visit(std::uint32_t{}), true;
+      if (size == 8) return visit(std::uint64_t{}), true;
+      return false;
+    case 'f':
+      if (size == 4) return visit(float{}), true;
+      if (size == 8) return visit(double{}), true;
+      return false;
+    default:
+      return false;
+  }
+}
+
+// The element at `p` as a double (memcpy: numpy allows unaligned arrays).
+template <typename T>
+double read_value(const unsigned char* p) {
+  if constexpr (std::is_same_v<T, bool>) {
+    return *p != 0 ? 1.0 : 0.0;
+  } else {
+    T value;
+    std::memcpy(&value, p, sizeof value);
+    return static_cast<double>(value);
+  }
+}
+
+[[noreturn]] void throw_unreadable(const ArrayView& view, std::string_view argument) {
+  throw_usage_error(std::string(argument) + ": dtype " + shorten_for_message(view.dtype) +
+                    " is not read directly (expected bool, (u)int8 to (u)int64, float32 or "
+                    "float64 in native byte order)");
+}
+
+// "(0, 3)" for a multi-dimensional index, "3" for a one-dimensional one.
+std::string index_text(const std::vector<std::int64_t>& index) {
+  if (index.size() == 1) return std::to_string(index[0]);
+  return shape_text(index);
+}
+
+template <typename T>
+void fill_image(const ArrayView& view, Image& image) {
+  const auto* base = static_cast<const unsigned char*>(view.data);
+  const std::int64_t row_stride = view.strides[0];
+  const std::int64_t column_stride = view.strides[1];
+  const std::int64_t channel_stride = view.strides.size() == 3 ? view.strides[2] : 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const unsigned char* pixel = base + y * row_stride + x * column_stride;
+      for (int c = 0; c < image.channels; ++c) {
+        const double value = read_value<T>(pixel + c * channel_stride);
+        if constexpr (std::is_floating_point_v<T>) {
+          if (!std::isfinite(value)) {
+            throw_usage_error("image: value " + format_number(value) + " at row " +
+                              std::to_string(y) + ", column " + std::to_string(x) +
+                              " is not finite");
+          }
+        }
+        image.at(c, y, x) = value;
+      }
+    }
+  }
+}
+
+// `noun` names a value in a message: "value", "gain".
+template <typename T>
+void fill_values(const ArrayView& view, std::string_view argument, std::string_view noun,
+                 std::vector<double>& values) {
+  const auto* base = static_cast<const unsigned char*>(view.data);
+  const std::size_t dimensions = view.shape.size();
+  std::vector<std::int64_t> index(dimensions, 0);
+  std::int64_t offset = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double value = read_value<T>(base + offset);
+    if (!std::isfinite(value)) {
+      throw_usage_error(
+          std::string(argument) + ": " + std::string(noun) + " " + format_number(value) +
+          (dimensions == 0 ? std::string() : " at index " + index_text(index)) + " is not finite");
+    }
+    values[i] = value;
+    // The next index in C order: the last dimension first.
+    for (std::size_t d = dimensions; d-- > 0;) {
+      offset += view.strides[d];
+      if (++index[d] < view.shape[d]) break;
+      offset -= view.strides[d] * view.shape[d];
+      index[d] = 0;
+    }
+  }
+}
+
+}  // namespace
+
+void check_real_dtype(const ArrayView& view, std::string_view argument) {
+  const char kind = view.kind;
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f') {
+    throw_usage_error(std::string(argument) + ": dtype " + shorten_for_message(view.dtype) +
+                      " is not a real numeric type (expected bool, integer or float)");
+  }
+}
+
+bool is_readable(const ArrayView& view) {
+  return visit_dtype(view, [](auto) {});
+}
+
+std::string shape_text(std::span<const std::int64_t> shape) {
+  std::string text = "(";
+  for (std::size_t d = 0; d < shape.size(); ++d) {
+    text += (d > 0 ? ", " : "") + std::to_string(shape[d]);
+  }
+  return text + (shape.size() == 1 ? ",)" : ")");
+}
+
+ImageSize image_size(std::span<const std::int64_t> shape) {
+  const bool layout_ok =
+      shape.size() == 2 || (shape.size() == 3 && (shape[2] == 1 || shape[2] == 3));
+  if (!layout_ok) {
+    throw_usage_error("image: shape " + shape_text(shape) +
+                      " is not H x W (gray) or H x W x 3 (RGB)");
+  }
+  if (shape[0] < 1 || shape[1] < 1 || shape[0] > kMaxImageSide || shape[1] > kMaxImageSide) {
+    throw_usage_error("image: shape " + shape_text(shape) + " must have 1 to " +
+                      std::to_string(kMaxImageSide) + " rows and columns");
+  }
+  return {static_cast<int>(shape[1]), static_cast<int>(shape[0]),
+          shape.size() == 3 ? static_cast<int>(shape[2]) : 1};
+}
+
+Image image_from_view(const ArrayView& view) {
+  check_real_dtype(view, "image");
+  const ImageSize size = image_size(view.shape);
+  Image image(size.width, size.height, size.channels);
+  const bool read = visit_dtype(view, [&](auto type) { fill_image<decltype(type)>(view, image); });
+  if (!read) throw_unreadable(view, "image");
+  return image;
+}
+
+std::vector<double> values_from_view(const ArrayView& view, std::string_view argument) {
+  check_real_dtype(view, argument);
+  std::size_t count = 1;
+  for (const std::int64_t side : view.shape) count *= static_cast<std::size_t>(side);
+  std::vector<double> values(count);
+  const bool read = visit_dtype(
+      view, [&](auto type) { fill_values<decltype(type)>(view, argument, "value", values); });
+  if (!read) throw_unreadable(view, argument);
+  return values;
+}
+
+ShutterCode code_from_view(const ArrayView& view) {
+  check_real_dtype(view, "code");
+  if (view.shape.size() != 1) {
+    throw_usage_error("code: gains of shape " + shape_text(view.shape) +
+                      " are not one-dimensional");
+  }
+  if (view.shape[0] > kMaxCodeLength) {
+    throw_usage_error("code: " + std::to_string(view.shape[0]) + " gains, more than " +
+                      std::to_string(kMaxCodeLength) + " (the longest code fssim analyses)");
+  }
+  ShutterCode code{"array", {}};
+  const std::string_view argument = "code";
+  code.gains.resize(static_cast<std::size_t>(view.shape[0]));
+  const bool read = visit_dtype(
+      view, [&](auto type) { fill_values<decltype(type)>(view, argument, "gain", code.gains); });
+  if (!read) throw_unreadable(view, argument);
+  return code;
+}
+
+// ---------------------------------------------------------------------------
+// Memory of fss.simulate
+
+namespace {
+
+// The module's outputs, per sample of the output crop: the ground truth crop
+// (an Image) and the observed, restored and ground truth float64 arrays, 32
+// bytes, where fssim's four PNG files take 4 (the estimate's own).
+constexpr std::size_t kExtraOutputBytesPerSample = 32 - 4;
+
+}  // namespace
+
+std::size_t simulation_memory_bytes(const SimulationOptions& options, const ShutterCode& code,
+                                    const ImageSize& size) {
+  check_code_for_mode(code, options.mode);
+  const double v = options.velocity_px_per_slot;
+  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
+  const Geometry geometry = Geometry::compute(size.width, code.length(),
+                                              std::max(std::abs(v), std::abs(v_r)), options.dt);
+  metric_windows(geometry, options.rmse_margin_columns);
+  return estimate_working_memory_bytes(size.width, size.height, size.channels, geometry,
+                                       options.trials, nullptr, kExtraOutputBytesPerSample);
+}
+
+void check_simulation_memory(const SimulationOptions& options, const ShutterCode& code,
+                             const ImageSize& size) {
+  const std::size_t needed = simulation_memory_bytes(options, code, size);
+  if (options.max_memory_bytes != 0 && needed > options.max_memory_bytes) {
+    throw_memory_limit_error("a run on this " + std::to_string(size.width) + " x " +
+                                 std::to_string(size.height) + " x " +
+                                 std::to_string(size.channels) + " image",
+                             needed, options.max_memory_bytes);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Codes
+
+void transfer_values(const ShutterCode& code, std::span<const double> xi, double velocity,
+                     double dt, std::span<std::complex<double>> values) {
+  check_velocity("velocity", velocity);
+  check_scale("dt", dt);
+  check_code_for_mode(code, ShutterMode::kNumerical);
+  for (std::size_t i = 0; i < xi.size(); ++i) {
+    values[i] = transfer_function(code.gains, velocity, dt, xi[i]);
+    if (!std::isfinite(values[i].real()) || !std::isfinite(values[i].imag())) {
+      throw_usage_error("xi = " + format_exact(xi[i]) + ": K(xi) of code " + quote_text(code.name) +
+                        " is not finite at velocity = " + format_exact(velocity) +
+                        ", dt = " + format_exact(dt) + " (xi velocity dt is too large)");
+    }
+  }
+}
+
+void check_analysis_arguments(double velocity, double dt, double snr) {
+  check_velocity("velocity", velocity);
+  check_scale("dt", dt);
+  check_scale("snr", snr);
+}
+
+GenerateOptions generate_options(std::string_view family, long long length, double velocity,
+                                 double dt, std::uint64_t seed, bool analog) {
+  GenerateOptions options;
+  const std::optional<CodeFamily> parsed = code_family_from_string(family);
+  if (!parsed) {
+    throw_usage_error("family: " + quote_text(family) +
+                      " is not one of sinc, mip, random, snapshot, accumulation");
+  }
+  options.family = *parsed;
+  options.length = int_argument("length", length, 1, kMaxGeneratedCodeLength);
+  check_velocity("velocity", velocity);
+  check_scale("dt", dt);
+  options.velocity_px_per_slot = velocity;
+  options.dt = dt;
+  options.seed = seed;
+  options.analog = analog;
+  static constexpr std::array<Names, 1> kNames = {{{"velocity_px_per_slot", "velocity"}}};
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(rename_field(error, kNames));
+  return options;
+}
+
+OptimizeOptions optimize_options(const OptimizeArguments& a) {
+  OptimizeOptions options;
+  options.length = int_argument("length", a.length, 1, kMaxOptimizedCodeLength);
+  check_velocity("velocity", a.velocity);
+  check_scale("dt", a.dt);
+  check_scale("snr", a.snr);
+  options.velocity_px_per_slot = a.velocity;
+  options.dt = a.dt;
+  options.snr = a.snr;
+  options.mode = mode_argument(a.mode);
+  options.binary = a.binary;
+  options.min_light_slots = a.min_light;
+  options.restarts = int_argument("restarts", a.restarts, 0, kMaxRestarts);
+  options.max_iterations = int_argument("iterations", a.iterations, 1, kMaxIterations);
+  options.seed = a.seed;
+  options.grid_points = int_argument("grid_points", a.grid_points, 16, kMaxObjectiveGridPoints);
+  static constexpr std::array<Names, 3> kNames = {{{"velocity_px_per_slot", "velocity"},
+                                                   {"min_light_slots", "min_light"},
+                                                   {"max_iterations", "iterations"}}};
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(rename_field(error, kNames));
+  return options;
+}
+
+}  // namespace fss::python

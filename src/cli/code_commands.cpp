@@ -24,17 +24,18 @@ CLI::App& add_code_command(CLI::App& app) {
 void SensorFlags::Add(CLI::App* app) {
   app->add_option("--read-noise", read_noise_,
                   "read noise, electrons RMS per readout (numerical: every frame, weighted by "
-                  "its gain squared; analog: one readout); 0: none")
+                  "its gain squared; analog: one readout), 0 to 1e100; 0: none")
       ->capture_default_str();
   app->add_option("--dark-current", dark_current_,
                   "dark current, electrons per unit slot (a frame's readout has dt, the analog "
-                  "exposure L dt); its mean is subtracted, its noise stays; 0: none")
+                  "exposure L dt), 0 to 1e100; its mean is subtracted, its noise stays; 0: none")
       ->capture_default_str();
   app->add_option("--adc-bits", adc_bits_,
                   "ADC resolution in bits, 1 to 32 (its rounding counts G^2 / 12 per readout); "
                   "0: no ADC")
       ->capture_default_str();
-  app->add_option("--adc-gain", adc_gain_, "ADC gain G, electrons per count (with --adc-bits)");
+  app->add_option("--adc-gain", adc_gain_,
+                  "ADC gain G, electrons per count, > 0 and at most 1e100 (with --adc-bits)");
   app->add_option("--full-well", full_well_,
                   "refused here: the figure of merit is linear in the charge (simulate the "
                   "camera to see saturation)");

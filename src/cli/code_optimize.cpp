@@ -1,4 +1,5 @@
 // `fssim code optimize`.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -26,6 +27,16 @@ bool admissible(const std::vector<double>& gains, fss::ShutterMode mode, bool bi
 // The command line's own words for what OptimizeOptions::IsValid refuses.
 void check_options(const fss::OptimizeOptions& options) {
   check_design_band(options.velocity_px_per_slot, options.dt, "the optimizer");
+  // c = v_r / snr^2 (fss::readout_noise_slots) beyond double precision
+  if (!std::isfinite(fss::readout_noise_slots(options.sensor,
+                                              static_cast<std::size_t>(options.length), options.dt,
+                                              options.mode, options.snr))) {
+    fss::throw_usage_error("--snr " + format_exact(options.snr) + " with the sensor's " +
+                           fss::describe_design_sensor(options.sensor) +
+                           ": its readout noise is more than 1e308 slots of level-100 light, "
+                           "beyond double precision; lower --read-noise, --dark-current or "
+                           "--adc-gain, or raise --snr");
+  }
   if (options.length > fss::kMaxOptimizedCodeLength) {
     fss::throw_usage_error("--length " + std::to_string(options.length) + ": at most " +
                            std::to_string(fss::kMaxOptimizedCodeLength) + " gains");

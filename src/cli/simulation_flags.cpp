@@ -134,10 +134,10 @@ void SimulationFlags::AddSensor(CLI::App& app) {
   fss::SensorModel& sensor = options_.sensor;
   app.add_option("--read-noise", sensor.read_noise_electrons,
                  "sensor read noise, electrons RMS per readout (numerical: every frame is read; "
-                 "analog: one readout), >= 0; default 0 (off)")
+                 "analog: one readout), 0 to 1e100; default 0 (off)")
       ->check(finite());
   app.add_option("--dark-current", sensor.dark_current_electrons_per_slot,
-                 "sensor dark current, mean electrons per unit time slot, >= 0; its mean is "
+                 "sensor dark current, mean electrons per unit time slot, 0 to 1e100; its mean is "
                  "subtracted, its noise stays; default 0 (off)")
       ->check(finite());
   full_well_option_ =
@@ -150,10 +150,11 @@ void SimulationFlags::AddSensor(CLI::App& app) {
                      "ADC resolution in bits, 1 to 32: readouts rounded to counts in [0, 2^B - 1]; "
                      "default 0 (no ADC)")
           ->check(integer_in(std::numeric_limits<int>::min(), kMaxInt));
-  adc_gain_option_ = app.add_option("--adc-gain", sensor.adc_gain_electrons_per_count,
-                                    "ADC gain, electrons per count, > 0 (needs --adc-bits)")
-                         ->check(finite())
-                         ->capture_default_str();
+  adc_gain_option_ =
+      app.add_option("--adc-gain", sensor.adc_gain_electrons_per_count,
+                     "ADC gain, electrons per count, > 0 and at most 1e100 (needs --adc-bits)")
+          ->check(finite())
+          ->capture_default_str();
 }
 
 void SimulationFlags::AddAll(CLI::App& app) {

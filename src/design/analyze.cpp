@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/scaled_math.h"
 #include "design/numerics.h"
 #include "fss/core/error.h"
 #include "fss/model/kernel.h"
@@ -62,7 +63,19 @@ void describe_gains(const std::vector<double>& g, CodeAnalysis* a) {
 double effective_noise_gain(std::span<const double> gains, double dt, ShutterMode mode, double snr,
                             const SensorModel& sensor) {
   if (!sensor.enabled()) return noise_gain(gains, dt, mode);
-  return level100_observation_variance(gains, dt, mode, snr, sensor) * snr * snr / 1.0e4;
+  const double q = level100_observation_variance(gains, dt, mode, snr, sensor) * snr * snr / 1.0e4;
+  if (detail::is_normal_positive(q)) return q;
+  // V or V snr^2 out of the range of doubles: the same as
+  //   numerical: dt sum alpha^2 + sum alpha^2 v_r / snr^2
+  //   analog:    dt sum alpha + v_r / snr^2
+  // (v_r / (100 lambda2) = v_r / snr^2), with the readouts' term scaled
+  // before the division.
+  const bool analog = mode == ShutterMode::kAnalog;
+  double sum = 0.0;
+  for (const double alpha : gains) sum += analog ? alpha : alpha * alpha;
+  const double v_r =
+      readout_variance_electrons2(sensor, readout_exposure_slots(gains.size(), dt, mode));
+  return dt * sum + (analog ? v_r : sum * v_r) / snr / snr;
 }
 
 // The sensor's figures of `a` (its gains `g`): readouts, v_r, Q_eff, Q_eff M.
@@ -74,23 +87,31 @@ void describe_sensor(std::span<const double> g, CodeAnalysis* a) {
   a->effective_noise_figure = a->effective_q * a->m;
 }
 
-// Every figure of `a` finite (M and Q M too when K has no zero), else the
-// setting left double precision: a usage error naming code, dt and snr.
+// Every figure of `a` finite (M, Q M and Q_eff M too when K has no zero),
+// else the setting left double precision: a usage error naming code, dt, snr
+// and the sensor's parts that are on.
 void check_analysis_finite(const ShutterCode& code, const CodeAnalysis& a) {
   bool finite = true;
-  for (const double value : {a.sum, a.square_sum, a.normalized_l1, a.k0, a.min_abs, a.q,
-                             a.snr_level100, a.snapshot_snr_level100, a.ratio_to_snapshot}) {
+  for (const double value : {a.sum, a.square_sum, a.normalized_l1, a.k0, a.min_abs, a.q, a.readouts,
+                             a.readout_variance_electrons2, a.effective_q, a.snr_level100,
+                             a.snapshot_snr_level100, a.ratio_to_snapshot}) {
     finite = finite && std::isfinite(value);
   }
   if (a.invertible) {
     finite = finite && std::isfinite(a.m) && a.m > 0.0 && std::isfinite(a.noise_figure) &&
-             a.noise_figure > 0.0 && a.snr_level100 > 0.0;
+             a.noise_figure > 0.0 && std::isfinite(a.effective_noise_figure) &&
+             a.snr_level100 > 0.0;
   }
   if (!finite) {
-    throw_usage_error("the analysis of code '" + code.name +
+    const std::string setting =
+        "dt " + format_exact(a.dt) +
+        (a.sensor.enabled() ? ", snr " + format_exact(a.snr) + " and the sensor (" +
+                                  describe_design_sensor(a.sensor) + ")"
+                            : " and snr " + format_exact(a.snr));
+    throw_usage_error("the analysis of code '" + escape_control_characters(code.name) +
                       "' left the range of double-precision numbers: its gains (|gain| up to " +
-                      format_exact(gain_max_abs(code.gains)) + "), dt " + format_exact(a.dt) +
-                      " and snr " + format_exact(a.snr) + " are too extreme together");
+                      format_exact(gain_max_abs(code.gains)) + "), " + setting +
+                      " are too extreme together");
   }
 }
 
@@ -138,12 +159,13 @@ double band_mean_inverse_power(std::span<const double> gains, double velocity, d
   if (grid_points < 1) {
     throw_usage_error("band grid needs at least 1 node, got " + std::to_string(grid_points));
   }
+  const double scale = transfer_scale(gains, dt);
   double sum = 0.0;
   for (int j = 0; j < grid_points; ++j) {
     const double xi = (j + 0.5) * M_PI / grid_points;
-    const double power = std::norm(transfer_function(gains, velocity, dt, xi));
-    if (!(power > 0.0)) return kInfinity;
-    sum += 1.0 / power;
+    const Complex k = transfer_function(gains, velocity, dt, xi);
+    if (transfer_vanishes(std::abs(k), scale)) return kInfinity;
+    sum += 1.0 / std::norm(k);
   }
   return sum / grid_points;
 }

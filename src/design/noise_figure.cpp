@@ -4,6 +4,7 @@
 #include "design/local_search.h"
 #include "fss/core/error.h"
 #include "fss/design/optimize.h"
+#include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
 
 namespace fss {
@@ -30,12 +31,17 @@ NoiseFigure::NoiseFigure(int length, double velocity, double dt, ShutterMode mod
                          double readout_slots)
     : length_(length), grid_(grid_points), dt_(dt), readout_slots_(readout_slots), mode_(mode) {
   if (!(std::isfinite(readout_slots) && readout_slots >= 0.0)) {
-    throw_usage_error("NoiseFigure: readout_slots " + format_number(readout_slots) +
-                      " must be finite and >= 0");
+    throw_usage_error("the readout noise of the noise figure, " + format_number(readout_slots) +
+                      " slots of level-100 light, must be finite and >= 0 (a sensor too noisy "
+                      "for the snr)");
   }
-  if (length < 1) throw_usage_error("NoiseFigure: length " + std::to_string(length) + " < 1");
+  if (length < 1) {
+    throw_usage_error("the noise figure needs a code of at least 1 gain, got " +
+                      std::to_string(length));
+  }
   if (grid_points < 1) {
-    throw_usage_error("NoiseFigure: grid_points " + std::to_string(grid_points) + " < 1");
+    throw_usage_error("the noise figure needs a band grid of at least 1 node, got " +
+                      std::to_string(grid_points));
   }
   design_detail::make_band_basis(length, velocity, dt, grid_points, &basis_re_, &basis_im_);
 }
@@ -65,12 +71,15 @@ double NoiseFigure::Evaluate(std::span<const double> gains, std::span<double> gr
   for (const double alpha : gains) q += numerical ? alpha * alpha : alpha;
   q = numerical ? q * (dt_ + readout_slots_) : q * dt_ + readout_slots_;
   if (!(q > 0.0)) return kInfinity;
+  // |K_j| <= transfer_zero_level, compared as squares (no root per node)
+  const double zero_level = transfer_zero_level(transfer_scale(gains, dt_));
+  const double zero_power = zero_level * zero_level;
 
   // M = mean of 1 / |K_j|^2; K_j becomes K_j / |K_j|^4 for the gradient.
   double sum = 0.0;
   for (std::size_t j = 0; j < grid; ++j) {
     const double power = re[j] * re[j] + im[j] * im[j];
-    if (!(power > 0.0)) return kInfinity;
+    if (!(power > zero_power)) return kInfinity;
     const double inverse = 1.0 / power;
     sum += inverse;
     re[j] *= inverse * inverse;

@@ -162,6 +162,13 @@ bool OptimizeOptions::IsValid(std::string* error) const {
     return fail("sensor.full_well_electrons = " + format_number(*sensor.full_well_electrons) +
                 ": the figure of merit of a code is linear in the charge and has no full well");
   }
+  if (!std::isfinite(readout_noise_slots(sensor, static_cast<std::size_t>(std::max(length, 1)), dt,
+                                         mode, snr))) {
+    return fail("the sensor's readout noise (" + describe_design_sensor(sensor) + ") at snr " +
+                format_exact(snr) +
+                " is more than 1e308 slots of level-100 light, beyond double precision: lower "
+                "the read noise, dark current or ADC gain, or raise snr");
+  }
   if (!(std::isfinite(min_light_slots) && min_light_slots >= 0.0 && min_light_slots <= length)) {
     return fail("min_light_slots = " + format_exact(min_light_slots) +
                 ": must lie in [0, length = " + std::to_string(length) + "]");
@@ -233,10 +240,16 @@ std::string OptimizationResult::FullReport() const {
                 "Sum of gains %.4f, sum of squares %.4f, normalized L1 norm %.4f\n", analysis.sum,
                 analysis.square_sum, analysis.normalized_l1);
   out << line;
-  std::snprintf(line, sizeof line,
-                "SNR at level 100: %.4f (snapshot %.4f, ratio %.5f; Cauchy-Schwarz bound %.4f)\n",
-                analysis.snr_level100, analysis.snapshot_snr_level100, analysis.ratio_to_snapshot,
-                analysis.snr_level100_bound);
+  std::snprintf(line, sizeof line, "SNR at level 100: %.4f (snapshot %.4f, ratio %.5f; ",
+                analysis.snr_level100, analysis.snapshot_snr_level100, analysis.ratio_to_snapshot);
+  out << line;
+  // The bound is infinite where Q M >= 0 is all it says (|v| dt near 0).
+  if (std::isfinite(analysis.snr_level100_bound)) {
+    std::snprintf(line, sizeof line, "Cauchy-Schwarz bound %.4f)\n", analysis.snr_level100_bound);
+  } else {
+    std::snprintf(line, sizeof line, "no finite Cauchy-Schwarz bound at |v| dt = %g)\n",
+                  std::abs(options.velocity_px_per_slot) * options.dt);
+  }
   out << line;
   return out.str();
 }

@@ -69,6 +69,7 @@ double parse_gain(std::string_view token, const std::string& where) {
 ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
   ShutterCode code;
   code.name = origin;
+  const std::string shown_origin = escape_control_characters(origin);
   std::size_t line = 1;
   std::size_t i = 0;
   while (i < text.size()) {
@@ -84,17 +85,19 @@ ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
       std::size_t end = i;
       while (end < text.size() && !is_separator(text[end]) && text[end] != '#') ++end;
       if (code.gains.size() == static_cast<std::size_t>(kMaxCodeLength)) {
-        throw_runtime_error("code file '" + origin + "' line " + std::to_string(line) +
+        throw_runtime_error("code file '" + shown_origin + "' line " + std::to_string(line) +
                             ": more than " + std::to_string(kMaxCodeLength) +
                             " gains (the longest code fssim analyses)");
       }
-      code.gains.push_back(parse_gain(text.substr(i, end - i),
-                                      "code file '" + origin + "' line " + std::to_string(line)));
+      code.gains.push_back(
+          parse_gain(text.substr(i, end - i),
+                     "code file '" + shown_origin + "' line " + std::to_string(line)));
       i = end;
     }
   }
   if (code.gains.empty()) {
-    throw_runtime_error("code file '" + origin + "' holds no gains (expected at least one number)");
+    throw_runtime_error("code file '" + shown_origin +
+                        "' holds no gains (expected at least one number)");
   }
   return code;
 }
@@ -118,22 +121,30 @@ std::optional<ShutterCode> builtin_code(std::string_view name) {
 
 ShutterCode load_code(const std::string& name_or_path, const std::string& named_as) {
   if (auto code = builtin_code(name_or_path)) return *code;
+  // Every message quotes the name with its control bytes as \xNN (a NUL would
+  // end the message there).
+  const std::string shown = escape_control_characters(name_or_path);
+  if (name_or_path.find('\0') != std::string::npos) {
+    // The file system would read the path only up to the NUL: another file.
+    throw_usage_error(named_as + " '" + shown +
+                      "' holds a NUL byte: no built-in code or file name has one");
+  }
   std::error_code ec;
   const std::filesystem::path path(name_or_path);
   const bool exists = std::filesystem::exists(path, ec);
-  if (ec) throw_runtime_error("cannot access code file '" + name_or_path + "': " + ec.message());
+  if (ec) throw_runtime_error("cannot access code file '" + shown + "': " + ec.message());
   if (!exists) {
     std::string names;
     for (const auto& n : builtin_code_names()) names += (names.empty() ? "" : ", ") + n;
-    throw_usage_error(named_as + " '" + name_or_path + "' is neither a built-in code (" + names +
+    throw_usage_error(named_as + " '" + shown + "' is neither a built-in code (" + names +
                       ") nor an existing file");
   }
   if (std::filesystem::is_directory(path, ec)) {
-    throw_runtime_error("code file '" + name_or_path + "' is a directory, expected a text file");
+    throw_runtime_error("code file '" + shown + "' is a directory, expected a text file");
   }
   std::ifstream file(path, std::ios::binary);
   if (!file) {
-    throw_runtime_error("cannot open code file '" + name_or_path + "': " + std::strerror(errno));
+    throw_runtime_error("cannot open code file '" + shown + "': " + std::strerror(errno));
   }
   // Read in blocks and refused past kMaxCodeFileBytes, so that an endless
   // stream (/dev/zero) or a huge file does not exhaust memory.
@@ -143,12 +154,12 @@ ShutterCode load_code(const std::string& name_or_path, const std::string& named_
          file.gcount() > 0) {
     text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
     if (text.size() > kMaxCodeFileBytes) {
-      throw_runtime_error("code file '" + name_or_path + "' is larger than " +
+      throw_runtime_error("code file '" + shown + "' is larger than " +
                           std::to_string(kMaxCodeFileBytes >> 20) +
                           " MiB: expected a text file of gains");
     }
   }
-  if (file.bad()) throw_runtime_error("cannot read code file '" + name_or_path + "'");
+  if (file.bad()) throw_runtime_error("cannot read code file '" + shown + "'");
   return parse_code_text(text, name_or_path);
 }
 

@@ -38,16 +38,24 @@ std::pair<double, double> refine_minimum(std::span<const double> gains, double v
 }
 }  // namespace
 
+double transfer_scale(std::span<const double> gains, double dt) {
+  double abs_sum = 0.0;
+  for (const double g : gains) abs_sum += std::abs(g);
+  return dt * abs_sum;
+}
+
+double transfer_zero_level(double scale, double tolerance) { return tolerance * scale; }
+
+bool transfer_vanishes(double abs_k, double scale, double tolerance) {
+  return abs_k <= transfer_zero_level(scale, tolerance);
+}
+
 KernelAnalysis analyze_kernel(std::span<const double> gains, double velocity, double dt) {
   KernelAnalysis result;
   double sum = 0.0;
-  double abs_sum = 0.0;
-  for (const double g : gains) {
-    sum += g;
-    abs_sum += std::abs(g);
-  }
+  for (const double g : gains) sum += g;
   result.k0 = dt * sum;
-  const double scale = dt * abs_sum;
+  const double scale = transfer_scale(gains, dt);
 
   // |K(-xi)| = |K(xi)| for real gains: scan [0, pi] only.
   const int intervals = std::max<int>(4096, 64 * static_cast<int>(gains.size()));
@@ -72,16 +80,18 @@ KernelAnalysis analyze_kernel(std::span<const double> gains, double velocity, do
       result.min_abs_xi = xi;
     }
   }
-  result.invertible = scale > 0.0 && result.min_abs > kInvertibilityTolerance * scale;
+  result.invertible =
+      scale > 0.0 && !transfer_vanishes(result.min_abs, scale, kInvertibilityTolerance);
   return result;
 }
 
 double mean_inverse_power(std::span<const double> gains, double velocity, double dt, int n) {
+  const double scale = transfer_scale(gains, dt);
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
-    const double power = std::norm(transfer_function(gains, velocity, dt, bin_frequency(i, n)));
-    if (power == 0.0) return std::numeric_limits<double>::infinity();
-    sum += 1.0 / power;
+    const Complex k = transfer_function(gains, velocity, dt, bin_frequency(i, n));
+    if (transfer_vanishes(std::abs(k), scale)) return std::numeric_limits<double>::infinity();
+    sum += 1.0 / std::norm(k);
   }
   return sum / n;
 }

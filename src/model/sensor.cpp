@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/scaled_math.h"
 #include "fss/core/error.h"
 #include "fss/model/noise.h"
 
@@ -29,9 +30,16 @@ bool SensorModel::IsValid(std::string* error) const {
   if (!nonnegative_finite(read_noise_electrons)) {
     return fail(error, "read_noise_electrons", read_noise_electrons, "must be finite and >= 0");
   }
+  if (read_noise_electrons > kMaxSensorScale) {
+    return fail(error, "read_noise_electrons", read_noise_electrons, "must lie in [0, 1e100]");
+  }
   if (!nonnegative_finite(dark_current_electrons_per_slot)) {
     return fail(error, "dark_current_electrons_per_slot", dark_current_electrons_per_slot,
                 "must be finite and >= 0");
+  }
+  if (dark_current_electrons_per_slot > kMaxSensorScale) {
+    return fail(error, "dark_current_electrons_per_slot", dark_current_electrons_per_slot,
+                "must lie in [0, 1e100]");
   }
   if (full_well_electrons && !(std::isfinite(*full_well_electrons) && *full_well_electrons > 0.0)) {
     return fail(error, "full_well_electrons", *full_well_electrons, "must be finite and > 0");
@@ -42,6 +50,10 @@ bool SensorModel::IsValid(std::string* error) const {
   if (!(std::isfinite(adc_gain_electrons_per_count) && adc_gain_electrons_per_count > 0.0)) {
     return fail(error, "adc_gain_electrons_per_count", adc_gain_electrons_per_count,
                 "must be finite and > 0");
+  }
+  if (adc_gain_electrons_per_count > kMaxSensorScale) {
+    return fail(error, "adc_gain_electrons_per_count", adc_gain_electrons_per_count,
+                "must lie in (0, 1e100]");
   }
   return true;
 }
@@ -65,15 +77,28 @@ double level100_observation_variance(std::span<const double> gains, double dt, S
   const double lambda2 = snr * snr / 100.0;
   const double readout =
       readout_variance_electrons2(sensor, readout_exposure_slots(gains.size(), dt, mode));
+  const bool analog = mode == ShutterMode::kAnalog;
   double electrons2 = 0.0;
-  if (mode == ShutterMode::kAnalog) {
+  if (analog) {
     double sum = 0.0;
     for (const double alpha : gains) sum += alpha;
     electrons2 = 100.0 * dt * sum * lambda2 + readout;
   } else {
     for (const double alpha : gains) electrons2 += alpha * alpha * (100.0 * dt * lambda2 + readout);
   }
-  return electrons2 / (lambda2 * lambda2);
+  const double lambda4 = lambda2 * lambda2;
+  if (std::isfinite(electrons2) && detail::is_normal_positive(lambda4)) {
+    return electrons2 / lambda4;
+  }
+  // Electrons or lambda2^2 out of the range of doubles (snr, dt or the gains
+  // far from 1): the same in gray levels, term by term,
+  //   numerical: sum_k alpha_k^2 (100 dt / lambda2 + v_r / lambda2 / lambda2)
+  //   analog:    100 dt sum_k alpha_k / lambda2 + v_r / lambda2 / lambda2
+  double sum = 0.0;
+  for (const double alpha : gains) sum += analog ? alpha : alpha * alpha;
+  const double photon = 100.0 * dt / lambda2;
+  const double per_readout = detail::divide_by_square(readout, lambda2);
+  return analog ? photon * sum + per_readout : sum * (photon + per_readout);
 }
 
 double SensorReadout::clip_electrons() const {

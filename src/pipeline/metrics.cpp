@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/scaled_math.h"
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
 #include "pipeline/expected_midway.h"
@@ -116,8 +117,13 @@ double rmse(const Image& a, int a_offset, const Image& b, int first, int end) {
 }
 
 double psnr(double rmse_value) {
-  // 10 log10(255^2 / RMSE^2)
-  return 10.0 * std::log10(255.0 * 255.0 / (rmse_value * rmse_value));
+  // 10 log10(255^2 / RMSE^2); +inf for RMSE = 0
+  const double square = rmse_value * rmse_value;
+  if (detail::is_normal_positive(square) || rmse_value == 0.0 || !std::isfinite(rmse_value)) {
+    return 10.0 * std::log10(255.0 * 255.0 / square);
+  }
+  // RMSE^2 under- or overflows: 20 (log10 255 - log10 RMSE)
+  return 20.0 * (std::log10(255.0) - std::log10(rmse_value));
 }
 
 std::pair<Image, Image> midway_equalize(const Image& a, const Image& b) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/scaled_math.h"
 #include "core/vectorize.h"
 #include "fss/core/error.h"
 #include "fss/core/parallel.h"
@@ -124,7 +125,7 @@ class VarianceRow {
       : active_(!no_expectation && !variance.empty()),
         lambda2_(active_ ? PoissonSNR(snr).lambda2() : 0.0),
         dark_(dark_electrons),
-        readout_(active_ ? readout_variance / (lambda2_ * lambda2_) : 0.0),
+        readout_(active_ ? detail::divide_by_square(readout_variance, lambda2_) : 0.0),
         variance_(variance),
         unit_(unit) {
     if (active_) std::fill(variance_.begin(), variance_.end(), 0.0);
@@ -191,7 +192,7 @@ class VarianceRow {
   bool unit_ready_ = false;
   double lambda2_;
   double dark_;
-  double readout_;  // v_r / lambda2^2
+  double readout_;  // v_r / lambda2^2 (0 without a sensor, also where lambda2^2 underflows)
   std::span<double> variance_;
   std::vector<double>& unit_;
 };
@@ -209,7 +210,7 @@ void add_clipped_expectation(std::span<const double> e, double alpha, double lam
     out[x] += alpha * (std::min(charge, clip) - readout.dark_electrons) / lambda2;
     const auto column = static_cast<int>(x);
     if (column < first || column >= end) continue;
-    if (charge >= clip) ++clipping.saturated;
+    if (readout.saturates(charge)) ++clipping.saturated;
     if (readout.adc() && charge < 3.0 * std::sqrt(charge + sigma2)) ++clipping.near_zero;
   }
 }

@@ -1,9 +1,11 @@
 #include "fss/pipeline/prediction.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include "core/scaled_math.h"
 #include "fss/core/error.h"
 #include "fss/model/kernel.h"
 #include "fss/pipeline/noise_weights.h"
@@ -19,8 +21,9 @@ double noise_gain(std::span<const double> gains, double dt, ShutterMode mode) {
 
 double noise_sigma(double mean_level, double q, double m_amplification, double snr) {
   if (!std::isfinite(m_amplification)) return std::numeric_limits<double>::infinity();
-  // sigma^2 = m Q (100 / snr^2) M
-  return std::sqrt(mean_level * q * (100.0 / (snr * snr)) * m_amplification);
+  // sigma^2 = max(m, 0) Q (100 / snr^2) M: a negative landscape gives no photons
+  return detail::sqrt_of_product(
+      {std::max(mean_level, 0.0), q, 100.0 / (snr * snr), m_amplification});
 }
 
 double snr_level100(double q, double m_amplification, double snr) {
@@ -34,10 +37,13 @@ double noise_sigma(double mean_level, std::span<const double> gains, double dt, 
     return noise_sigma(mean_level, noise_gain(gains, dt, mode), m_amplification, snr);
   }
   if (!std::isfinite(m_amplification)) return std::numeric_limits<double>::infinity();
-  // sigma^2 = ((m / 100) V_photon + (V_100 - V_photon)) M
+  // sigma^2 = ((max(m, 0) / 100) V_photon + (V_100 - V_photon)) M
   const double photon = level100_observation_variance(gains, dt, mode, snr, SensorModel());
   const double with_sensor = level100_observation_variance(gains, dt, mode, snr, sensor);
-  return std::sqrt((mean_level / 100.0 * photon + (with_sensor - photon)) * m_amplification);
+  // V_100 - V_photon is the readouts' part: infinite with V_100 (never inf - inf).
+  const double readouts = std::isinf(with_sensor) ? with_sensor : with_sensor - photon;
+  const double photons = mean_level > 0.0 ? mean_level / 100.0 * photon : 0.0;
+  return detail::sqrt_of_product({photons + readouts, m_amplification});
 }
 
 double snr_level100(std::span<const double> gains, double dt, ShutterMode mode,
@@ -48,7 +54,8 @@ double snr_level100(std::span<const double> gains, double dt, ShutterMode mode,
   if (!std::isfinite(m_amplification)) return 0.0;
   // 100 / sqrt(V_100 M)
   return 100.0 /
-         std::sqrt(level100_observation_variance(gains, dt, mode, snr, sensor) * m_amplification);
+         detail::sqrt_of_product(
+             {level100_observation_variance(gains, dt, mode, snr, sensor), m_amplification});
 }
 
 namespace {
@@ -77,7 +84,9 @@ double exact_noise_power(const SimulationReport& report, const std::vector<doubl
                       std::to_string(s.size()));
   }
   double total = 0.0;
-  for (std::size_t j = 0; j < s.size(); ++j) total += w[j] * s[j];
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    if (w[j] != 0.0) total += w[j] * s[j];  // a column without weight adds 0, even for S = inf
+  }
   const double count =
       static_cast<double>(report.rmse_end - report.rmse_first) * report.height * report.channels;
   return total / count;

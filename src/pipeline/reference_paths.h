@@ -59,7 +59,7 @@ Image mirror_extend(const Image& crop);
 
 struct Deconvolution {
   Image image;        // IDFT(DFT(mirror) / K), same size as the input
-  int zero_bins = 0;  // bins where K = 0 exactly; they are set to 0
+  int zero_bins = 0;  // bins where K vanishes (transfer_vanishes); they are set to 0
 };
 // Plain inverse filter, K evaluated on the mirror's own width.
 Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,

@@ -10,21 +10,25 @@
 #include "fss/core/error.h"
 #include "fss/core/fft.h"
 #include "fss/core/parallel.h"
+#include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
 #include "pipeline/reference_paths.h"
 
 namespace fss {
 
 namespace {
-// 1 / K on the n-point grid; bins where K = 0 carry no information and are
-// zeroed (counted in *zero_bins).
+// 1 / K on the n-point grid; bins where K vanishes (transfer_vanishes: K is 0
+// there up to round-off) carry no information and are set to 0, so that the
+// restoration drops those frequencies (counted in *zero_bins).
 std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double velocity,
                                            double dt, int n, int* zero_bins) {
   std::vector<Complex> inverse = transfer_function_bins(gains, velocity, dt, n);
+  const double scale = transfer_scale(gains, dt);
   *zero_bins = 0;
   for (Complex& k : inverse) {
-    if (k == Complex(0.0)) {
+    if (transfer_vanishes(std::abs(k), scale)) {
       ++*zero_bins;
+      k = Complex(0.0);
     } else {
       k = 1.0 / k;
     }

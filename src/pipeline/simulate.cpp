@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "core/enum_names.h"
 #include "fss/core/error.h"
@@ -70,35 +72,39 @@ bool SimulationOptions::IsValid(std::string* error) const {
 }
 
 void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
-  if (code.gains.empty()) throw_usage_error("code '" + code.name + "' has no gains");
+  if (code.gains.empty())
+    throw_usage_error("code '" + escape_control_characters(code.name) + "' has no gains");
   if (code.gains.size() > static_cast<std::size_t>(kMaxCodeLength)) {
-    throw_usage_error("code '" + code.name + "' has " + std::to_string(code.gains.size()) +
-                      " gains, more than " + std::to_string(kMaxCodeLength) +
-                      " (the longest code fssim analyses)");
+    throw_usage_error("code '" + escape_control_characters(code.name) + "' has " +
+                      std::to_string(code.gains.size()) + " gains, more than " +
+                      std::to_string(kMaxCodeLength) + " (the longest code fssim analyses)");
   }
   for (std::size_t k = 0; k < code.gains.size(); ++k) {
     if (!std::isfinite(code.gains[k])) {
-      throw_usage_error("code '" + code.name + "': gain " + std::to_string(k) + " is " +
-                        format_exact(code.gains[k]) + ", gains must be finite");
+      throw_usage_error("code '" + escape_control_characters(code.name) + "': gain " +
+                        std::to_string(k) + " is " + format_exact(code.gains[k]) +
+                        ", gains must be finite");
     }
   }
   const double largest = gain_max_abs(code.gains);
   if (largest == 0.0) {
-    throw_usage_error("code '" + code.name +
+    throw_usage_error("code '" + escape_control_characters(code.name) +
                       "' has only zero gains: its transfer function is 0 and nothing is observed");
   }
   // sup |alpha| in [1e-100, 1e100] (L <= 1024): sum alpha, sum alpha^2 and
   // |K| stay finite and nonzero, as dt and snr do within the same range.
   if (const std::string rule = scale_rule(largest); !rule.empty()) {
-    throw_usage_error("code '" + code.name + "': its largest |gain| " + format_exact(largest) +
-                      " is out of range: it " + rule + " (scale the gains)");
+    throw_usage_error("code '" + escape_control_characters(code.name) + "': its largest |gain| " +
+                      format_exact(largest) + " is out of range: it " + rule +
+                      " (scale the gains)");
   }
   if (mode == ShutterMode::kAnalog) {
     for (std::size_t k = 0; k < code.gains.size(); ++k) {
       const double g = code.gains[k];
       if (!(g >= 0.0 && g <= 1.0)) {
-        throw_usage_error("code '" + code.name + "' cannot be used in analog mode: gain " +
-                          std::to_string(k) + " is " + format_exact(g) +
+        throw_usage_error("code '" + escape_control_characters(code.name) +
+                          "' cannot be used in analog mode: gain " + std::to_string(k) + " is " +
+                          format_exact(g) +
                           ", analog gains must lie in [0, 1] (use --mode numerical)");
       }
     }
@@ -107,10 +113,30 @@ void check_code_for_mode(const ShutterCode& code, ShutterMode mode) {
 
 namespace {
 
+// The dark charge of one readout, D = d * exposure, is drawn in double
+// precision and subtracted again: its Poisson noise sqrt(D) is resolved in
+// steps of ulp(D) ~ 2^-52 D, 2^-12 sqrt(D) at D = 1e24, and above about
+// 2^104 ~ 2e31 it and the photo-electrons vanish in round-off (the
+// observation comes out as 0). Refused above 1e24 e-.
+constexpr double kMaxDarkChargeElectrons = 1e24;
+
+void check_dark_charge(const SimulationOptions& options, const ShutterCode& code) {
+  const double exposure = readout_exposure_slots(code.gains.size(), options.dt, options.mode);
+  const double charge = options.sensor.dark_current_electrons_per_slot * exposure;
+  if (charge <= kMaxDarkChargeElectrons) return;
+  throw_usage_error("dark current " + format_exact(options.sensor.dark_current_electrons_per_slot) +
+                    " e-/slot over a readout's exposure of " + format_exact(exposure) +
+                    " (dt; L dt in analog mode) is a dark charge of " + format_exact(charge) +
+                    " e-, more than the " + format_number(kMaxDarkChargeElectrons) +
+                    " e- whose Poisson noise double precision can resolve: lower the dark "
+                    "current or dt");
+}
+
 void check_inputs(const SimulationOptions& options, const Image& input, const ShutterCode& code) {
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);
   check_code_for_mode(code, options.mode);
+  check_dark_charge(options, code);
   if (input.channels != 1 && input.channels != 3) {
     throw_usage_error("input has " + std::to_string(input.channels) +
                       " channels, expected 1 (gray) or 3 (RGB)");
@@ -119,10 +145,10 @@ void check_inputs(const SimulationOptions& options, const Image& input, const Sh
 
 // Refuses, before anything is allocated, a run over options.max_memory_bytes.
 void check_memory(const SimulationOptions& options, const Image& input, const Geometry& g,
-                  const ObservedRowSink* observed_sink) {
+                  int code_length, const ObservedRowSink* observed_sink) {
   if (options.max_memory_bytes == 0) return;
   const std::size_t needed = estimate_working_memory_bytes(
-      input.width, input.height, input.channels, g, options.trials, observed_sink);
+      input.width, input.height, input.channels, g, options, code_length, observed_sink);
   if (needed > options.max_memory_bytes) {
     throw_memory_limit_error("a run on this " + std::to_string(input.width) + " x " +
                                  std::to_string(input.height) + " x " +
@@ -136,7 +162,19 @@ void check_memory(const SimulationOptions& options, const Image& input, const Ge
 Geometry run_geometry(const SimulationOptions& options, int width, const ShutterCode& code) {
   const double v = options.velocity_px_per_slot;
   const double v_r = options.restore_velocity_px_per_slot.value_or(v);
-  return Geometry::compute(width, code.length(), std::max(std::abs(v), std::abs(v_r)), options.dt);
+  if (std::abs(v_r) > std::abs(v)) {
+    // The blur length is the restore velocity's: a blur wider than the
+    // image is said to be its own (Geometry::compute would name "velocity").
+    const double motion = std::ceil(std::abs(v_r) * options.dt * code.length());
+    if (!(motion < static_cast<double>(width))) {
+      throw_usage_error(
+          "the blur of restore velocity " + format_exact(v_r) + " (--restore-velocity) over " +
+          std::to_string(code.length()) + " slots of dt " + format_exact(options.dt) + " spans " +
+          format_exact(motion) + " pixels, more than the image width " + std::to_string(width));
+    }
+    return Geometry::compute(width, code.length(), v_r, options.dt);
+  }
+  return Geometry::compute(width, code.length(), v, options.dt);
 }
 
 // The geometry of a plan, after the checks Simulate makes first.
@@ -144,6 +182,7 @@ Geometry checked_geometry(const SimulationOptions& options, int width, const Shu
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);
   check_code_for_mode(code, options.mode);
+  check_dark_charge(options, code);
   return run_geometry(options, width, code);
 }
 
@@ -166,19 +205,19 @@ SimulationPlan::SimulationPlan(const SimulationOptions& options, int width, cons
   // (docs/method.md §1), the divisor of the observed image, and their warnings.
   kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
   if (!kernel_.invertible) {
-    warnings_.push_back("code '" + code.name + "' is not invertible at velocity " +
-                        format_exact(restore_velocity_) +
+    warnings_.push_back("code '" + escape_control_characters(code.name) +
+                        "' is not invertible at velocity " + format_exact(restore_velocity_) +
                         ": min |K| = " + format_number(kernel_.min_abs) +
                         " at xi = " + format_number(kernel_.min_abs_xi) +
                         "; the restoration amplifies noise without bound and no finite "
                         "error prediction exists");
   }
   observed_divisor_ = kernel_.k0;
-  if (observed_divisor_ == 0.0) {
+  if (transfer_vanishes(std::abs(kernel_.k0), transfer_scale(code.gains, dt_))) {
     observed_divisor_ = dt_ * gain_max_abs(code.gains);
-    warnings_.push_back(
-        "K(0) = dt * sum of gains is 0: observed.png is divided by dt * max |gain| = " +
-        format_number(observed_divisor_) + " instead");
+    warnings_.push_back("K(0) = dt * sum of gains vanishes (it is " + format_number(kernel_.k0) +
+                        "): observed.png is divided by dt * max |gain| = " +
+                        format_number(observed_divisor_) + " instead");
   }
   // The prediction's M and W(j) (docs/method.md §6, §6b).
   m_amplification_ = std::numeric_limits<double>::infinity();
@@ -295,25 +334,71 @@ NoiseFreeRun run_trials(const RowPipeline& pipeline, const SimulationOptions& op
   return std::move(first.noise_free);
 }
 
-// Extreme gains (1e-320, 1e308) can leave the range of doubles: an error,
-// never a silent NaN.
-void check_finite(const SimulationReport& report, const ShutterCode& code, bool observed_finite) {
-  const auto finite = [](double value) { return std::isfinite(value); };
-  if (finite(report.metrics.rmse) && finite(report.metrics.rmse_ci) &&
-      finite(report.trials.rmse_mean) && observed_finite &&
-      std::all_of(report.restored.data.begin(), report.restored.data.end(), finite)) {
-    return;
-  }
+// "the gains of code 'c' (|gain| from a to b), dt x, snr y and read noise z
+// e-": the settings whose scales multiply in a run's numbers (the sensor's
+// parts that are on), for an error when they leave double precision.
+std::string scale_settings(const SimulationOptions& options, const ShutterCode& code) {
   double smallest = 0.0;
   for (const double gain : code.gains) {
     if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
   }
+  std::vector<std::string> parts = {
+      "the gains of code '" + escape_control_characters(code.name) + "' (|gain| from " +
+          format_exact(smallest) + " to " + format_exact(gain_max_abs(code.gains)) + ")",
+      "dt " + format_exact(options.dt), "snr " + format_exact(options.snr)};
+  const SensorModel& s = options.sensor;
+  if (s.read_noise_electrons != 0.0) {
+    parts.push_back("read noise " + format_exact(s.read_noise_electrons) + " e-");
+  }
+  if (s.dark_current_electrons_per_slot != 0.0) {
+    parts.push_back("dark current " + format_exact(s.dark_current_electrons_per_slot) + " e-/slot");
+  }
+  if (s.full_well_electrons) {
+    parts.push_back("full well " + format_exact(*s.full_well_electrons) + " e-");
+  }
+  if (s.adc_bits != 0) {
+    parts.push_back("ADC gain " + format_exact(s.adc_gain_electrons_per_count) + " e-/count");
+  }
+  std::string text = parts.front();
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    text += (i + 1 == parts.size() ? " and " : ", ") + parts[i];
+  }
+  return text;
+}
+
+// Extreme gains (1e-320, 1e308), dt, snr or sensor can leave the range of
+// doubles: an error, never a silent NaN.
+void check_finite(const SimulationReport& report, const ShutterCode& code, bool observed_finite) {
+  const auto finite = [](double value) { return std::isfinite(value); };
+  if (finite(report.metrics.rmse) && finite(report.metrics.rmse_ci) &&
+      finite(report.trials.rmse_mean) && finite(report.trials.rmse_sd) &&
+      finite(report.trials.rmse_ci_mean) && finite(report.trials.rmse_ci_sd) && observed_finite &&
+      std::all_of(report.restored.data.begin(), report.restored.data.end(), finite)) {
+    return;
+  }
   throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
-                    format_exact(report.metrics.rmse) + "): the gains of code '" + code.name +
-                    "' (|gain| from " + format_exact(smallest) + " to " +
-                    format_exact(gain_max_abs(code.gains)) + "), dt " +
-                    format_exact(report.options.dt) + " or snr " +
-                    format_exact(report.options.snr) + " are too extreme");
+                    format_exact(report.metrics.rmse) +
+                    "): " + scale_settings(report.options, code) + " are too extreme together");
+}
+
+// The prediction of an invertible code is finite (docs/method.md §6): where
+// its variance terms leave double precision although the simulation did not,
+// an error naming the settings instead of an infinite or NaN figure.
+void check_prediction_finite(const SimulationReport& report, const ShutterCode& code) {
+  const Prediction& p = report.prediction;
+  bool finite = std::isfinite(p.window_mean) && std::isfinite(p.q);
+  if (p.finite) {
+    for (const double value :
+         {p.m_amplification, p.noise, p.rmse, p.sigma, p.rmse_stationary, p.snr_level100}) {
+      finite = finite && std::isfinite(value);
+    }
+  }
+  if (finite) return;
+  throw_usage_error(
+      "the error prediction left the range of double-precision numbers (predicted RMSE " +
+      format_exact(p.rmse) + ", stationary " + format_exact(p.rmse_stationary) +
+      ", SNR at level 100 " + format_exact(p.snr_level100) +
+      "): " + scale_settings(report.options, code) + " are too extreme together");
 }
 
 // A full well or an ADC that clips readouts (docs/method.md §10): the
@@ -380,9 +465,13 @@ SimulationReport run_planned(const SimulationPlan& plan, const SimulationOptions
                              report.observed_divisor);
   if (pipeline.zero_bins() > 0) {
     report.zero_bins = pipeline.zero_bins();
-    report.warnings.push_back(std::to_string(report.zero_bins) +
-                              " frequencies have K = 0 exactly on the deconvolution grid; they "
-                              "are left at 0 in the restoration");
+    report.warnings.push_back(
+        std::to_string(report.zero_bins) + " of the " +
+        std::to_string(report.geometry.mirror_width / 2 + 1) +
+        " frequencies of the deconvolution grid have K = 0 (|K| <= " +
+        format_number(kZeroTolerance) +
+        " dt sum |gain|): the restoration cannot recover them; it takes 1 / K as 0 there, so "
+        "the restored image has nothing at those frequencies");
   }
   const int wo = report.geometry.output_width;
   ImageRowSink kept_observed(report.observed);
@@ -410,6 +499,7 @@ SimulationReport run_planned(const SimulationPlan& plan, const SimulationOptions
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
   // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.
   report.prediction = predict(report, input, noise_free, plan);
+  check_prediction_finite(report, code);
   add_clipping_warnings(noise_free, report);
   return report;
 }
@@ -423,7 +513,7 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
   // guard before anything is allocated; then the plan: kernel and warnings.
   const Geometry geometry = run_geometry(options, input.width, code);
   metric_windows(geometry, options.rmse_margin_columns);
-  check_memory(options, input, geometry, observed_sink);
+  check_memory(options, input, geometry, code.length(), observed_sink);
   const SimulationPlan plan(options, input.width, code);
   return run_planned(plan, options, input, code, observed_sink);
 }
@@ -433,11 +523,11 @@ SimulationReport Simulate(const SimulationPlan& plan, const SimulationOptions& o
                           ObservedRowSink* observed_sink) {
   check_inputs(options, input, code);
   if (!plan.fits(options, input.width, code)) {
-    throw_usage_error("the simulation plan of code '" + code.name +
+    throw_usage_error("the simulation plan of code '" + escape_control_characters(code.name) +
                       "' was made for another code, mode, velocity, dt, RMSE margin, noise or "
                       "image width than this run");
   }
-  check_memory(options, input, plan.geometry(), observed_sink);
+  check_memory(options, input, plan.geometry(), code.length(), observed_sink);
   return run_planned(plan, options, input, code, observed_sink);
 }
 
@@ -471,6 +561,16 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   const std::size_t encoders = std::size_t{6} << 20;
   const std::size_t encoding = (4 + extra_encoding_bytes_per_sample) * wo * h * c + encoders;
   return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
+}
+
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry,
+                                          const SimulationOptions& options, int code_length,
+                                          const ObservedRowSink* observed_sink,
+                                          std::size_t extra_encoding_bytes_per_sample) {
+  return estimate_working_memory_bytes(width, height, channels, geometry, options.trials,
+                                       observed_sink, extra_encoding_bytes_per_sample) +
+         RowPipeline::plan_bytes(width, height, channels, options, code_length);
 }
 
 Image groundtruth_image(const Image& input, const SimulationReport& report) {

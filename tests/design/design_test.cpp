@@ -804,7 +804,7 @@ TEST(SensorFigure, ObjectiveMatchesTheAnalysisAndItsGradient) {
     }
   }
   EXPECT_TRUE(throws_error([] { NoiseFigure(4, 1.0, 1.0, ShutterMode::kAnalog, 64, -1.0); },
-                           ErrorKind::kUsage, {"readout_slots"}));
+                           ErrorKind::kUsage, {"readout noise of the noise figure, -1 slots"}));
 }
 
 TEST(SensorFigure, RefusesAFullWellAndAnInvalidSensor) {
@@ -824,6 +824,26 @@ TEST(SensorFigure, RefusesAFullWellAndAnInvalidSensor) {
   options.sensor.adc_bits = 40;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("sensor.adc_bits = 40"), std::string::npos) << error;
+}
+
+// c = v_r / snr^2 beyond double precision: refused by IsValid with the sensor
+// and snr (the noise figure said "readout_slots inf must be finite"); the
+// analysis names the sensor with the gains, dt and snr.
+TEST(SensorOptimize, ReadoutNoiseBeyondDoublePrecisionIsRefused) {
+  OptimizeOptions options;
+  options.snr = 1e-100;
+  options.sensor.read_noise_electrons = 1e100;
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_EQ(error,
+            "the sensor's readout noise (read noise 1e+100 e- RMS per readout) at snr 1e-100 is "
+            "more than 1e308 slots of level-100 light, beyond double precision: lower the read "
+            "noise, dark current or ADC gain, or raise snr");
+  options.snr = 1e-40;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  EXPECT_TRUE(throws_error(
+      [&] { analyze_with("raskar", ShutterMode::kNumerical, 1e-100, options.sensor); },
+      ErrorKind::kUsage, {"snr 1e-100 and the sensor (read noise 1e+100 e- RMS per readout)"}));
 }
 
 TEST(SensorOptimize, NumericalOptimumDoesNotChangeWithReadNoise) {

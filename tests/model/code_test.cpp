@@ -342,5 +342,19 @@ TEST(LoadCode, FileLargerThanTheLimitIsRefused) {
                                  {path.string(), "MiB"}));
 }
 
+// A name with a NUL: the file system would open the path up to the NUL, and
+// the message was cut there. Refused, the NUL written as \x00.
+TEST(LoadCode, NameWithANulIsRefusedAndEscaped) {
+  test::TempDir dir;
+  test::write_file(dir / "a", "1 0 1\n");
+  const std::string name = (dir / "a").string() + std::string(1, '\0') + "b";
+  const auto error = test::error_of([&] { load_code(name, "--code"); });
+  ASSERT_TRUE(error.has_value());
+  EXPECT_EQ(error->kind(), ErrorKind::kUsage);
+  EXPECT_EQ(std::string(error->what()), "--code '" + (dir / "a").string() +
+                                            "\\x00b' holds a NUL byte: no built-in code or file "
+                                            "name has one");
+}
+
 }  // namespace
 }  // namespace fss

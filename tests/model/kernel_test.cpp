@@ -9,6 +9,7 @@
 #include <complex>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fss/model/code.h"
@@ -227,6 +228,37 @@ TEST(MeanInversePower, InfiniteWhenABinIsZero) {
   const std::vector<double> zeros(5, 0.0);
   const double m = mean_inverse_power(zeros, 1.0, 1.0, 16);
   EXPECT_TRUE(std::isinf(m) && m > 0.0) << m;
+}
+
+// The zero rule: |K| <= 1e-12 dt sum |alpha|, relative to the code's scale.
+TEST(TransferVanishes, IsRelativeToTheCodesScale) {
+  const std::vector<double> raskar = code_gains("raskar");
+  EXPECT_EQ(transfer_scale(raskar, 0.5), 13.0);  // 26 ones
+  // |v| dt = 2: sinc_h(2 pi) is round-off (about 4e-17), not 0.
+  const double nyquist = std::abs(transfer_function(raskar, 2.0, 1.0, -kPi));
+  EXPECT_GT(nyquist, 0.0);
+  EXPECT_TRUE(transfer_vanishes(nyquist, transfer_scale(raskar, 1.0)));
+  EXPECT_FALSE(transfer_vanishes(std::abs(transfer_function(raskar, 1.999, 1.0, -kPi)),
+                                 transfer_scale(raskar, 1.0)));
+  // The same value on a code a billion times smaller is no zero.
+  EXPECT_FALSE(transfer_vanishes(nyquist, 1e-9 * transfer_scale(raskar, 1.0)));
+  // sum alpha = 0 does not make the scale 0.
+  EXPECT_EQ(transfer_scale(std::vector<double>{1.0, -1.0}, 2.0), 4.0);
+  EXPECT_TRUE(transfer_vanishes(0.0, 4.0));
+  EXPECT_TRUE(transfer_vanishes(4e-12, 4.0));
+  EXPECT_FALSE(transfer_vanishes(4.1e-12, 4.0));
+  EXPECT_TRUE(transfer_vanishes(1e-7, 1.0, kInvertibilityTolerance));
+}
+
+// M on a grid whose Nyquist bin sits on the zero of sinc_h at |v| dt = 2 is
+// infinite, as the restoration leaves that bin out (not 1 / round-off^2).
+TEST(MeanInversePower, InfiniteWhenABinVanishesToRoundOff) {
+  for (const auto& [velocity, dt] :
+       std::vector<std::pair<double, double>>{{2.0, 1.0}, {1.0, 2.0}, {4.0, 0.5}, {-2.0, 1.0}}) {
+    const double m = mean_inverse_power(code_gains("raskar"), velocity, dt, 920);
+    EXPECT_TRUE(std::isinf(m)) << velocity << " " << dt << ": " << m;
+  }
+  EXPECT_TRUE(std::isfinite(mean_inverse_power(code_gains("raskar"), 1.999, 1.0, 920)));
 }
 
 TEST(MeanInversePower, AccumulationOnItsZerosGrid) {

@@ -164,6 +164,24 @@ TEST(SensorReadout, ClipsAddsReadNoiseQuantizesAndSubtractsTheDarkMean) {
   EXPECT_EQ(top.read(1e6, 0.0), 150.0 - 3.0);
 }
 
+// A mean charge exactly at the clip saturates (its readouts are cut there);
+// the next double below does not. Both the full well and the ADC's top.
+TEST(SensorReadout, SaturatesFromTheClipOn) {
+  SensorModel s;
+  s.full_well_electrons = 10000.0;
+  const SensorReadout well = sensor_readout(s, 1.0);
+  EXPECT_TRUE(well.saturates(10000.0));
+  EXPECT_TRUE(well.saturates(std::nextafter(10000.0, 1e9)));
+  EXPECT_FALSE(well.saturates(std::nextafter(10000.0, 0.0)));
+  s.full_well_electrons.reset();
+  s.adc_bits = 4;  // top: 15 counts of 10 e-
+  s.adc_gain_electrons_per_count = 10.0;
+  const SensorReadout adc = sensor_readout(s, 1.0);
+  EXPECT_TRUE(adc.saturates(150.0));
+  EXPECT_FALSE(adc.saturates(std::nextafter(150.0, 0.0)));
+  EXPECT_FALSE(SensorReadout().saturates(1e308));  // no sensor: nothing clips
+}
+
 // --- the samplers' readouts on constant rows ------------------------------
 
 struct Moments {

@@ -149,6 +149,15 @@ TEST(Psnr, Formula) {
   EXPECT_NEAR(psnr(0.417289), 55.722061, 2e-5);
 }
 
+// RMSE^2 under- or overflowing made the PSNR infinite (or 0 * log): it is
+// finite for every RMSE but 0, whose PSNR is +inf (a perfect restoration).
+TEST(Psnr, FiniteForEveryPositiveRmse) {
+  EXPECT_NEAR(psnr(1e-200), 20.0 * (std::log10(255.0) + 200.0), 1e-9);
+  EXPECT_NEAR(psnr(5e-324), 20.0 * (std::log10(255.0) - std::log10(5e-324)), 1e-9);
+  EXPECT_NEAR(psnr(1e200), 20.0 * (std::log10(255.0) - 200.0), 1e-9);
+  EXPECT_TRUE(std::isinf(psnr(0.0)) && psnr(0.0) > 0.0);
+}
+
 // Midway values of one channel: mid_i = (a_(i) + b_(i)) / 2.
 std::vector<double> midway_values(const Image& a, const Image& b, int c) {
   const auto sa = sorted_channel(a, c);

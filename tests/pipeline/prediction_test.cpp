@@ -445,5 +445,78 @@ TEST(Accumulation, NotInvertibleAndNoFinitePrediction) {
   EXPECT_NE(r.warnings.front().find("not invertible"), std::string::npos);
 }
 
+// --- Numbers at the ends of the ranges (issue 23) --------------------------
+
+// sigma^2 = m Q (100 / snr^2) M with m < 0 (a float input) was the root of a
+// negative number: a negative landscape gives no photons.
+TEST(NoiseSigma, NegativeMeanLevelHasNoPhotonNoise) {
+  EXPECT_EQ(noise_sigma(-5.0, 26.0, 10.0, 100.0), 0.0);
+  const std::vector<double> gains = test::paper_gains("raskar");
+  SensorModel sensor;
+  sensor.read_noise_electrons = 10.0;
+  const double readouts =
+      noise_sigma(0.0, gains, 1.0, ShutterMode::kNumerical, 10.0, 100.0, sensor);
+  EXPECT_GT(readouts, 0.0);
+  EXPECT_EQ(noise_sigma(-5.0, gains, 1.0, ShutterMode::kNumerical, 10.0, 100.0, sensor), readouts);
+}
+
+// lambda2 = snr^2 / 100 is 1e-202 at snr 1e-100 and lambda2^2 underflows:
+// the variance was V / 0 = inf (0 / 0 with a sensor term of 0). It is
+// 100 dt sum alpha^2 / lambda2 without a sensor, finite.
+TEST(Level100ObservationVariance, IsFiniteAtTheEndsOfSnr) {
+  const std::vector<double> gains = test::paper_gains("raskar");  // 26 ones
+  for (const double snr : {1e-100, 1e-90, 1e100}) {
+    const double lambda2 = snr * snr / 100.0;
+    const double expected = 100.0 * 26.0 / lambda2;
+    const double v =
+        level100_observation_variance(gains, 1.0, ShutterMode::kNumerical, snr, SensorModel());
+    EXPECT_NEAR(v, expected, 1e-12 * expected) << snr;
+    const double analog =
+        level100_observation_variance(gains, 1.0, ShutterMode::kAnalog, snr, SensorModel());
+    EXPECT_NEAR(analog, expected, 1e-12 * expected) << snr;
+  }
+  // The prediction's figures from it: finite, and the SNR at level 100 scales as snr.
+  const double m = 3.0;
+  const double low = snr_level100(gains, 1.0, ShutterMode::kNumerical, m, 1e-100, SensorModel());
+  const double high = snr_level100(gains, 1.0, ShutterMode::kNumerical, m, 1e-50, SensorModel());
+  EXPECT_NEAR(high / low, 1e50, 1e50 * 1e-12);
+}
+
+// The sensor's parts are bounded like dt and snr (their squares and products
+// with an exposure stay finite): the field, the value and the range.
+TEST(SensorRanges, ReadNoiseDarkCurrentAndAdcGainHaveAnUpperBound) {
+  SensorModel s;
+  std::string error;
+  s.read_noise_electrons = 1e100;
+  s.dark_current_electrons_per_slot = 1e100;
+  s.adc_bits = 8;
+  s.adc_gain_electrons_per_count = 1e100;
+  EXPECT_TRUE(s.IsValid(&error)) << error;
+  s.read_noise_electrons = 1e101;
+  EXPECT_FALSE(s.IsValid(&error));
+  EXPECT_EQ(error, "read_noise_electrons = 1e+101: must lie in [0, 1e100]");
+  s.read_noise_electrons = 0.0;
+  s.dark_current_electrons_per_slot = 1e308;
+  EXPECT_FALSE(s.IsValid(&error));
+  EXPECT_EQ(error, "dark_current_electrons_per_slot = 1e+308: must lie in [0, 1e100]");
+  s.dark_current_electrons_per_slot = 0.0;
+  s.adc_gain_electrons_per_count = 2e100;
+  EXPECT_FALSE(s.IsValid(&error));
+  EXPECT_EQ(error, "adc_gain_electrons_per_count = 2e+100: must lie in (0, 1e100]");
+}
+
+// A readout's dark charge above 1e24 e- is refused (the simulation drew it
+// in steps coarser than its noise, and above 2e31 lost it and the signal).
+TEST(SensorRanges, DarkChargeOfAReadoutIsBoundedBySimulate) {
+  SimulationOptions options;
+  options.noise = NoiseModel::kNone;
+  options.sensor.dark_current_electrons_per_slot = 1e23;
+  const Image image = test::make_test_image(480, 2, 1);
+  EXPECT_NO_THROW(Simulate(options, image, *builtin_code("raskar")));
+  options.mode = ShutterMode::kAnalog;  // one readout of L dt = 52 slots
+  EXPECT_TRUE(test::throws_error([&] { Simulate(options, image, *builtin_code("raskar")); },
+                                 ErrorKind::kUsage, {"dark charge of 5.2e+24 e-", "1e+24"}));
+}
+
 }  // namespace
 }  // namespace fss

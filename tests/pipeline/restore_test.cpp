@@ -333,14 +333,24 @@ TEST(RowRestorer, FoldsWhenKIsWellConditionedOnly) {
   EXPECT_EQ(
       RowRestorer(Geometry::compute(512, 52, 1.0, 1.0), raskar(), 1.0, 1.0).transform_length(),
       896);
-  // Raskar at v = -2 has K(pi) = 0 up to round-off (sinc_h(2 pi)): the
-  // folded convolution's round-off would show, the grid's does not.
+  // Raskar just below |v| dt = 2: K(pi) ~ 1e-9 of its scale is no zero, and
+  // the folded convolution's round-off would show (sup |1/K| |K(0)| > 1e6),
+  // the grid's does not.
   const Geometry fast = Geometry::compute(640, 52, 2.0, 1.0);
-  EXPECT_EQ(RowRestorer(fast, raskar(), -2.0, 1.0).transform_length(), fast.mirror_width);
-  // Accumulation at v = 1 is not invertible (zeros of K at 2 pi m / 52).
+  EXPECT_EQ(RowRestorer(fast, raskar(), -1.9999999, 1.0).transform_length(), fast.mirror_width);
+  // At v = -2, K(pi) is 0 up to round-off (sinc_h(2 pi)): a zero bin, left out
+  // (transfer_vanishes), and the other bins are well conditioned: it folds.
+  const RowRestorer at_two(fast, raskar(), -2.0, 1.0);
+  EXPECT_EQ(at_two.zero_bins(), 1);
+  EXPECT_EQ(at_two.transform_length(), restoration_transform_length(fast));
+  // Accumulation at v = 1 (zeros of K at 2 pi m / 52): on N = 920 the zeros
+  // m = 13 and 26 are bins, left out; the nearest other bins are well
+  // conditioned enough to fold.
   const std::vector<double> ones(52, 1.0);
   const Geometry slow = Geometry::compute(512, 52, 1.0, 1.0);
-  EXPECT_EQ(RowRestorer(slow, ones, 1.0, 1.0).transform_length(), slow.mirror_width);
+  const RowRestorer accumulation(slow, ones, 1.0, 1.0);
+  EXPECT_EQ(accumulation.zero_bins(), 2);
+  EXPECT_EQ(accumulation.transform_length(), restoration_transform_length(slow));
 }
 
 TEST(Restore, ConstantImageIsRestoredExactly) {

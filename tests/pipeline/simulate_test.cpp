@@ -284,6 +284,54 @@ TEST(Simulate, ZeroSumCodeDividesObservedByTheLargestGain) {
   EXPECT_FALSE(r.prediction.finite);  // K(0) = 0 is a zero of |K|
 }
 
+// A code whose gains sum to 0 only up to round-off (0.1 + 0.2 - 0.3 is 5.6e-17):
+// K(0) vanishes by the zero rule (transfer_vanishes), so observed is divided by
+// dt max |alpha| as for an exact 0, not by 5.6e-17.
+TEST(Simulate, ZeroSumUpToRoundOffIsAZeroToo) {
+  SimulationOptions options = noise_free();
+  options.velocity_px_per_slot = 0.5;
+  const ShutterCode rounded{"rounded", {0.1, 0.2, -0.3}};
+  ASSERT_NE(rounded.gains[0] + rounded.gains[1] + rounded.gains[2], 0.0);
+  const SimulationReport r = Simulate(options, test::make_test_image(64, 4, 1), rounded);
+  EXPECT_EQ(r.observed_divisor, 0.3);
+  EXPECT_GE(r.zero_bins, 1);
+  for (const double v : r.observed.data) EXPECT_LT(std::abs(v), 1e3);
+}
+
+// |v| dt = 2 puts a zero of sinc_h on the Nyquist bin of the deconvolution
+// grid, where K comes out as round-off (1e-15), not 0. The zero rule
+// (|K| <= 1e-12 dt sum |alpha|) makes it a zero bin, dropped; dividing the
+// round-off by 1e-15 instead gave an RMSE of 66 on this smooth gradient, where
+// v = 1.999 gives 0.1.
+TEST(ZeroRule, SmoothGradientAtVelocityTimesDtTwoIsRestored) {
+  Image gradient(2048, 48, 1);
+  for (int y = 0; y < gradient.height; ++y) {
+    for (int x = 0; x < gradient.width; ++x) gradient.at(0, y, x) = 255.0 * x / 2047.0;
+  }
+  const auto run = [&](double velocity, double dt) {
+    SimulationOptions options = noise_free();
+    options.velocity_px_per_slot = velocity;
+    options.dt = dt;
+    return Simulate(options, gradient, code("raskar"));
+  };
+  const SimulationReport near = run(1.999, 1.0);
+  EXPECT_EQ(near.zero_bins, 0);
+  EXPECT_LT(near.metrics.rmse, 0.2);
+  for (const auto& [velocity, dt] : std::vector<std::pair<double, double>>{
+           {2.0, 1.0}, {-2.0, 1.0}, {1.0, 2.0}, {4.0, 0.5}, {0.5, 4.0}}) {
+    const SimulationReport r = run(velocity, dt);
+    EXPECT_EQ(r.zero_bins, 1) << velocity << " " << dt;  // the Nyquist bin
+    EXPECT_LT(r.metrics.rmse, 0.2) << velocity << " " << dt;
+    EXPECT_FALSE(r.prediction.finite) << velocity << " " << dt;  // K vanishes on the band
+    bool said = false;
+    for (const std::string& w : r.warnings) {
+      said = said || w.find("1 of the 1945 frequencies of the deconvolution grid have K = 0") !=
+                         std::string::npos;
+    }
+    EXPECT_TRUE(said) << velocity << " " << dt;
+  }
+}
+
 TEST(Simulate, TooNarrowImageSaysWhatWidthIsNeeded) {
   // 9B + 1 = 469 with B = 52
   EXPECT_TRUE(test::throws_error(

@@ -46,7 +46,8 @@ inline constexpr int kBandGridPoints = 4096;
 inline constexpr int kMaxAnalysisGridPoints = 1 << 16;
 
 // Mean of 1 / |K(xi)|^2 over xi in [-pi, pi] by the midpoint rule with
-// `grid_points` nodes on [0, pi]; infinite if K vanishes at a node.
+// `grid_points` nodes on [0, pi]; infinite if K vanishes at a node
+// (transfer_vanishes, model/kernel.h).
 double band_mean_inverse_power(std::span<const double> gains, double velocity, double dt,
                                int grid_points = kBandGridPoints);
 

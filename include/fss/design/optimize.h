@@ -38,8 +38,8 @@ class NoiseFigure {
   int length() const { return length_; }
 
   // Q_eff M of `gains` (length() values); +infinity when K vanishes at a
-  // node or Q_eff <= 0. When `gradient` is not empty (length() values) it
-  // receives d(Q_eff M) / d alpha (left unspecified for an infinite value).
+  // node (fss::transfer_vanishes, model/kernel.h) or Q_eff <= 0. When `gradient` is not empty
+  // (length() values) it receives d(Q_eff M) / d alpha (left unspecified for an infinite value).
   double Evaluate(std::span<const double> gains, std::span<double> gradient = {}) const;
 
  private:

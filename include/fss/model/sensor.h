@@ -23,13 +23,18 @@
 
 namespace fss {
 
+// Upper bound of the read noise, the dark current and the ADC gain (the range
+// of dt and snr): their squares and products with a code's exposure stay
+// finite.
+inline constexpr double kMaxSensorScale = 1e100;
+
 struct SensorModel {
-  double read_noise_electrons = 0.0;             // sigma_r, RMS per readout, >= 0
-  double dark_current_electrons_per_slot = 0.0;  // d, mean electrons per unit slot, >= 0
+  double read_noise_electrons = 0.0;             // sigma_r, RMS per readout, in [0, 1e100]
+  double dark_current_electrons_per_slot = 0.0;  // d, mean electrons per unit slot, in [0, 1e100]
   // Charge capacity of a pixel per readout; empty: no full well.
   std::optional<double> full_well_electrons;
   int adc_bits = 0;                           // 0: no ADC; otherwise in [1, 32]
-  double adc_gain_electrons_per_count = 1.0;  // G, > 0; used only with an ADC
+  double adc_gain_electrons_per_count = 1.0;  // G, in (0, 1e100]; used only with an ADC
 
   // True when any part is on (the observation then differs from the
   // photon-noise model's).
@@ -74,6 +79,9 @@ struct SensorReadout {
   bool adc() const { return adc_gain_electrons_per_count > 0.0; }
   // The largest mean charge the readout passes unclipped: min(F, (2^b - 1) G).
   double clip_electrons() const;
+  // Whether a readout of mean charge `charge` saturates: charge >= clip_electrons()
+  // (at the clip exactly, the readout's distribution is already cut there).
+  bool saturates(double charge) const { return charge >= clip_electrons(); }
   // The readout of a charge (electrons, with dark charge) and its read noise
   // draw r ~ N(0, 1), minus the dark mean (docs/method.md §10):
   //   q = min(charge, F) + sigma_r r;  ADC: q = min(round+(q / G), 2^b - 1) G

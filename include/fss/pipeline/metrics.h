@@ -21,7 +21,8 @@ double rmse(const Image& a, int a_offset, const Image& b, int first, int end);
 // they stream by; rmse() adds the row sums in row order, so the same bits.
 double row_squared_error(const double* a, const double* b, int first, int end);
 
-// 10 log10(255^2 / rmse^2).
+// 10 log10(255^2 / rmse^2): +inf for rmse = 0 (a perfect restoration), and
+// finite for any other rmse, however small or large.
 double psnr(double rmse_value);
 
 // Midway equalization (docs/method.md §5) of two images of the same size,

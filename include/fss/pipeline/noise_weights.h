@@ -2,7 +2,7 @@
 //
 // The restoration of one row is linear in its observed crop n_0 .. n_{Wa-1}
 // (observation columns [h, h + Wa), restore.h): mirror extension to 2 Wa,
-// inverse filter by K on the 2 Wa grid (bins where K = 0 left at 0), output
+// inverse filter by K on the 2 Wa grid (bins where K vanishes left at 0), output
 // column x = deconvolved column x + 2h. So restored column x of any row is
 //   r_x = sum_j w_x(j) n_j,   w_x(j) = k[(x' - j) mod 2Wa] + k[(x' + j + 1) mod 2Wa],
 // with x' = x + 2h and k = IDFT(1 / K) the inverse filter's impulse response

@@ -56,7 +56,7 @@ class RowRestorer {
   Geometry geometry_;
   // Declared before inverse_, whose initializer counts the zero bins into it.
   int zero_bins_ = 0;
-  std::vector<std::complex<double>> inverse_;  // 1 / K on the N grid, 0 where K = 0
+  std::vector<std::complex<double>> inverse_;  // 1 / K on the N grid, 0 where K vanishes
   const RowFFT& fft_;                          // length M or N
   // The folded convolution's filters GA / M and GB' / M (empty on the grid).
   std::vector<std::complex<double>> direct_filter_;
@@ -64,7 +64,8 @@ class RowRestorer {
 };
 
 // The impulse response of the inverse filter on the n-point grid, h =
-// IDFT_n(1 / K) with 1 / K taken as 0 where K = 0 (as the restoration does):
+// IDFT_n(1 / K) with 1 / K taken as 0 where K vanishes (transfer_vanishes,
+// model/kernel.h; as the restoration does):
 // the inverse filter applied to a unit impulse at 0, whose DFT is 1 at every
 // bin. Row column x of the filtered mirror row m is sum_j m[j] h[(x - j) mod n].
 std::vector<double> inverse_filter_impulse_response(std::span<const double> gains, double velocity,

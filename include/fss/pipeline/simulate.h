@@ -108,8 +108,8 @@ struct SimulationReport {
   // The kernel that is inverted: the code at the restore velocity (the true
   // velocity unless options.restore_velocity_px_per_slot is set).
   KernelAnalysis kernel;
-  double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) = 0
-  int zero_bins = 0;              // deconvolution bins with K = 0, left at 0
+  double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) vanishes
+  int zero_bins = 0;              // deconvolution bins where K vanishes, left at 0
 
   Metrics metrics;         // of the first trial
   TrialStatistics trials;  // over all trials
@@ -230,6 +230,16 @@ inline constexpr std::size_t kBaselineMemoryBytes = std::size_t{32} << 20;
 // encoding buffers (outputs.h: output_encoding_bytes_per_sample).
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry, int trials,
+                                          const ObservedRowSink* observed_sink = nullptr,
+                                          std::size_t extra_encoding_bytes_per_sample = 0);
+
+// The same for a run of `options` (its trials) with a code of `code_length`
+// gains, its noise model's memory included: aggregated noise with trials > 1
+// keeps each row's recorded plan (M, V and its Knuth-branch pixels) for the
+// later trials. The estimate Simulate checks options.max_memory_bytes against.
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry,
+                                          const SimulationOptions& options, int code_length,
                                           const ObservedRowSink* observed_sink = nullptr,
                                           std::size_t extra_encoding_bytes_per_sample = 0);
 

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan; CMake option FSS_FUZZ):
-# PNG and TIFF decoding, code files, campaign files, and the range syntaxes
-# (value lists of campaigns, --velocity/--snr of sweep); and
+# PNG and TIFF decoding, code files, campaign files, campaign journals (as
+# merge and a resumed run read them), the results and expectations of
+# 'campaign check', and the range syntaxes (value lists of campaigns,
+# --velocity/--snr of sweep), and the Python module's argument conversion
+# (python/arguments.cpp); and
 # runs each for FUZZ_SECONDS (default 60) from its seed corpus in
 # tests/fuzz/corpus/. Fails on any crash, leak, timeout, out-of-memory or
 # sanitizer report; prints the number of inputs each target executed.
@@ -24,7 +27,8 @@ if ! command -v clang++ >/dev/null; then
 fi
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DFSS_FUZZ=ON -DFSS_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code fuzz_campaign_file fuzz_range
+cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code fuzz_campaign_file \
+  fuzz_campaign_journal fuzz_campaign_check fuzz_range fuzz_python_arguments
 export ASAN_OPTIONS=detect_leaks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
@@ -53,5 +57,8 @@ run fuzz_png tests/fuzz/corpus/png 65536 tests/fuzz/png.dict
 run fuzz_tiff tests/fuzz/corpus/tiff 65536 tests/fuzz/tiff.dict
 run fuzz_code tests/fuzz/corpus/code 4096 tests/fuzz/code.dict
 run fuzz_campaign_file tests/fuzz/corpus/campaign_file 4096 tests/fuzz/campaign_file.dict
+run fuzz_campaign_journal tests/fuzz/corpus/campaign_journal 16384 tests/fuzz/campaign_journal.dict
+run fuzz_campaign_check tests/fuzz/corpus/campaign_check 8192 tests/fuzz/campaign_check.dict
 run fuzz_range tests/fuzz/corpus/range 1024 tests/fuzz/range.dict
+run fuzz_python_arguments tests/fuzz/corpus/python_arguments 1024 tests/fuzz/python_arguments.dict
 exit "$status"

@@ -41,9 +41,17 @@ class CodeGenerateCommand : public Command {
   int Run() const override;
 
  private:
+  // Refuses an option the family does not use (--velocity, --dt: sinc and
+  // mip; --seed, --analog: random).
+  void CheckFamilyOptions(fss::CodeFamily family) const;
+
   std::string family_;
   fss::GenerateOptions options_;
   std::string output_;
+  CLI::Option* velocity_option_ = nullptr;
+  CLI::Option* dt_option_ = nullptr;
+  CLI::Option* seed_option_ = nullptr;
+  CLI::Option* analog_option_ = nullptr;
 };
 
 // `code analyze CODE ...`: the figures of merit of a code.

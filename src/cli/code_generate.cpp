@@ -47,26 +47,43 @@ CodeGenerateCommand::CodeGenerateCommand(CLI::App& code)
   generate.add_option("-L,--length", options_.length, "number of gains L")
       ->required()
       ->check(at_least(1));
-  generate
-      .add_option("-v,--velocity", options_.velocity_px_per_slot,
-                  "sinc, mip: velocity the code is designed for (pixels per slot)")
-      ->check(finite())
-      ->capture_default_str();
-  generate.add_option("--dt", options_.dt, "sinc, mip: time slot length, > 0")
-      ->check(scale())
-      ->capture_default_str();
-  generate.add_option("--seed", options_.seed, "random: seed of the gains")
-      ->check(seed_value())
-      ->capture_default_str();
-  generate.add_flag("--analog", options_.analog,
-                    "random: gains on [0, 1) (analog) instead of [-1, 1)");
+  velocity_option_ =
+      generate
+          .add_option("-v,--velocity", options_.velocity_px_per_slot,
+                      "sinc, mip: velocity the code is designed for (pixels per slot)")
+          ->check(finite())
+          ->capture_default_str();
+  dt_option_ = generate.add_option("--dt", options_.dt, "sinc, mip: time slot length, > 0")
+                   ->check(scale())
+                   ->capture_default_str();
+  seed_option_ = generate.add_option("--seed", options_.seed, "random: seed of the gains")
+                     ->check(seed_value())
+                     ->capture_default_str();
+  analog_option_ = generate.add_flag("--analog", options_.analog,
+                                     "random: gains on [0, 1) (analog) instead of [-1, 1)");
   generate.add_option("-o,--output", output_,
                       "code file to write (default, or -: standard output)");
+}
+
+void CodeGenerateCommand::CheckFamilyOptions(fss::CodeFamily family) const {
+  const bool designed = family == fss::CodeFamily::kSinc || family == fss::CodeFamily::kMip;
+  const bool random = family == fss::CodeFamily::kRandom;
+  for (const auto& [option, used] : {std::pair{velocity_option_, designed},
+                                     {dt_option_, designed},
+                                     {seed_option_, random},
+                                     {analog_option_, random}}) {
+    if (option->count() > 0 && !used) {
+      fss::throw_usage_error(option->get_name() + ": the " + family_ +
+                             " code does not use it (--velocity and --dt are for sinc and mip, "
+                             "--seed and --analog for random)");
+    }
+  }
 }
 
 int CodeGenerateCommand::Run() const {
   fss::GenerateOptions options = options_;
   options.family = *fss::code_family_from_string(family_);
+  CheckFamilyOptions(options.family);
   if (options.family == fss::CodeFamily::kSinc || options.family == fss::CodeFamily::kMip) {
     check_design_band(options.velocity_px_per_slot, options.dt, "the " + family_ + " code");
   }

@@ -99,12 +99,20 @@ std::optional<fss::PngHeaderSize> plausible_png_header(const std::string& input)
   return size;
 }
 
+// --png-depth: 8, 16, or auto (16 for an input of more than 8 bits a sample).
+fss::PngDepth resolve_png_depth(const std::string& choice, const fss::ImageFileInfo& input) {
+  if (choice == "auto") return input.bits_per_sample > 8 ? fss::PngDepth::k16 : fss::PngDepth::k8;
+  return *fss::png_depth_from_string(choice);
+}
+
 // Refuses, from the PNG header alone, a run the memory guard of Simulate
-// would refuse after decoding (the same estimate, with the fewest channels
-// the header allows): a huge image fails at once, before it is decoded.
+// would refuse after decoding (the same estimate: the header gives the
+// channels and the bit depth): a huge image fails at once, before it is
+// decoded.
 void check_memory_from_header(const std::optional<fss::PngHeaderSize>& size,
                               const std::string& input, const fss::SimulationOptions& options,
-                              const fss::ShutterCode& code, const fss::OutputOptions& outputs) {
+                              const fss::ShutterCode& code, const fss::OutputOptions& outputs,
+                              const std::string& png_depth) {
   if (options.max_memory_bytes == 0 || !size) return;
   fss::Geometry geometry;
   try {
@@ -114,18 +122,27 @@ void check_memory_from_header(const std::optional<fss::PngHeaderSize>& size,
   } catch (const fss::Error&) {
     return;  // Simulate reports it
   }
+  // The outputs as the run will make them (the depth --png-depth gives this
+  // input), so that this estimate is the one made after decoding.
+  fss::OutputOptions resolved = outputs;
+  resolved.image_depth =
+      resolve_png_depth(png_depth, {fss::ImageFileFormat::kPng, size->bit_depth, false});
   const fss::ObservedPng8 sink(size->height, size->channels);  // allocates nothing yet
-  const std::size_t needed = fss::estimate_working_memory_bytes(
-      size->width, size->height, size->channels, geometry, options.trials,
-      outputs.sheet ? nullptr : &sink,
-      fss::output_encoding_bytes_per_sample(outputs, size->channels));
+  const bool to_sink =
+      !resolved.sheet && !resolved.float_outputs && resolved.image_depth == fss::PngDepth::k8;
+  const std::size_t extra = fss::output_encoding_bytes_per_sample(resolved, size->channels);
+  const std::size_t needed =
+      fss::estimate_working_memory_bytes(size->width, size->height, size->channels, geometry,
+                                         options, code.length(), to_sink ? &sink : nullptr, extra);
   if (needed > options.max_memory_bytes) {
     const auto sizes = fss::format_bytes_distinct(static_cast<double>(needed),
                                                   static_cast<double>(options.max_memory_bytes));
-    fss::throw_limit_error("input '" + input + "': a run on this " + std::to_string(size->width) +
-                           " x " + std::to_string(size->height) + " x " +
-                           std::to_string(size->channels) + " image needs about " + sizes.first +
-                           " of memory, more than the memory limit of " + sizes.second);
+    fss::throw_limit_error(
+        "input '" + input + "': a run on this " + std::to_string(size->width) + " x " +
+        std::to_string(size->height) + " x " + std::to_string(size->channels) + " image" +
+        (extra > 0 ? " with its extra outputs (sheet, report, float or 16-bit)" : "") +
+        " needs about " + sizes.first + " of memory, more than the memory limit of " +
+        sizes.second);
   }
 }
 
@@ -142,12 +159,6 @@ std::string describe_simulation(const std::string& input, const fss::Image& imag
   return "simulating input '" + input + "' (" + std::to_string(image.width) + "x" +
          std::to_string(image.height) + ", " + std::to_string(image.channels) +
          (image.channels == 1 ? " channel)" : " channels)");
-}
-
-// --png-depth: 8, 16, or auto (16 for an input of more than 8 bits a sample).
-fss::PngDepth resolve_png_depth(const std::string& choice, const fss::ImageFileInfo& input) {
-  if (choice == "auto") return input.bits_per_sample > 8 ? fss::PngDepth::k16 : fss::PngDepth::k8;
-  return *fss::png_depth_from_string(choice);
 }
 
 void print_metric(const char* label, double value) { std::printf("%s: %f\n", label, value); }
@@ -263,7 +274,7 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   std::future<fss::RunPlots> plots = start_plots(code, options, output_options.plots);
   context->activity = "reading input '" + input_ + "'";
   const std::optional<fss::PngHeaderSize> header = plausible_png_header(input_);
-  check_memory_from_header(header, input_, options, code, output_options);
+  check_memory_from_header(header, input_, options, code, output_options, png_depth_);
   EarlyPlan plan = start_plan(header, options, code);
   fss::ImageFileInfo input_info;
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes, &input_info);

@@ -207,6 +207,9 @@ fss::ResolvedCampaign SweepCommand::Campaign(const Grid& grid, const fss::Shutte
   c.seed = options.seed;
   c.noise = options.noise;
   c.rmse_margin_columns = options.rmse_margin_columns;
+  // The sensor (--read-noise, --dark-current, ...): every setting's.
+  c.read_noises.values = {options.sensor.read_noise_electrons};
+  c.sensor = options.sensor;
   return c;
 }
 

@@ -17,17 +17,31 @@ void throw_runtime_error(const std::string& message) { throw Error(ErrorKind::kR
 
 void throw_limit_error(const std::string& message) { throw Error(ErrorKind::kLimit, message); }
 
-std::string format_bytes(double bytes) {
-  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+namespace {
+
+// `bytes` in the largest binary unit it reaches, with `decimals` decimals
+// (none in bytes), rounded up when `up`: a size stated as needed is never
+// below the true one, so a limit raised to it is enough.
+std::string format_size(double bytes, int decimals, bool up) {
+  static const char* const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
   int unit = 0;
   while (bytes >= 1024.0 && unit < 4) {
     bytes /= 1024.0;
     ++unit;
   }
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, unit == 0 ? "%.0f %s" : "%.1f %s", bytes, units[unit]);
+  if (unit == 0) decimals = 0;
+  if (up) {
+    const double scale = std::pow(10.0, decimals);
+    bytes = std::ceil(bytes * scale) / scale;
+  }
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f %s", decimals, bytes, units[unit]);
   return buffer;
 }
+
+}  // namespace
+
+std::string format_bytes(double bytes) { return format_size(bytes, 1, false); }
 
 void throw_memory_limit_error(const std::string& subject, std::size_t needed, std::size_t limit) {
   const auto sizes = format_bytes_distinct(static_cast<double>(needed), static_cast<double>(limit));
@@ -36,24 +50,13 @@ void throw_memory_limit_error(const std::string& subject, std::size_t needed, st
 }
 
 std::pair<std::string, std::string> format_bytes_distinct(double needed, double limit) {
-  std::pair<std::string, std::string> texts = {format_bytes(needed), format_bytes(limit)};
-  if (texts.first != texts.second || needed == limit) return texts;
-  // One unit for both (the same text means the same unit): more decimals
-  // until they differ; whole bytes need at most 13 below 1024^4.
-  static const char* const units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
-  int unit = 0;
-  double scale = 1.0;
-  while (needed / scale >= 1024.0 && unit < 4) {
-    scale *= 1024.0;
-    ++unit;
+  // More decimals until the two differ: whole bytes need at most 13 below 1024^4.
+  std::pair<std::string, std::string> texts;
+  for (int decimals = 1; decimals <= 13; ++decimals) {
+    texts = {format_size(needed, decimals, true), format_size(limit, decimals, false)};
+    if (texts.first != texts.second || needed == limit) break;
   }
-  char a[64], b[64];
-  for (int decimals = 2; decimals <= 13; ++decimals) {
-    std::snprintf(a, sizeof a, "%.*f %s", decimals, needed / scale, units[unit]);
-    std::snprintf(b, sizeof b, "%.*f %s", decimals, limit / scale, units[unit]);
-    if (std::string_view(a) != b) break;
-  }
-  return {a, b};
+  return texts;
 }
 
 std::string format_exact(double value) {

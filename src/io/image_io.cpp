@@ -60,9 +60,11 @@ Image decode_image(const std::uint8_t* bytes, std::size_t size, const std::strin
 
 Image read_image(const std::filesystem::path& path, std::size_t max_bytes, ImageFileInfo* info) {
   const std::vector<std::uint8_t> bytes = detail::read_input_bytes(
-      path, "a PNG or TIFF file", [](const std::uint8_t* head, std::size_t size) {
+      path, "a PNG or TIFF file",
+      [](const std::uint8_t* head, std::size_t size) {
         return has_png_signature(head, size) || has_tiff_signature(head, size);
-      });
+      },
+      max_bytes);
   return decode_image(bytes.data(), bytes.size(), path.string(), max_bytes, info);
 }
 

@@ -17,8 +17,12 @@ using SignatureTest = bool (*)(const std::uint8_t* bytes, std::size_t size);
 // "expected `expected`" ("a PNG file"). The first 8 bytes are read first and
 // the rest only when `wanted` accepts them, so that a file of another kind is
 // refused by its decoder after 8 bytes, even an endless stream (/dev/zero).
+// A file of more than `max_bytes` bytes (0: no limit) is refused (a limit
+// fss::Error) before it is read, a stream once that many bytes were read.
+// The file is opened once: a pipe or /dev/stdin works.
 std::vector<std::uint8_t> read_input_bytes(const std::filesystem::path& path,
-                                           const std::string& expected, SignatureTest wanted);
+                                           const std::string& expected, SignatureTest wanted,
+                                           std::size_t max_bytes);
 
 // Refuses (a limit fss::Error) decoding input `name`, `width` x `height`
 // pixels, when it needs `needed` bytes, more than `max_bytes` (0: no limit).

@@ -87,13 +87,15 @@ void check_outputs_memory(const SimulationOptions& simulation, const Image& inpu
     return;
   }
   const Geometry geometry = Geometry::compute(input.width, code.length(), speed, simulation.dt);
-  const std::size_t needed = estimate_working_memory_bytes(
-      input.width, input.height, input.channels, geometry, simulation.trials, observed_sink, extra);
+  const std::size_t needed =
+      estimate_working_memory_bytes(input.width, input.height, input.channels, geometry, simulation,
+                                    code.length(), observed_sink, extra);
   if (needed > simulation.max_memory_bytes) {
-    throw_memory_limit_error(
-        "a run on this " + std::to_string(input.width) + " x " + std::to_string(input.height) +
-            " x " + std::to_string(input.channels) + " image with its float or 16-bit outputs",
-        needed, simulation.max_memory_bytes);
+    throw_memory_limit_error("a run on this " + std::to_string(input.width) + " x " +
+                                 std::to_string(input.height) + " x " +
+                                 std::to_string(input.channels) +
+                                 " image with its extra outputs (sheet, report, float or 16-bit)",
+                             needed, simulation.max_memory_bytes);
   }
 }
 

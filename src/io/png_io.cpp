@@ -174,7 +174,7 @@ std::string dimensions(const PngHeader& header) {
 
 // Refuses, before anything is allocated for them, a header declaring more
 // pixels than the file of `size` bytes can hold, and an image whose decoding
-// would need more than `max_bytes` (when > 0).
+// would need more than `max_bytes` (when > 0), the file's bytes included.
 void check_decodable(const PngHeader& header, std::size_t size, const std::string& name,
                      std::size_t max_bytes) {
   const std::uint64_t stored_bytes = static_cast<std::uint64_t>(header.width) * header.height *
@@ -186,7 +186,7 @@ void check_decodable(const PngHeader& header, std::size_t size, const std::strin
   }
   const int out_channels = header.channels >= 3 ? 3 : 1;
   const std::size_t needed =
-      png_decode_bytes(header.width, header.height, out_channels, header.rowbytes);
+      png_decode_bytes(header.width, header.height, out_channels, header.rowbytes) + size;
   detail::check_decoding_memory(name, header.width, header.height, needed, max_bytes);
 }
 
@@ -262,6 +262,9 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
 }
 
 std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& path) {
+  // A pipe or a terminal is read once, by the decoder: never peeked at here.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
   std::ifstream file(path, std::ios::binary);
   std::uint8_t head[33] = {};
   if (!file.read(reinterpret_cast<char*>(head), sizeof head)) return std::nullopt;
@@ -273,16 +276,21 @@ std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& p
   const std::uint32_t width = be32(16);
   const std::uint32_t height = be32(20);
   if (width == 0 || height == 0 || width > 0x7fffffffU || height > 0x7fffffffU) return std::nullopt;
+  const int bit_depth = head[24];
   const int colour_type = head[25];
-  return PngHeaderSize{static_cast<int>(width), static_cast<int>(height),
-                       (colour_type == 2 || colour_type == 6) ? 3 : 1};
+  const bool colour = colour_type == PNG_COLOR_TYPE_RGB || colour_type == PNG_COLOR_TYPE_RGBA ||
+                      colour_type == PNG_COLOR_TYPE_PALETTE;  // a palette is decoded as RGB
+  return PngHeaderSize{static_cast<int>(width), static_cast<int>(height), colour ? 3 : 1,
+                       bit_depth};
 }
 
 Image read_png(const std::filesystem::path& path, std::size_t max_bytes) {
-  const std::vector<std::uint8_t> bytes =
-      detail::read_input_bytes(path, "a PNG file", [](const std::uint8_t* head, std::size_t size) {
+  const std::vector<std::uint8_t> bytes = detail::read_input_bytes(
+      path, "a PNG file",
+      [](const std::uint8_t* head, std::size_t size) {
         return size == 8 && png_sig_cmp(head, 0, 8) == 0;
-      });
+      },
+      max_bytes);
   return decode_png(bytes.data(), bytes.size(), path.string(), max_bytes);
 }
 

@@ -301,7 +301,7 @@ std::size_t decode_bytes(const TiffLayout& layout) {
 }
 
 // Refuses, before decoding, more samples than a file of `size` bytes can hold
-// and (max_bytes > 0) a decoding over max_bytes.
+// and (max_bytes > 0) a decoding over max_bytes, the file's bytes included.
 void check_decodable(const TiffLayout& layout, std::size_t size, const std::string& name,
                      std::size_t max_bytes) {
   if (layout.decoded_bytes >
@@ -311,7 +311,7 @@ void check_decodable(const TiffLayout& layout, std::size_t size, const std::stri
                         std::to_string(size) +
                         " bytes can hold: it is truncated or its header is corrupt");
   }
-  const std::size_t needed = decode_bytes(layout);
+  const std::size_t needed = decode_bytes(layout) + size;
   detail::check_decoding_memory(name, layout.width, layout.height, needed, max_bytes);
 }
 
@@ -470,19 +470,11 @@ Image decode_tiff(const std::uint8_t* bytes, std::size_t size, const std::string
 }
 
 Image read_tiff(const std::filesystem::path& path, std::size_t max_bytes) {
-  const std::string name = path.string();
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw_runtime_error("cannot open input '" + name + "': " + std::strerror(errno));
-  // The signature first, so that what is not a TIFF is refused after 4 bytes.
-  std::vector<std::uint8_t> bytes(4);
-  file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  bytes.resize(static_cast<std::size_t>(file.gcount()));
-  if (has_tiff_signature(bytes.data(), bytes.size())) {
-    bytes.insert(bytes.end(), std::istreambuf_iterator<char>(file),
-                 std::istreambuf_iterator<char>());
-  }
-  if (file.bad()) throw_runtime_error("cannot read input '" + name + "'");
-  return decode_tiff(bytes.data(), bytes.size(), name, max_bytes);
+  const std::vector<std::uint8_t> bytes = detail::read_input_bytes(
+      path, "a TIFF file",
+      [](const std::uint8_t* head, std::size_t size) { return has_tiff_signature(head, size); },
+      max_bytes);
+  return decode_tiff(bytes.data(), bytes.size(), path.string(), max_bytes);
 }
 
 // ---------------------------------------------------------------------------

@@ -402,6 +402,8 @@ void AggregatedRowSampler::add_knuth_branch(std::span<const double> lambda,
     recorded = &plan_->knuth.emplace_back();
     recorded->frame = id.frame;
     recorded->gain = gain;
+    recorded->pixels.reserve(knuth_pixels);
+    recorded->lambdas.reserve(knuth_pixels);
   } else if (plan_ != nullptr) {
     plan_->knuth_pixels = max_knuth_pixels_ + 1;  // too many: the row is not recorded
   }

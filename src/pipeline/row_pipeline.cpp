@@ -53,6 +53,21 @@ RowPipeline::RowPipeline(const Image& input, const RowObserver& observer,
   }
 }
 
+std::size_t RowPipeline::plan_bytes(int width, int height, int channels,
+                                    const SimulationOptions& options, int code_length) {
+  const auto w = static_cast<std::size_t>(width);
+  const auto rows = static_cast<std::size_t>(height) * static_cast<std::size_t>(channels);
+  const bool aggregated =
+      options.noise == NoiseModel::kAggregated && options.mode == ShutterMode::kNumerical;
+  if (!aggregated || options.trials <= 1 || w * rows > kMaxPlannedSamples) return 0;
+  // A frame's record, its two arrays' allocations, and the frames vector's
+  // doubling: 192 bytes; the plan itself and M and V's allocations: 256.
+  constexpr std::size_t kFrameBytes = 192;
+  constexpr std::size_t kRowBytes = sizeof(AggregatedRowPlan) + 256;
+  const std::size_t frames = std::min(w, static_cast<std::size_t>(std::max(code_length, 0)));
+  return rows * (kRowBytes + 28 * w + kFrameBytes * frames);
+}
+
 // The buffers of one thread and the three steps of a row.
 class RowPipeline::Worker {
  public:

@@ -48,6 +48,15 @@ class RowPipeline {
   RowPipeline(const Image& input, const RowObserver& observer, const RowRestorer& restorer,
               const SimulationOptions& options, const Geometry& geometry, double observed_divisor);
 
+  // An upper bound of the bytes of the rows' recorded plans of a run of
+  // `options` on a width x height x channels image with a code of
+  // `code_length` gains (0 when no plan is recorded): per row, M and V
+  // (16 bytes a pixel), the Knuth-branch pixels (12 bytes each, at most a
+  // width of them) and at most min(L, W) frames' records with their
+  // allocations.
+  static std::size_t plan_bytes(int width, int height, int channels,
+                                const SimulationOptions& options, int code_length);
+
   // Frequencies of the deconvolution grid where K = 0, left at 0.
   int zero_bins() const { return restorer_.zero_bins(); }
 

@@ -243,5 +243,46 @@ TEST_F(FaultInjection, FailedRunLeavesNoNewDirectory) {
   EXPECT_FALSE(fs::exists(out_));
 }
 
+// The commands that write one file (code generate, analyze --json,
+// optimize -o, sweep -o, spectra -o, campaign check --junit) write it
+// through a temporary file synced and renamed into place: when the sync
+// fails, the command exits 1 naming the file, the old file stays as it was
+// and no temporary is left beside it.
+TEST(SingleFileWrite, FailedSyncKeepsTheOldFile) {
+  if (!strace_works()) GTEST_SKIP() << "strace is missing or cannot trace here";
+  test::TempDir dir;
+  const fs::path input = dir / "in.png";
+  const std::vector<std::uint8_t> png = encode_png8(test::make_test_image(600, 8, 1));
+  test::write_file(input, std::string(png.begin(), png.end()));
+  const fs::path campaign = dir / "campaign";
+  ASSERT_EQ(test::run_fssim("campaign -i " + quote(input) +
+                            " -c raskar --noise none --no-progress -o " + quote(campaign))
+                .exit_code,
+            0);
+  const fs::path out = dir / "out" / "file";
+  const std::string results = quote(campaign / "results.csv");
+  const std::vector<std::string> commands = {
+      "code generate sinc -L 16 -o OUT",
+      "code analyze raskar --json OUT",
+      "code optimize -L 6 -v 1 --restarts 1 --iterations 5 -o OUT",
+      "sweep -i " + quote(input) + " --noise none -v 1:2:1 -o OUT",
+      "spectra raskar -o OUT",
+      "campaign check " + results + " " + results + " --junit OUT"};
+  for (std::string command : commands) {
+    command.replace(command.find("OUT"), 3, quote(out));
+    fs::remove_all(out.parent_path());
+    fs::create_directories(out.parent_path());
+    test::write_file(out, "the old file\n");
+    const CommandResult r = test::run_command(
+        "strace -f -qq -o /dev/null -e trace=fsync "
+        "-e inject=fsync:error=EIO '" +
+        std::string(FSSIM_BINARY_PATH) + "' " + command);
+    EXPECT_EQ(r.exit_code, 1) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find(out.string()), std::string::npos) << command << "\n" << r.err;
+    EXPECT_EQ(test::read_file(out), "the old file\n") << command;
+    EXPECT_EQ(test::list_directory(out.parent_path()), std::vector<std::string>{"file"}) << command;
+  }
+}
+
 }  // namespace
 }  // namespace fss

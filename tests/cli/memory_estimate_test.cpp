@@ -115,9 +115,11 @@ TEST_P(MemoryEstimate, SixteenBitOutputsAreCounted) {
   for (const char* options : {"--png-depth 16", "--png-depth 16 --sheet --trials 3"}) {
     const std::string arguments =
         "-i " + input.string() + " -o " + (dir / "out").string() + " --threads 2 " + options;
-    // Under a limit of 1 byte, the decoding of the input is refused first;
-    // just above that decoding's memory, the run.
-    const test::CommandResult decoding = test::run_fssim(arguments + " --max-memory 1");
+    // Under a limit of the file's size, the decoding of the input is refused
+    // first (a smaller limit refuses the file itself); just above that
+    // decoding's memory, the run.
+    const test::CommandResult decoding =
+        test::run_fssim(arguments + " --max-memory " + std::to_string(tiff.size()));
     const double decoding_bytes = stated_bytes(decoding.err, "decoding it needs");
     ASSERT_GT(decoding_bytes, 0.0) << decoding.err;
     const double estimate = stated_estimate_bytes(arguments, decoding_bytes + 1048576.0);
@@ -130,7 +132,70 @@ TEST_P(MemoryEstimate, SixteenBitOutputsAreCounted) {
   }
 }
 
+// Aggregated noise with several trials keeps each row's recorded plan (M,
+// V and its Knuth-branch pixels) for the later trials: counted too. The
+// gray image is small enough to be planned, the RGB one is not.
+TEST_P(MemoryEstimate, AggregatedNoisePlansAreCounted) {
+  if (test::kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's own memory would be measured";
+  const int channels = GetParam();
+  test::TempDir dir;
+  const fs::path input = dir / "input.png";
+  const std::vector<std::uint8_t> png = encode_png8(test::make_test_image(2048, 1000, channels));
+  test::write_file(input, std::string(png.begin(), png.end()));
+  for (const char* options : {"--trials 2", "--trials 3 --sheet"}) {
+    const std::string arguments = "-i " + input.string() + " -o " + (dir / "out").string() +
+                                  " --threads 2 --noise aggregated " + options;
+    const double estimate = stated_estimate_bytes(arguments);
+    const double peak = peak_bytes(arguments + " --max-memory 0");
+    ASSERT_GT(peak, 0.0) << arguments;
+    std::printf(
+        "memory estimate: %d channel(s), aggregated %-20s estimate %7.1f MiB, peak %7.1f "
+        "MiB\n",
+        channels, options, estimate / 1048576.0, peak / 1048576.0);
+    EXPECT_GE(estimate, peak) << arguments;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(GrayAndRgb, MemoryEstimate, ::testing::Values(1, 3));
+
+// A refusal states what the run needs, rounded up: the same run under a
+// limit of the stated size is not refused for memory again (the estimate
+// from the PNG header is the one made after decoding: a palette decodes to
+// RGB, a 16-bit input makes 16-bit outputs with --png-depth auto).
+TEST(MemoryRefusal, StatedSizeIsEnough) {
+  test::TempDir dir;
+  test::PngSpec palette{640, 300, 8, PNG_COLOR_TYPE_PALETTE, false, {}, {}};
+  for (int i = 0; i < 256; ++i) {
+    palette.palette.push_back(
+        {static_cast<png_byte>(i), static_cast<png_byte>(255 - i), static_cast<png_byte>(i / 2)});
+  }
+  test::PngSpec gray16{640, 300, 16, PNG_COLOR_TYPE_GRAY, false, {}, {}};
+  for (int y = 0; y < 300; ++y) {
+    palette.rows.emplace_back(640);
+    gray16.rows.emplace_back(1280);
+    for (int x = 0; x < 640; ++x) {
+      palette.rows.back()[x] = static_cast<std::uint8_t>((x * 7 + y * 3) % 256);
+      gray16.rows.back()[2 * x] = static_cast<std::uint8_t>((x + y) % 256);
+      gray16.rows.back()[2 * x + 1] = static_cast<std::uint8_t>(x % 256);
+    }
+  }
+  for (const auto& [name, spec] : {std::pair{"palette.png", &palette}, {"gray16.png", &gray16}}) {
+    const std::vector<std::uint8_t> png = test::craft_png(*spec);
+    test::write_file(dir / name, std::string(png.begin(), png.end()));
+    for (const char* options : {"", "--png-depth auto", "--noise aggregated --trials 2"}) {
+      const std::string arguments =
+          "-i " + (dir / name).string() + " -o " + (dir / "out").string() + " " + options;
+      const test::CommandResult refused = test::run_fssim(arguments + " --max-memory 1M");
+      std::smatch m;
+      ASSERT_TRUE(std::regex_search(refused.err, m, std::regex(R"(needs about ([0-9.]+ MiB))")))
+          << arguments << ": " << refused.err;
+      std::string size = m[1];
+      size = size.substr(0, size.find(' ')) + "M";
+      const test::CommandResult run = test::run_fssim(arguments + " --max-memory " + size);
+      EXPECT_EQ(run.exit_code, 0) << arguments << " --max-memory " << size << ": " << run.err;
+    }
+  }
+}
 
 }  // namespace
 }  // namespace fss

@@ -39,9 +39,14 @@ TEST(FormatBytesDistinct, TwoDifferentSizesNeverReadAlike) {
             (std::pair<std::string, std::string>{"12.0 MiB", "10.0 MiB"}));
   EXPECT_EQ(format_bytes_distinct(4.6 * mib, 30.0 * 1024.0),
             (std::pair<std::string, std::string>{"4.6 MiB", "30.0 KiB"}));
-  // Both 10.0 MiB at one decimal: more decimals until they differ.
+  // The size needed is rounded up: a limit raised to it is enough.
   EXPECT_EQ(format_bytes_distinct(10.0 * mib + 1000.0, 10.0 * mib),
-            (std::pair<std::string, std::string>{"10.001 MiB", "10.000 MiB"}));
+            (std::pair<std::string, std::string>{"10.1 MiB", "10.0 MiB"}));
+  EXPECT_EQ(format_bytes_distinct(163.54 * mib, 100.0 * mib),
+            (std::pair<std::string, std::string>{"163.6 MiB", "100.0 MiB"}));
+  // Both 10.1 MiB at one decimal: more decimals until they differ.
+  EXPECT_EQ(format_bytes_distinct(10.06 * mib, 10.05 * mib),
+            (std::pair<std::string, std::string>{"10.06 MiB", "10.05 MiB"}));
   const auto one_byte = format_bytes_distinct(10.0 * mib + 1.0, 10.0 * mib);
   EXPECT_NE(one_byte.first, one_byte.second);
   const auto gib = format_bytes_distinct(1024.0 * mib * 3 + 1.0, 1024.0 * mib * 3);

@@ -170,9 +170,9 @@ TEST(OutputsMemory, FloatAnd16BitOutputsAreCountedInTheLimit) {
   ASSERT_GT(with_floats, plain);
   simulation.max_memory_bytes = plain;  // enough for Simulate, not for the TIFFs
   EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, OutputOptions{}, nullptr));
-  EXPECT_TRUE(
-      test::throws_error([&] { check_outputs_memory(simulation, input, code, floats, nullptr); },
-                         ErrorKind::kLimit, {"float or 16-bit outputs", "memory limit"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] { check_outputs_memory(simulation, input, code, floats, nullptr); }, ErrorKind::kLimit,
+      {"extra outputs (sheet, report, float or 16-bit)", "memory limit"}));
   simulation.max_memory_bytes = with_floats;
   EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, floats, nullptr));
   simulation.max_memory_bytes = 0;  // no limit

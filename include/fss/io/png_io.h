@@ -78,12 +78,14 @@ std::optional<PngDepth> png_depth_from_string(std::string_view text);
 
 // The size the header (IHDR) of a PNG file declares, read from its first 33
 // bytes without decoding: channels as read_png gives them (1 for gray, 3 for
-// colour; a palette counts 1, the least it may give). Nothing when the file
-// does not start with a PNG signature and an IHDR: read_png then says why.
+// colour and palettes) and the bits per sample. Nothing when the file does
+// not start with a PNG signature and an IHDR, or is not a regular file (a
+// pipe is read once, by read_png): read_png then says why.
 struct PngHeaderSize {
   int width = 0;
   int height = 0;
   int channels = 0;
+  int bit_depth = 8;
 };
 std::optional<PngHeaderSize> read_png_header_size(const std::filesystem::path& path);
 

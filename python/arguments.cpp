@@ -336,11 +336,20 @@ std::size_t simulation_memory_bytes(const SimulationOptions& options, const Shut
   check_code_for_mode(code, options.mode);
   const double v = options.velocity_px_per_slot;
   const double v_r = options.restore_velocity_px_per_slot.value_or(v);
+  if (std::abs(v_r) > std::abs(v)) {
+    // The blur is the restore velocity's: a blur wider than the image is its own.
+    const double motion = std::ceil(std::abs(v_r) * options.dt * code.length());
+    if (!(motion < static_cast<double>(size.width))) {
+      throw_usage_error("restore_velocity = " + format_exact(v_r) + ": its blur over " +
+                        std::to_string(code.length()) + " slots of dt " + format_exact(options.dt) +
+                        " is wider than the image (" + std::to_string(size.width) + " pixels)");
+    }
+  }
   const Geometry geometry = Geometry::compute(size.width, code.length(),
                                               std::max(std::abs(v), std::abs(v_r)), options.dt);
   metric_windows(geometry, options.rmse_margin_columns);
-  return estimate_working_memory_bytes(size.width, size.height, size.channels, geometry,
-                                       options.trials, nullptr, kExtraOutputBytesPerSample);
+  return estimate_working_memory_bytes(size.width, size.height, size.channels, geometry, options,
+                                       code.length(), nullptr, kExtraOutputBytesPerSample);
 }
 
 void check_simulation_memory(const SimulationOptions& options, const ShutterCode& code,

@@ -175,3 +175,15 @@ def test_adc_gain_needs_adc_bits():
     assert with_adc.report["sensor"]["adc_gain_electrons_per_count"] == 2.0
     default_gain = fss.simulate(IMAGE, code=GAINS, adc_bits=12)
     assert default_gain.report["sensor"]["adc_gain_electrons_per_count"] == 1.0
+
+
+# ---------------------------------------------------------------------------
+# The restore velocity's blur is named as its own
+
+
+def test_restore_velocity_too_wide_is_named():
+    for value in (1e308, 100.0):
+        with pytest.raises(ValueError) as error:
+            fss.simulate(IMAGE, code=GAINS, restore_velocity=value)
+        assert str(error.value).startswith("restore_velocity = "), str(error.value)
+        assert "wider than the image (64 pixels)" in str(error.value)

@@ -94,8 +94,11 @@ std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& ro
   curves_.measured.push_back(mean);
   curves_.predicted.push_back(invertible ? predicted : std::nan(""));
   if (invertible) {
-    std::fprintf(console_, "velocity %g, snr %g: RMSE %f (sd %f, %d trial%s), predicted %f\n",
-                 velocity, snr, mean, sd, trials, trials == 1 ? "" : "s", predicted);
+    // A sensor that clips readouts makes the prediction approximate (method.md §10).
+    const bool exact = cell(row, "predicted_exact") != "false";
+    std::fprintf(console_, "velocity %g, snr %g: RMSE %f (sd %f, %d trial%s), predicted %f%s\n",
+                 velocity, snr, mean, sd, trials, trials == 1 ? "" : "s", predicted,
+                 exact ? "" : " (approximate: the sensor clips readouts)");
   } else {
     std::fprintf(console_, "velocity %g, snr %g: RMSE %g (%d trial%s), not invertible\n", velocity,
                  snr, mean, trials, trials == 1 ? "" : "s");

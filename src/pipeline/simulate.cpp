@@ -209,8 +209,8 @@ SimulationPlan::SimulationPlan(const SimulationOptions& options, int width, cons
                         "' is not invertible at velocity " + format_exact(restore_velocity_) +
                         ": min |K| = " + format_number(kernel_.min_abs) +
                         " at xi = " + format_number(kernel_.min_abs_xi) +
-                        "; the restoration amplifies noise without bound and no finite "
-                        "error prediction exists");
+                        "; the restoration cannot recover the frequencies where K vanishes and "
+                        "amplifies the noise near them: no finite error prediction exists");
   }
   observed_divisor_ = kernel_.k0;
   if (transfer_vanishes(std::abs(kernel_.k0), transfer_scale(code.gains, dt_))) {

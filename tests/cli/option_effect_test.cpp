@@ -354,5 +354,17 @@ TEST_F(OptionEffect, SweepPredictsWithTheSensor) {
   }
 }
 
+// A full well the image reaches clips readouts: the sweep's line says its
+// prediction is approximate, as the simulator's does.
+TEST_F(OptionEffect, SweepSaysWhenThePredictionIsApproximate) {
+  const CommandResult clipped =
+      test::run_fssim("sweep -i " + quote(input_) + " --full-well 500 -o -");
+  ASSERT_EQ(clipped.exit_code, 0) << clipped.err;
+  EXPECT_NE(clipped.err.find("(approximate: the sensor clips readouts)"), std::string::npos)
+      << clipped.err;
+  const CommandResult exact = test::run_fssim("sweep -i " + quote(input_) + " -o -");
+  EXPECT_EQ(exact.err.find("approximate"), std::string::npos) << exact.err;
+}
+
 }  // namespace
 }  // namespace fss

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <set>
+#include <string>
 
 #include "campaign/campaign_text.h"
 #include "campaign/user_input.h"
@@ -222,9 +224,23 @@ void choose_columns(const Table& results, const std::string& results_name, const
                     const std::string& expected_name, const CheckOptions& options,
                     std::vector<std::string>& keys, std::vector<std::string>& quantities) {
   quantities = options.columns;
+  std::set<std::string> seen;
   for (const std::string& c : expected.rows[0]) {
+    // A misspelt or repeated column would check nothing without a word.
+    if (campaign_column_index(c) < 0) {
+      throw_usage_error(shown(expected_name) + ": column '" + cell_text(c) +
+                        "' is not a column of campaign results (docs/campaign.md)");
+    }
+    if (!seen.insert(c).second) {
+      throw_usage_error(shown(expected_name) + ": column '" + cell_text(c) + "' appears twice");
+    }
     if (is_setting(c)) keys.push_back(c);
     if (options.columns.empty() && compared_by_default(c)) quantities.push_back(c);
+  }
+  if (quantities.empty()) {
+    throw_usage_error(shown(expected_name) +
+                      " has no quantity to compare (rmse_mean, predicted_rmse, ...): the check "
+                      "would check nothing");
   }
   if (keys.empty()) {
     std::string names;
@@ -255,16 +271,26 @@ std::string setting_label(const Table& expected, std::size_t e,
   return setting;
 }
 
-// The first result row with expected row e's settings; 0 when none.
-std::size_t matching_row(const Table& results, const Table& expected, std::size_t e,
+// The result row with expected row e's settings; 0 when none. Refuses
+// settings that match several result rows: the columns EXPECTED has do not
+// tell them apart.
+std::size_t matching_row(const Table& results, const std::string& results_name,
+                         const Table& expected, std::size_t e,
                          const std::vector<std::string>& keys) {
+  std::size_t found = 0;
   for (std::size_t r = 1; r < results.rows.size(); ++r) {
     const bool same = std::all_of(keys.begin(), keys.end(), [&](const std::string& k) {
       return same_setting_value(k, *results.cell(r, k), *expected.cell(e, k));
     });
-    if (same) return r;
+    if (!same) continue;
+    if (found != 0) {
+      throw_usage_error(setting_label(expected, e, keys) + " matches lines " +
+                        std::to_string(found + 1) + " and " + std::to_string(r + 1) + " of " +
+                        shown(results_name) + ": give the setting columns that tell them apart");
+    }
+    found = r;
   }
-  return 0;
+  return found;
 }
 
 }  // namespace
@@ -281,7 +307,7 @@ CheckReport CheckCampaignResults(const std::string& results_csv, const std::stri
   CheckReport report;
   for (std::size_t e = 1; e < expected.rows.size(); ++e) {
     const std::string setting = setting_label(expected, e, keys);
-    const std::size_t match = matching_row(results, expected, e, keys);
+    const std::size_t match = matching_row(results, results_name, expected, e, keys);
     if (match == 0) {
       std::string message = setting;
       message += ": no such row in ";

@@ -11,6 +11,15 @@
 #include "fss/campaign/results.h"
 #include "fss/campaign/run.h"
 
+namespace fss {
+
+// The first setting column (image, code, mode, velocity, ..., trials) in
+// which `row` differs from setting `index` of `c`, "" when it is that
+// setting's row (src/campaign/results.cpp).
+std::string row_setting_mismatch(const ResolvedCampaign& c, long long index, const ResultRow& row);
+
+}  // namespace fss
+
 namespace fss::campaign_journal {
 
 struct Contents {

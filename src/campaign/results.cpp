@@ -1,6 +1,8 @@
 #include "fss/campaign/results.h"
 
 #include <cmath>
+#include <cstring>
+#include <utility>
 
 #include "campaign/campaign_text.h"
 #include "fss/core/error.h"
@@ -181,13 +183,48 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   return row;
 }
 
+}  // namespace
+
+std::string row_setting_mismatch(const ResolvedCampaign& c, long long index, const ResultRow& row) {
+  const Setting s = setting_at(c, index);
+  const ResultRow expected = setting_cells(c, s, setting_options(c, s), SettingRunOptions{});
+  const std::vector<ResultColumn>& columns = campaign_columns();
+  for (int i = 0; i < kBlurLength; ++i) {
+    if (i == kFssimVersion) continue;
+    const auto at = static_cast<std::size_t>(i);
+    if (row.size() <= at || row[at] != expected[at]) return columns[at].name;
+  }
+  return {};
+}
+
+namespace {
+
+// `message` of SimulationOptions::IsValid with its fields named as the
+// campaign's options and keys that set them.
+std::string campaign_field_names(std::string message) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"sensor.read_noise_electrons", "--read-noise / \"read_noise\""},
+      {"sensor.dark_current_electrons_per_slot", "--dark-current / \"dark_current\""},
+      {"sensor.full_well_electrons", "--full-well / \"full_well\""},
+      {"sensor.adc_gain_electrons_per_count", "--adc-gain / \"adc_gain\""},
+      {"sensor.adc_bits", "--adc-bits / \"adc_bits\""},
+      {"restore_velocity_px_per_slot", "--restore-velocity / \"restore_velocity\""},
+      {"velocity_px_per_slot", "--velocity / \"velocity\""},
+      {"rmse_margin_columns", "--rmse-margin / \"rmse_margin\""}};
+  for (const auto& [field, shown] : kNames) {
+    const std::size_t at = message.find(field);
+    if (at != std::string::npos) message.replace(at, std::strlen(field), shown);
+  }
+  return message;
+}
+
 // The status and message of a setting that cannot run, "" when it can;
 // *blur_length gets B when known.
 std::pair<std::string, std::string> refusal(const ResolvedCampaign& c, const Setting& s,
                                             const SimulationOptions& o, const Image& image,
                                             int* blur_length) {
   std::string message;
-  if (!o.IsValid(&message)) return {kStatusInvalid, message};
+  if (!o.IsValid(&message)) return {kStatusInvalid, campaign_field_names(message)};
   try {
     check_code_for_mode(c.codes[s.code].code, o.mode);
   } catch (const Error& e) {

@@ -150,6 +150,19 @@ std::string shown_path(const std::string& path) {
   return shown + "'";
 }
 
+// Refuses a journal at `path` holding a row that is not its index's setting.
+void check_rows_are_their_settings(const ResolvedCampaign& campaign,
+                                   const journal::Contents& contents, const std::string& path) {
+  for (const auto& [index, row] : contents.rows) {
+    const std::string column = row_setting_mismatch(campaign, index, row);
+    if (!column.empty()) {
+      throw_runtime_error("campaign journal " + shown_path(path) + ": the row of setting " +
+                          std::to_string(index) + " is not that setting's (its " + column +
+                          " differs)");
+    }
+  }
+}
+
 // The journal of dir for this campaign and shard: read (refusing another
 // campaign or shard) or started.
 journal::Contents open_journal(const ResolvedCampaign& campaign, const std::string& dir,
@@ -176,6 +189,7 @@ journal::Contents open_journal(const ResolvedCampaign& campaign, const std::stri
                       " of this campaign, not shard " + journal::shard_text(shard) +
                       "; use one directory per shard");
   }
+  check_rows_are_their_settings(campaign, *contents, path);
   return *contents;
 }
 
@@ -428,6 +442,8 @@ std::vector<Part> read_parts(const std::vector<std::string>& part_dirs, const st
                           std::to_string(part.contents.settings) + " settings, the campaign " +
                           std::to_string(campaign->setting_count()));
     }
+    check_rows_are_their_settings(*campaign, part.contents,
+                                  (fs::path(part.dir) / kCampaignJournal).string());
   }
   return parts;
 }

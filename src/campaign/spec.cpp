@@ -131,9 +131,17 @@ std::string sensor_error(const SensorModel& sensor) {
   if (sensor.adc_bits < 0 || sensor.adc_bits > 32) {
     return rule("--adc-bits", "adc_bits", sensor.adc_bits, "must lie in [1, 32] (or 0 for no ADC)");
   }
+  if (dark > kMaxSensorScale) {
+    return rule("--dark-current", "dark_current", dark, "must lie in [0, 1e100]");
+  }
   const double gain = sensor.adc_gain_electrons_per_count;
   if (!(std::isfinite(gain) && gain > 0.0)) {
     return rule("--adc-gain", "adc_gain", gain, "must be finite and > 0");
+  }
+  if (gain > kMaxSensorScale) return rule("--adc-gain", "adc_gain", gain, "must lie in (0, 1e100]");
+  if (sensor.adc_bits == 0 && gain != 1.0) {
+    return rule("--adc-gain", "adc_gain", gain,
+                "needs --adc-bits / \"adc_bits\" (without an ADC there are no counts)");
   }
   SensorModel fixed = sensor;
   fixed.read_noise_electrons = 0.0;
@@ -192,7 +200,15 @@ void require_utf8(const std::string& name, const char* what) {
 }
 
 // The bytes of image `path`: a PNG file of at most kMaxCampaignImageBytes.
+// A regular file: a campaign reads its images again (to run a setting, to
+// resume), which a pipe or a FIFO cannot give twice.
 std::string read_image_bytes(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
+    throw_usage_error("image '" + escape_control_characters(path) +
+                      "' is not a regular file: a campaign reads its images more than once (to "
+                      "run and to resume); copy it to a file");
+  }
   return campaign_input::read_png_file(path, kMaxCampaignImageBytes, "image");
 }
 

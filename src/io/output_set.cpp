@@ -485,6 +485,21 @@ KnownNames known_names(const std::vector<OutputFile>& files,
   return known;
 }
 
+// The stale names whose files in `outdir` go with the old set: all but an
+// input of this run (an input named like an output is never removed).
+std::vector<std::string> retired_names(const fs::path& outdir,
+                                       const std::vector<std::string>& stale_names,
+                                       const std::vector<std::string>& protected_inputs) {
+  std::vector<std::string> retired;
+  for (const std::string& name : stale_names) {
+    const bool input =
+        std::any_of(protected_inputs.begin(), protected_inputs.end(),
+                    [&](const std::string& in) { return same_file(outdir / name, in); });
+    if (!input) retired.push_back(name);
+  }
+  return retired;
+}
+
 // Stages, commits and publishes `files`; the output directory is open as
 // `out_fd`. A failure before publishing removes what was staged.
 void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>& files,
@@ -493,7 +508,8 @@ void write_set(int out_fd, const fs::path& outdir, const std::vector<OutputFile>
   Stage stage = create_stage(out_fd, outdir);
   bool half_published = false;
   try {
-    stage_and_commit(stage, outdir, files, stale_names, threads);
+    stage_and_commit(stage, outdir, files, retired_names(outdir, stale_names, protected_inputs),
+                     threads);
     if (const int error = lock_fd(out_fd, LOCK_EX); error != 0) {
       throw_runtime_error("cannot lock output directory '" + outdir.string() +
                           "': " + error_text(error));

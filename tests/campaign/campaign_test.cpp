@@ -510,6 +510,36 @@ TEST(Campaign, AJournalHoldingAnotherShardsRowIsRefused) {
                                  {journal.string(), "line 3"}));
 }
 
+// A row of the right shard written under another of its settings' index
+// (setting 2's row as setting 0's) is refused by merge and by a resume.
+TEST(Campaign, AJournalRowUnderAnotherSettingsIndexIsRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  std::vector<std::string> parts;
+  for (int i = 1; i <= 2; ++i) {
+    CampaignRunOptions options;
+    options.shard = {i, 2};
+    parts.push_back((tmp / ("p" + std::to_string(i))).string());
+    RunCampaign(c, parts.back(), options);
+  }
+  const fs::path journal = fs::path(parts[0]) / kCampaignJournal;
+  std::vector<std::string> lines = test::lines_of(test::read_file(journal));
+  ASSERT_GE(lines.size(), 3u);
+  const std::size_t at = lines[2].find("\"index\":2");
+  ASSERT_NE(at, std::string::npos) << lines[2];
+  lines[1] = lines[2];
+  lines[1].replace(at, 9, "\"index\":0");
+  test::write_file(journal, lines_text(lines));
+  const std::string out = (tmp / "merged").string();
+  EXPECT_TRUE(test::throws_error([&] { MergeCampaignParts(parts, out); }, ErrorKind::kRuntime,
+                                 {journal.string(), "setting 0", "differs"}));
+  EXPECT_FALSE(fs::exists(out));
+  CampaignRunOptions options;
+  options.shard = {1, 2};
+  EXPECT_TRUE(test::throws_error([&] { RunCampaign(c, parts[0], options); }, ErrorKind::kRuntime,
+                                 {journal.string(), "setting 0"}));
+}
+
 // fssim writes a journal's header whole (renamed into place): a journal.jsonl
 // without a complete header line is not fssim's, and is never removed.
 TEST(Campaign, AJournalWithoutACompleteHeaderIsRefusedNotRemoved) {
@@ -671,6 +701,50 @@ TEST(Check, RefusesExpectationsWithoutSettingColumns) {
   EXPECT_TRUE(test::throws_error(
       [&] { CheckCampaignResults(kResults, "r.csv", "rmse_mean\n2.36\n2.2\n", "e.csv", {}); },
       ErrorKind::kUsage, {"'e.csv' has none of the setting columns"}));
+}
+
+// A check that would check nothing, or the wrong rows, is refused: a
+// misspelt or repeated column, no quantity, settings matching two rows.
+TEST(Check, RefusesExpectationsThatCheckNothingOrTheWrongRows) {
+  EXPECT_TRUE(test::throws_error(
+      [&] { CheckCampaignResults(kResults, "r.csv", "code,rmse_maen\nraskar,9\n", "e.csv", {}); },
+      ErrorKind::kUsage, {"'e.csv': column 'rmse_maen' is not a column of campaign results"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        CheckCampaignResults(kResults, "r.csv", "code,code,rmse_mean\nraskar,raskar,2.36\n",
+                             "e.csv", {});
+      },
+      ErrorKind::kUsage, {"column 'code' appears twice"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] { CheckCampaignResults(kResults, "r.csv", "code,velocity\nraskar,1\n", "e.csv", {}); },
+      ErrorKind::kUsage, {"'e.csv' has no quantity to compare"}));
+  EXPECT_TRUE(test::throws_error(
+      [&] {
+        CheckCampaignResults(kResults, "r.csv", "image,rmse_mean\ndata/camera.png,2.36\n", "e.csv",
+                             {});
+      },
+      ErrorKind::kUsage, {"matches lines 2 and 3 of 'r.csv'"}));
+}
+
+// The sensor's fields are named as the options and keys that set them, and
+// a gain without an ADC is refused as the command line refuses it.
+TEST(Campaign, SensorFieldsAreNamedAndAGainNeedsAnAdc) {
+  test::TempDir tmp;
+  CampaignSpec spec = small_spec(tmp);
+  spec.sensor.adc_gain_electrons_per_count = 5.0;
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"--adc-gain / \"adc_gain\" = 5: needs --adc-bits"}));
+  spec = small_spec(tmp);
+  spec.sensor.dark_current_electrons_per_slot = 1e308;
+  EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
+                                 {"--dark-current / \"dark_current\" = 1e+308: must lie in"}));
+  spec = small_spec(tmp);
+  spec.read_noise = "1e300";
+  const ResolvedCampaign c = resolve_campaign(spec);
+  const std::vector<ResultRow> rows = RunCampaign(c, (tmp / "out").string(), {}).rows;
+  ASSERT_FALSE(rows.empty());
+  const std::string& message = rows[0][static_cast<std::size_t>(campaign_column_index("message"))];
+  EXPECT_NE(message.find("--read-noise / \"read_noise\" = 1e+300"), std::string::npos) << message;
 }
 
 TEST(Check, MessagesNameTheOptionsAndAreOneLineWithoutNaN) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fss/io/png_io.h"
+#include "fss/io/tiff_io.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -102,6 +103,25 @@ TEST_F(OutputPaths, SimulatorNeverReplacesItsImageOrCode) {
       EXPECT_EQ(test::read_file(image_path), image_bytes_) << name << " " << which;
       EXPECT_EQ(test::read_file(code_path), code_bytes_) << name << " " << which;
     }
+  }
+}
+
+// An input named like an output this run does not write (an earlier run's
+// sheet.png or observed.tif, which goes with the old set) is kept.
+TEST_F(OutputPaths, SimulatorNeverRemovesAnInputAsAStaleOutput) {
+  for (const char* name : {"sheet.png", "observed.tif", "code.png"}) {
+    test::TempDir dir;
+    const fs::path out = dir / "out";
+    fs::create_directories(out);
+    const fs::path input = out / name;
+    const bool tiff = std::string(name).ends_with(".tif");
+    const Image image = test::make_test_image(900, 8, 1);
+    const std::vector<std::uint8_t> bytes = tiff ? encode_tiff_float(image) : encode_png8(image);
+    test::write_file(input, std::string(bytes.begin(), bytes.end()));
+    const CommandResult r = test::run_fssim("-i " + quote(input) + " --no-plots -o " + quote(out));
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    ASSERT_TRUE(fs::exists(input)) << name << " was removed";
+    EXPECT_EQ(test::read_file(input), std::string(bytes.begin(), bytes.end())) << name;
   }
 }
 

@@ -482,11 +482,8 @@ std::string lines_text(const std::vector<std::string>& lines) {
   return text;
 }
 
-// Shard 1/2 whose journal holds a row of shard 2/2 in place of one of its
-// own: as many rows as it should have, but one setting missing in all.
-TEST(Campaign, AJournalHoldingAnotherShardsRowIsRefused) {
-  test::TempDir tmp;
-  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+// Shards 1/2 and 2/2 of `c` run into tmp/p1 and tmp/p2: their folders.
+std::vector<std::string> run_two_shards(const ResolvedCampaign& c, const test::TempDir& tmp) {
   std::vector<std::string> parts;
   for (int i = 1; i <= 2; ++i) {
     CampaignRunOptions options;
@@ -494,6 +491,15 @@ TEST(Campaign, AJournalHoldingAnotherShardsRowIsRefused) {
     parts.push_back((tmp / ("p" + std::to_string(i))).string());
     RunCampaign(c, parts.back(), options);
   }
+  return parts;
+}
+
+// Shard 1/2 whose journal holds a row of shard 2/2 in place of one of its
+// own: as many rows as it should have, but one setting missing in all.
+TEST(Campaign, AJournalHoldingAnotherShardsRowIsRefused) {
+  test::TempDir tmp;
+  const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
+  const std::vector<std::string> parts = run_two_shards(c, tmp);
   const fs::path journal = fs::path(parts[0]) / kCampaignJournal;
   std::vector<std::string> first = test::lines_of(test::read_file(journal));
   const std::vector<std::string> second =
@@ -515,13 +521,7 @@ TEST(Campaign, AJournalHoldingAnotherShardsRowIsRefused) {
 TEST(Campaign, AJournalRowUnderAnotherSettingsIndexIsRefused) {
   test::TempDir tmp;
   const ResolvedCampaign c = resolve_campaign(small_spec(tmp));
-  std::vector<std::string> parts;
-  for (int i = 1; i <= 2; ++i) {
-    CampaignRunOptions options;
-    options.shard = {i, 2};
-    parts.push_back((tmp / ("p" + std::to_string(i))).string());
-    RunCampaign(c, parts.back(), options);
-  }
+  const std::vector<std::string> parts = run_two_shards(c, tmp);
   const fs::path journal = fs::path(parts[0]) / kCampaignJournal;
   std::vector<std::string> lines = test::lines_of(test::read_file(journal));
   ASSERT_GE(lines.size(), 3u);

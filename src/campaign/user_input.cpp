@@ -104,7 +104,13 @@ std::optional<Json> parse_json(std::string_view text, std::string* error) {
   } catch (const TooDeep&) {
     *error = "arrays and objects nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
   } catch (const Json::exception& e) {
-    *error = shorten_for_message(e.what(), 200);
+    // "[json.exception.parse_error.101] parse error at line 1, ...": the
+    // library's tag is not the user's business.
+    std::string_view what = e.what();
+    if (const std::size_t tag = what.find("] "); what.starts_with("[json.") && tag != what.npos) {
+      what.remove_prefix(tag + 2);
+    }
+    *error = shorten_for_message(std::string(what), 200);
   }
   return std::nullopt;
 }

@@ -747,6 +747,17 @@ TEST(Campaign, SensorFieldsAreNamedAndAGainNeedsAnAdc) {
   EXPECT_NE(message.find("--read-noise / \"read_noise\" = 1e+300"), std::string::npos) << message;
 }
 
+// A campaign file that is not JSON: the parser's words, without its tag.
+TEST(Campaign, JsonErrorsShowNoLibraryTag) {
+  const std::optional<Error> error =
+      test::error_of([] { parse_campaign_file("{\"trials\": x}", "f.json"); });
+  ASSERT_TRUE(error.has_value());
+  const std::string message = error->what();
+  EXPECT_NE(message.find("campaign file 'f.json': parse error at line 1"), std::string::npos)
+      << message;
+  EXPECT_EQ(message.find("json.exception"), std::string::npos) << message;
+}
+
 TEST(Check, MessagesNameTheOptionsAndAreOneLineWithoutNaN) {
   CheckOptions options;
   options.abs_tolerance = std::numeric_limits<double>::infinity();

@@ -28,10 +28,6 @@ struct FileDescriptor {
 // Thrown by the parser callback to stop at the first level too deep.
 struct TooDeep {};
 
-}  // namespace
-
-namespace {
-
 // Refuses what the first bytes of a file already tell: another signature,
 // a NUL byte in a text. `checked` bytes of `bytes` passed before.
 void check_kind(const std::string& named, const std::string& bytes, const FileKind& kind,

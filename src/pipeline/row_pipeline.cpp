@@ -48,7 +48,7 @@ RowPipeline::RowPipeline(const Image& input, const RowObserver& observer,
       observer_(observer.with_noise(observation_params(options, geometry))),
       restorer_(restorer) {
   const auto samples = static_cast<std::size_t>(input.width) * input.height * input.channels;
-  if (observer_.aggregates_noise() && options.trials > 1 && samples <= kMaxPlannedSamples) {
+  if (records_plans(observer_.aggregates_noise(), options.trials, samples)) {
     plans_.resize(static_cast<std::size_t>(input.channels) * input.height);
   }
 }
@@ -59,7 +59,7 @@ std::size_t RowPipeline::plan_bytes(int width, int height, int channels,
   const auto rows = static_cast<std::size_t>(height) * static_cast<std::size_t>(channels);
   const bool aggregated =
       options.noise == NoiseModel::kAggregated && options.mode == ShutterMode::kNumerical;
-  if (!aggregated || options.trials <= 1 || w * rows > kMaxPlannedSamples) return 0;
+  if (!records_plans(aggregated, options.trials, w * rows)) return 0;
   // A frame's record, its two arrays' allocations, and the frames vector's
   // doubling: 192 bytes; the plan itself and M and V's allocations: 256.
   constexpr std::size_t kFrameBytes = 192;

@@ -114,6 +114,11 @@ class RowPipeline {
   // worth of Knuth-branch pixel frames, 12 bytes each; a row with more is
   // not recorded and is drawn from its frames every trial): 56 MiB at most.
   static constexpr std::size_t kMaxPlannedSamples = std::size_t{1} << 21;
+  // Whether a run records the rows' plans: the rule of the constructor and
+  // of plan_bytes.
+  static bool records_plans(bool aggregates_noise, int trials, std::size_t samples) {
+    return aggregates_noise && trials > 1 && samples <= kMaxPlannedSamples;
+  }
   mutable std::vector<AggregatedRowPlan> plans_;  // one per row, written by that row's worker
 };
 

@@ -12,14 +12,14 @@
 #include <random>
 #include <vector>
 
-#include "fss/core/fft.h"
+#include "core/fft.h"
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
-#include "fss/model/noise.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/metrics.h"
-#include "fss/pipeline/restore.h"
 #include "fss/pipeline/simulate.h"
+#include "model/noise.h"
+#include "pipeline/restore.h"
 #include "synthetic_image.h"
 #include "ziggurat.h"
 

@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/parallel.h"
 #include "fss/core/image.h"
-#include "fss/core/parallel.h"
 #include "fss/io/png_io.h"
 
 namespace {

@@ -18,7 +18,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "fss/model/noise.h"
+#include "model/noise.h"
 
 namespace fss_bench {
 

@@ -86,9 +86,8 @@ install(FILES ${PROJECT_BINARY_DIR}/fssConfig.cmake ${PROJECT_BINARY_DIR}/fssCon
 
 # fss.pc. A static install has no shared variant, so what a shared libfss
 # would hide (PLplot, libtiff, ISA-L) is needed by every link: they go to Requires, and plain
-# `pkg-config --libs fss` links. A shared libfss needs only its public
-# dependencies (the headers include nlohmann/json; FFTW3, libpng and threads
-# are public in the CMake target too, and listed the same here).
+# `pkg-config --libs fss` links. No public header includes a third-party one;
+# FFTW3, libpng and nlohmann_json are listed for either kind of library.
 set(FSS_PC_REQUIRES "fftw3 libpng nlohmann_json >= 3.9")
 if(NOT FSS_SHARED)
   string(APPEND FSS_PC_REQUIRES " plplot libtiff-4 libisal")

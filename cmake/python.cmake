@@ -63,7 +63,7 @@ set_target_properties(fss PROPERTIES POSITION_INDEPENDENT_CODE ON)
 pybind11_add_module(fss_python MODULE NO_EXTRAS python/fss_module.cpp python/arguments.cpp)
 set_target_properties(fss_python PROPERTIES OUTPUT_NAME fss LIBRARY_OUTPUT_DIRECTORY
                                             ${PROJECT_BINARY_DIR}/python)
-target_link_libraries(fss_python PRIVATE fss)
+target_link_libraries(fss_python PRIVATE fss_internal)
 target_compile_options(fss_python PRIVATE -Wall -Wextra)
 target_compile_definitions(fss_python PRIVATE FSS_VERSION_FULL="${FSS_VERSION_FULL}")
 

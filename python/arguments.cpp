@@ -12,7 +12,9 @@
 #include "fss/io/png_io.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/geometry.h"
+#include "fss/pipeline/memory_estimate.h"
 #include "fss/pipeline/option_rules.h"
+#include "pipeline/run_checks.h"
 
 namespace fss::python {
 
@@ -334,33 +336,23 @@ constexpr std::size_t kExtraOutputBytesPerSample = 32 - 4;
 std::size_t simulation_memory_bytes(const SimulationOptions& options, const ShutterCode& code,
                                     const ImageSize& size) {
   check_code_for_mode(code, options.mode);
-  const double v = options.velocity_px_per_slot;
-  const double v_r = options.restore_velocity_px_per_slot.value_or(v);
-  if (std::abs(v_r) > std::abs(v)) {
-    // The blur is the restore velocity's: a blur wider than the image is its own.
-    const double motion = std::ceil(std::abs(v_r) * options.dt * code.length());
-    if (!(motion < static_cast<double>(size.width))) {
-      throw_usage_error("restore_velocity = " + format_exact(v_r) + ": its blur over " +
-                        std::to_string(code.length()) + " slots of dt " + format_exact(options.dt) +
-                        " is wider than the image (" + std::to_string(size.width) + " pixels)");
-    }
+  if (const std::string excess = restore_blur_excess(options, size.width, code.length());
+      !excess.empty()) {
+    throw_usage_error(
+        "restore_velocity = " + format_exact(options.restore_velocity_px_per_slot.value_or(0.0)) +
+        ": its blur " + excess);
   }
-  const Geometry geometry = Geometry::compute(size.width, code.length(),
-                                              std::max(std::abs(v), std::abs(v_r)), options.dt);
-  metric_windows(geometry, options.rmse_margin_columns);
-  return estimate_working_memory_bytes(size.width, size.height, size.channels, geometry, options,
-                                       code.length(), nullptr, kExtraOutputBytesPerSample);
+  return estimate_run_memory_bytes({size.width, size.height, size.channels}, options, code, false,
+                                   kExtraOutputBytesPerSample);
 }
 
 void check_simulation_memory(const SimulationOptions& options, const ShutterCode& code,
                              const ImageSize& size) {
-  const std::size_t needed = simulation_memory_bytes(options, code, size);
-  if (options.max_memory_bytes != 0 && needed > options.max_memory_bytes) {
-    throw_memory_limit_error("a run on this " + std::to_string(size.width) + " x " +
-                                 std::to_string(size.height) + " x " +
-                                 std::to_string(size.channels) + " image",
-                             needed, options.max_memory_bytes);
-  }
+  simulation_memory_bytes(options, code, size);  // its usage errors first
+  check_run_memory(
+      {size.width, size.height, size.channels}, options, code, false, kExtraOutputBytesPerSample,
+      "a run on this " + std::to_string(size.width) + " x " + std::to_string(size.height) + " x " +
+          std::to_string(size.channels) + " image");
 }
 
 // ---------------------------------------------------------------------------

@@ -1,6 +1,5 @@
 // The Python module `fss` (pybind11): the simulator and the code design
-// functions of the library on numpy arrays. The README's section "Python"
-// documents it.
+// functions of the library on numpy arrays. docs/python.md documents it.
 //
 // Conventions of the module (on top of fss/core/image.h):
 //  - Images are numpy arrays H x W (gray) or H x W x 3 (RGB) of any real
@@ -42,6 +41,7 @@
 #include "fss/design/optimize.h"
 #include "fss/io/png_io.h"
 #include "fss/io/report_json.h"
+#include "fss/io/simulate_to_folder.h"
 #include "fss/model/code.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/simulate.h"
@@ -344,6 +344,57 @@ SimulationResult simulate(const SimulateCall& call) {
 }
 
 // ---------------------------------------------------------------------------
+// fss.simulate_to_folder
+
+// The outputs' keywords of fss.simulate_to_folder, as Python objects.
+struct FolderCall {
+  py::object outdir, plots, sheet, report, save_float, png_depth;
+};
+
+fss::FolderRunOptions folder_run_options(const FolderCall& c, const py::object& code) {
+  fss::FolderRunOptions run;
+  run.outputs.plots = bool_argument(c.plots, "plots");
+  run.outputs.sheet = bool_argument(c.sheet, "sheet");
+  run.outputs.html_report = bool_argument(c.report, "report");
+  run.outputs.float_outputs = bool_argument(c.save_float, "save_float");
+  const std::string depth = string_argument(c.png_depth, "png_depth");
+  if (depth == "auto") {
+    run.image_depth_from_input = true;
+  } else if (const auto bits = fss::png_depth_from_string(depth)) {
+    run.outputs.image_depth = *bits;
+  } else {
+    fss::throw_usage_error("png_depth = '" + fss::escape_control_characters(depth) +
+                           "': expected '8', '16' or 'auto'");
+  }
+  if (py::isinstance<py::str>(code) || py::isinstance<py::bytes>(code) ||
+      py::hasattr(code, "__fspath__")) {
+    const std::string name = path_argument(code, "code");
+    const std::vector<std::string> builtins = fss::builtin_code_names();
+    if (std::find(builtins.begin(), builtins.end(), name) == builtins.end()) {
+      run.outputs.other_inputs.push_back(name);  // a code file is never overwritten
+    }
+  }
+  return run;
+}
+
+// The run of `fssim --input` from a file into a folder (SimulateToFolder);
+// returns report.json as a dict.
+py::object simulate_to_folder(const SimulateCall& call, const FolderCall& folder) {
+  const fss::SimulationOptions options = args::simulation_options(simulate_arguments(call));
+  const std::string input = path_argument(call.image, "input");
+  const std::string outdir = path_argument(folder.outdir, "outdir");
+  const fss::FolderRunOptions run = folder_run_options(folder, call.code);
+  const fss::ShutterCode code = code_from_object(call.code);
+  std::string json_text;
+  {
+    py::gil_scoped_release release;
+    const fss::SimulationReport report = fss::SimulateToFolder(input, code, outdir, options, run);
+    json_text = fss::report_json_text(report, input);
+  }
+  return py::module_::import("json").attr("loads")(json_text);
+}
+
+// ---------------------------------------------------------------------------
 // Codes
 
 // A CodeAnalysis as a dict: the names of `fssim code analyze --json`'s
@@ -569,6 +620,37 @@ void define_simulate(py::module_& m) {
       "result.prediction['exact'] says whether the prediction is exact.");
 }
 
+void define_simulate_to_folder(py::module_& m) {
+  m.def(
+      "simulate_to_folder",
+      [](const py::object& input, const py::object& outdir, const py::object& code,
+         const py::object& mode, const py::object& velocity, const py::object& snr,
+         const py::object& dt, const py::object& seed, const py::object& trials,
+         const py::object& noise, const py::object& restore_velocity, const py::object& threads,
+         const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
+         const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
+         const py::object& adc_gain, const py::object& plots, const py::object& sheet,
+         const py::object& report, const py::object& save_float, const py::object& png_depth) {
+        return simulate_to_folder(
+            {input, code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
+             rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain},
+            {outdir, plots, sheet, report, save_float, png_depth});
+      },
+      py::arg("input"), py::arg("outdir"), py::kw_only(), py::arg("code") = "raskar",
+      py::arg("mode") = "numerical", py::arg("velocity") = 1.0, py::arg("snr") = 100.0,
+      py::arg("dt") = 1.0, py::arg("seed") = 0, py::arg("trials") = 1, py::arg("noise") = "poisson",
+      py::arg("restore_velocity") = py::none(), py::arg("threads") = 0,
+      py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0, py::arg("read_noise") = 0.0,
+      py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(), py::arg("adc_bits") = 0,
+      py::arg("adc_gain") = py::none(), py::arg("plots") = true, py::arg("sheet") = false,
+      py::arg("report") = false, py::arg("save_float") = false, py::arg("png_depth") = "8",
+      "Runs `fssim --input INPUT --outdir OUTDIR` from Python: reads the image file, simulates "
+      "and writes the same files, byte for byte, all of them or none (the options of "
+      "fss.simulate; plots, sheet, report, save_float and png_depth as --no-plots, --sheet, "
+      "--report, --save-float and --png-depth). max_memory refuses a run from the PNG header, "
+      "before decoding. Returns report.json as a dict.");
+}
+
 void define_codes(py::module_& m) {
   m.def("analyze_code", &analyze, py::arg("code"), py::kw_only(), py::arg("velocity") = 1.0,
         py::arg("dt") = 1.0, py::arg("snr") = 100.0, py::arg("mode") = "numerical",
@@ -613,5 +695,6 @@ PYBIND11_MODULE(fss, m) {
   register_errors();
   define_result(m);
   define_simulate(m);
+  define_simulate_to_folder(m);
   define_codes(m);
 }

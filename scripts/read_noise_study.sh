@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The read noise study of the README ("Read noise study"): the SNR at level
+# The read noise study of docs/sensor-model.md ("Read noise study"): the SNR at level
 # 100 (fssim code analyze, docs/method.md §6 and §10) of the snapshot, the
 # raskar code (both modes), the sinc code (numerical) and the numerical and
 # analog optima of length 52, at v = 1, dt = 1, against the read noise

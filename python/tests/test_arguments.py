@@ -186,4 +186,4 @@ def test_restore_velocity_too_wide_is_named():
         with pytest.raises(ValueError) as error:
             fss.simulate(IMAGE, code=GAINS, restore_velocity=value)
         assert str(error.value).startswith("restore_velocity = "), str(error.value)
-        assert "wider than the image (64 pixels)" in str(error.value)
+        assert "more than the image width 64" in str(error.value)

@@ -120,6 +120,8 @@ const std::vector<ResultColumn>& trial_columns() {
   return columns;
 }
 
+// Settings are image-, code-, mode- and velocity-major, so a kept plan serves every snr value,
+// seed and image of one width of a code, mode, velocity, restore velocity and dt.
 const SimulationPlan& SimulationPlanCache::plan(const SimulationOptions& options, int width,
                                                 const ShutterCode& code) {
   for (const auto& kept : plans_) {
@@ -246,7 +248,7 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
   SimulationOptions o = setting_options(c, s);
   o.threads = options.threads;
   o.max_memory_bytes = options.max_memory_bytes;
-  if (options.seed) o.seed = *options.seed;
+  if (options.seed) o.seed = *options.seed;  // fssim sweep: one seed keeps its curves smooth
   if (trial_rows != nullptr) trial_rows->clear();
   ResultRow row = setting_cells(c, s, o, options);
   int blur_length = -1;

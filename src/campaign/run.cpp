@@ -15,13 +15,13 @@
 #include <utility>
 
 #include "campaign/journal.h"
+#include "campaign/sha256.h"
 #include "campaign/user_input.h"
-#include "fss/campaign/sha256.h"
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
-#include "fss/io/safe_write.h"
 #include "fss/model/code.h"
 #include "io/created_directories.h"
+#include "io/safe_write.h"
 
 namespace fss {
 
@@ -292,7 +292,14 @@ void remove_unstarted_journal(const std::string& dir) {
   ::unlink((fs::path(dir) / kLockName).c_str());
 }
 
-// Runs the settings of the shard missing from dir's journal; dir is locked.
+// Runs the settings of the shard missing from dir's journal; dir is locked. DIR/journal.jsonl is
+// append-only: a header line naming the campaign (its canonical specification and hash) and the
+// shard, then one line per finished setting, written as soon as the setting ends (so a killed
+// process loses none) and fsynced, while the next setting runs, before the next line is written.
+// A rerun reads it and runs only the settings it lacks (a torn last line, from a kill mid-write,
+// is cut off); a different campaign or shard is refused. Once every setting of the shard is in the
+// journal, results.csv, results.jsonl and campaign.json (and, with per_trial, trials.csv and
+// trials.jsonl) are written from it, each to a temporary file renamed into place.
 CampaignRunSummary run_shard(const ResolvedCampaign& campaign, const std::string& dir,
                              const CampaignRunOptions& options) {
   journal::Contents contents = open_journal(campaign, dir, options.shard);

@@ -1,4 +1,4 @@
-#include "fss/campaign/sha256.h"
+#include "campaign/sha256.h"
 
 #include <cstring>
 

@@ -12,12 +12,12 @@
 #include <stdexcept>
 
 #include "campaign/campaign_text.h"
+#include "campaign/sha256.h"
 #include "campaign/user_input.h"
-#include "fss/campaign/sha256.h"
+#include "core/number_text.h"
 #include "fss/core/error.h"
-#include "fss/core/number_text.h"
-#include "fss/model/noise.h"
 #include "fss/pipeline/option_rules.h"
+#include "model/noise.h"
 
 namespace fss {
 
@@ -25,7 +25,7 @@ namespace {
 
 using Json = nlohmann::json;
 
-// 12 significant digits: start + i step without its rounding noise.
+// 12 significant digits: start + i step without its rounding noise (0.1 steps read 0.3).
 double tidy(double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.12g", value);
@@ -312,6 +312,8 @@ void seal(ResolvedCampaign& c) {
 
 }  // namespace
 
+// Only a campaign with a sensor names it in its canonical JSON and its settings' descriptions, so
+// that a campaign without one keeps its hash and its seeds.
 bool ResolvedCampaign::has_sensor() const {
   SensorModel fixed = sensor;
   fixed.read_noise_electrons = 0.0;

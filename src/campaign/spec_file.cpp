@@ -8,7 +8,7 @@
 #include "campaign/user_input.h"
 #include "fss/campaign/spec.h"
 #include "fss/core/error.h"
-#include "fss/model/noise.h"
+#include "model/noise.h"
 
 namespace fss {
 
@@ -156,6 +156,8 @@ bool CampaignFileReader::Sensor(const std::string& key, const Json& value,
 
 }  // namespace
 
+// The keys are those docs/campaign.md lists; value lists are kept as text, numbers in shortest
+// round-trip form.
 CampaignSpec parse_campaign_file(std::string_view text, const std::string& name) {
   const CampaignFileReader reader(name);
   std::string error;

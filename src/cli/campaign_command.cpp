@@ -13,8 +13,8 @@
 #include "fss/campaign/run.h"
 #include "fss/campaign/spec.h"
 #include "fss/core/error.h"
-#include "fss/io/safe_write.h"
 #include "fss/model/code.h"
+#include "io/safe_write.h"
 
 namespace fssim {
 

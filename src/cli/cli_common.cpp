@@ -13,8 +13,8 @@
 #include <new>
 
 #include "fss/core/error.h"
-#include "fss/io/safe_write.h"
 #include "fss/pipeline/option_rules.h"
+#include "io/safe_write.h"
 
 namespace fssim {
 

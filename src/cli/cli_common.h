@@ -11,6 +11,7 @@
 #include "fss/core/error.h"
 #include "fss/io/outputs.h"
 #include "fss/model/sensor.h"
+#include "io/output_set.h"
 
 namespace fssim {
 
@@ -102,6 +103,6 @@ int check_standard_streams(int status);
 
 using fss::format_exact;           // fss/core/error.h
 using fss::format_number;          // fss/core/error.h
-using fss::write_file_atomically;  // fss/io/outputs.h
+using fss::write_file_atomically;  // io/output_set.h
 
 }  // namespace fssim

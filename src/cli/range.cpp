@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string_view>
 
+#include "core/number_text.h"
 #include "fss/core/error.h"
-#include "fss/core/number_text.h"
 
 namespace fssim {
 

@@ -13,10 +13,10 @@
 #include "fss/core/error.h"
 #include "fss/io/image_io.h"
 #include "fss/io/plot.h"
-#include "fss/io/safe_write.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/simulate.h"
+#include "io/safe_write.h"
 #include "range.h"
 
 namespace fssim {

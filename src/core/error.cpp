@@ -59,6 +59,8 @@ std::pair<std::string, std::string> format_bytes_distinct(double needed, double 
   return texts;
 }
 
+// The one formatter of values in messages: %g would write 1.0000001 as "1" and hide that it is
+// above 1.
 std::string format_exact(double value) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
@@ -85,6 +87,7 @@ std::string format_number(double value, int significant_digits) {
   return buffer;
 }
 
+// So that a binary file or a long argument still gives a short, one-line message.
 std::string shorten_for_message(std::string_view text, std::size_t shown) {
   std::string out;
   std::size_t used = 0;

@@ -1,4 +1,4 @@
-#include "fss/core/fft.h"
+#include "core/fft.h"
 
 #include <fftw3.h>
 

@@ -1,4 +1,4 @@
-#include "fss/core/parallel.h"
+#include "core/parallel.h"
 
 #include <algorithm>
 #include <atomic>

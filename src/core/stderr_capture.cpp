@@ -18,6 +18,9 @@ std::mutex g_capture_mutex;
 
 namespace fss {
 
+// Takes the capture's mutex: the plots capture descriptor 2 while they draw (to keep PLplot's
+// messages off it), and a message written meanwhile from another thread would be captured with
+// them.
 void write_stderr(std::string_view text) {
   const std::lock_guard<std::mutex> lock(detail::g_capture_mutex);
   std::fwrite(text.data(), 1, text.size(), stderr);

@@ -56,7 +56,7 @@ void describe_gains(const std::vector<double>& g, CodeAnalysis* a) {
   a->invertible = kernel.invertible;
 }
 
-// Q_eff of `gains` (see analyze.h): V snr^2 / 10^4 with V the variance of the
+// Q_eff of `gains` (docs/method.md §10): V snr^2 / 10^4 with V the variance of the
 // level-100 observation (model/sensor.h), so that snr_level100(Q_eff, M, snr)
 // = 100 / sqrt(V M); the photon noise's Q itself for a default sensor (to the
 // bit, as before sensors existed).
@@ -170,6 +170,9 @@ double band_mean_inverse_power(std::span<const double> gains, double velocity, d
   return sum / grid_points;
 }
 
+// docs/method.md §11: Q M >= (int_{-pi}^{pi} sqrt(w(theta)) d theta)^2 / (4 pi a dt),
+// a = pi |v| dt, w(theta) = sum over integers m with |theta + 2 pi m| <= a of
+// 1 / sinc_h(theta + 2 pi m)^2. It holds for analog codes too (there sum alpha >= sum alpha^2).
 double noise_figure_lower_bound(double velocity, double dt) {
   const double product = std::abs(velocity) * dt;
   if (product == 0.0) return 0.0;
@@ -193,6 +196,17 @@ double noise_figure_lower_bound(double velocity, double dt) {
   return integral * integral / (4.0 * M_PI * a * dt);
 }
 
+// The figure of merit (docs/method.md §6): SNR_100 = snr / sqrt(Q M). The product Q M (the
+// "noise figure") is the only thing a code changes, so the ratio of two codes' SNR_100 does not
+// depend on snr. Scaling a numerical code by c leaves Q M unchanged (Q ~ c^2, M ~ 1 / c^2);
+// scaling an analog code by c divides Q M by c. With a sensor (§10) every readout adds v_r
+// electrons^2 to the level-100 observation: Q_eff = Q + R c, c = v_r / (100 lambda2), R =
+// sum alpha_k^2 (numerical: weighted frames; a frame of gain 0 adds nothing) or 1 (analog: one
+// exposure), and SNR_100 = snr / sqrt(Q_eff M). In the numerical mode Q_eff = (1 + c / dt) Q
+// lowers every code's SNR_100 by the same factor, changing neither their ranking nor the
+// optimum; in the analog mode the one readout favours codes that let in more light. snr then
+// matters in absolute terms: the readout noise counts against lambda2 photo-electrons per gray
+// level. A full well is not linear and has no place in this figure of merit.
 CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
                           ShutterMode mode, int grid, const SensorModel& sensor) {
   check_code_for_mode(code, mode);

@@ -72,11 +72,14 @@ std::optional<CodeFamily> code_family_from_string(std::string_view text) {
   return detail::enum_from_name(kCodeFamilyNames, text);
 }
 
+// The band |theta| <= pi |v| dt is then not empty and 1 / sinc_h stays finite on it.
 bool design_band_is_valid(double velocity, double dt) {
   const double product = std::abs(velocity) * dt;
   return std::isfinite(product) && product > 0.0 && product < 2.0;
 }
 
+// Gain k is the real part of (1 / 2 pi) int_{|theta| <= pi |v| dt} exp(i theta (k - c)) /
+// sinc_h(theta) d theta, c = floor(L / 2) (docs/method.md §7).
 std::vector<double> generate_sinc_code(int length, double velocity, double dt) {
   return band_limited_code("sinc", length, velocity, dt, [](int offset, double band) {
     // T = 1, t0 = c + 1/2: the integrand exp(i theta (k - c)) / sinc_h(theta)
@@ -89,6 +92,9 @@ std::vector<double> generate_sinc_code(int length, double velocity, double dt) {
   });
 }
 
+// Target T(theta) = sqrt(pi / |theta|) exp(-i pi / 4 sign theta), time origin t0 = c: gain k is
+// the real part of (1 / 2 pi) int_{|theta| <= pi |v| dt} T(theta) exp(i theta (k - c + 1/2)) /
+// sinc_h(theta) d theta (docs/method.md §7).
 std::vector<double> generate_mip_code(int length, double velocity, double dt) {
   return band_limited_code("mip", length, velocity, dt, [](int offset, double band) {
     // T(theta) exp(i theta m) with m = k - c + 1/2: the values at theta and

@@ -46,6 +46,10 @@ NoiseFigure::NoiseFigure(int length, double velocity, double dt, ShutterMode mod
   design_detail::make_band_basis(length, velocity, dt, grid_points, &basis_re_, &basis_im_);
 }
 
+// K is linear in alpha, K(xi_j) = sum_k alpha_k E_jk with
+// E_jk = dt sinc_h(theta_j) exp(-i theta_j (k + 1/2)), so, G the grid's nodes,
+//   dM / d alpha_k = -(2 / G) sum_j Re(conj(K_j) E_jk) / |K_j|^4,
+//   dQ_eff / d alpha_k = 2 (dt + c) alpha_k (numerical) or dt (analog).
 double NoiseFigure::Evaluate(std::span<const double> gains, std::span<double> gradient) const {
   if (static_cast<int>(gains.size()) != length_ ||
       (!gradient.empty() && static_cast<int>(gradient.size()) != length_)) {

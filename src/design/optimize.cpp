@@ -11,7 +11,7 @@
 #include "design/option_checks.h"
 #include "fss/core/error.h"
 #include "fss/design/generate.h"
-#include "fss/model/noise.h"
+#include "model/noise.h"
 
 namespace fss {
 
@@ -193,6 +193,9 @@ bool OptimizeOptions::IsValid(std::string* error) const {
   return true;
 }
 
+// From each start: continuous gains by projected L-BFGS on log(Q M) (continuous_search.cpp),
+// binary gains by a steepest-descent local search over single bit flips, and swaps of a 1 with
+// a 0 when no flip helps (binary_search.cpp).
 OptimizationResult optimize_code(const OptimizeOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);

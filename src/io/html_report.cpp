@@ -1,4 +1,4 @@
-#include "fss/io/html_report.h"
+#include "io/html_report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "core/text_util.h"
 #include "fss/io/plot.h"
-#include "fss/io/run_files.h"
+#include "io/run_files.h"
 
 namespace fss {
 

@@ -1,4 +1,4 @@
-#include "fss/io/observed_png8.h"
+#include "io/observed_png8.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-// A run's outputs published as one set (README, "Guarantees").
+// A run's outputs published as one set (docs/testing.md, "Guarantees").
 //
 // 1. Stage: every file is written and fsync'ed into a new hidden directory
 //    inside the output directory, ".fssim-stage-*", created with mode 1700
@@ -21,7 +21,7 @@
 // touched: marked by its mode, owned by this user, holding the marker file,
 // and holding (and its manifest naming) only names of outputs; any other is
 // left alone, even empty.
-#include "fss/io/output_set.h"
+#include "io/output_set.h"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -40,10 +40,10 @@
 #include <system_error>
 #include <utility>
 
+#include "core/parallel.h"
 #include "fss/core/error.h"
-#include "fss/core/parallel.h"
-#include "fss/io/safe_write.h"
 #include "io/created_directories.h"
+#include "io/safe_write.h"
 #include "io/write_all.h"
 
 namespace fss {

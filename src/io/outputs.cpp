@@ -5,10 +5,12 @@
 #include <functional>
 #include <utility>
 
+#include "core/parallel.h"
 #include "fss/core/error.h"
-#include "fss/core/parallel.h"
 #include "fss/pipeline/geometry.h"
+#include "io/output_set.h"
 #include "io/run_file_sources.h"
+#include "io/write_run.h"
 
 namespace fss {
 
@@ -23,20 +25,19 @@ std::vector<RunFile> files_to_write(const OutputOptions& options) {
   return files;
 }
 
+// All files are staged and renamed into place only once every one of them has been written
+// (write_output_set); on failure whatever was staged is removed. The ground truth and the
+// residual are encoded from `input` row by row.
 void write_run(const std::filesystem::path& outdir, const SimulationReport& report,
                ObservedSource observed, const Image& input, const std::string& input_path,
-               const OutputOptions& options) {
+               const OutputOptions& options, const PlotsAhead& plots) {
   if (outdir.empty()) throw_usage_error("the output directory must not be an empty path");
   const std::vector<RunFile> files = files_to_write(options);
   const std::vector<std::string> names = output_file_names(options);
-  const RunFileSources sources{report,
-                               input,
-                               input_path,
-                               observed,
-                               options.rendered_plots,
-                               options.plots_in_progress,
-                               names,
-                               options.image_depth};
+  const RunFileSources sources{report,      input,
+                               input_path,  observed,
+                               plots.drawn, plots.in_progress,
+                               names,       options.image_depth};
   // Each file is made as it is staged, on the report's threads, each taking
   // the next file: the four image files cost nearly all of it and come first,
   // so fixed blocks would give them all to one thread; and a file's bytes are
@@ -55,6 +56,8 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
 
 }  // namespace
 
+// 16-bit PNGs double the 4 bytes of the four image PNGs; each float TIFF holds 4 and is copied
+// once into its output file; sheet.png and report.html as below.
 std::size_t output_encoding_bytes_per_sample(const OutputOptions& options, int channels) {
   std::size_t bytes = 0;
   if (options.image_depth == PngDepth::k16) bytes += 4;  // two bytes a sample, not one
@@ -71,32 +74,6 @@ std::size_t output_encoding_bytes_per_sample(const OutputOptions& options, int c
   // report.html: the PNGs of the page in base64 and the page itself.
   if (options.html_report) bytes += 8;
   return bytes;
-}
-
-void check_outputs_memory(const SimulationOptions& simulation, const Image& input,
-                          const ShutterCode& code, const OutputOptions& options,
-                          const ObservedRowSink* observed_sink) {
-  const std::size_t extra = output_encoding_bytes_per_sample(options, input.channels);
-  if (simulation.max_memory_bytes == 0 || extra == 0 || !simulation.IsValid(nullptr)) return;
-  const double v = simulation.velocity_px_per_slot;
-  const double v_r = simulation.restore_velocity_px_per_slot.value_or(v);
-  const double speed = std::max(std::abs(v), std::abs(v_r));
-  if (!too_narrow_reason(input.width, code.length(), speed, simulation.dt,
-                         simulation.rmse_margin_columns)
-           .empty()) {
-    return;
-  }
-  const Geometry geometry = Geometry::compute(input.width, code.length(), speed, simulation.dt);
-  const std::size_t needed =
-      estimate_working_memory_bytes(input.width, input.height, input.channels, geometry, simulation,
-                                    code.length(), observed_sink, extra);
-  if (needed > simulation.max_memory_bytes) {
-    throw_memory_limit_error("a run on this " + std::to_string(input.width) + " x " +
-                                 std::to_string(input.height) + " x " +
-                                 std::to_string(input.channels) +
-                                 " image with its extra outputs (sheet, report, float or 16-bit)",
-                             needed, simulation.max_memory_bytes);
-  }
 }
 
 bool is_written(RunFileCondition when, const OutputOptions& options) {
@@ -124,13 +101,19 @@ std::vector<std::string> output_file_names(const OutputOptions& options) {
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
                    const Image& input, const std::string& input_path,
                    const OutputOptions& options) {
-  write_run(outdir, report, std::cref(report.observed), input, input_path, options);
+  write_run(outdir, report, std::cref(report.observed), input, input_path, options, {});
+}
+
+void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
+                   const Image& input, const std::string& input_path, const OutputOptions& options,
+                   const PlotsAhead& plots) {
+  write_run(outdir, report, std::cref(report.observed), input, input_path, options, plots);
 }
 
 void write_outputs(const std::filesystem::path& outdir, const SimulationReport& report,
                    const ObservedPng8& observed, const Image& input, const std::string& input_path,
-                   const OutputOptions& options) {
-  write_run(outdir, report, std::cref(observed), input, input_path, options);
+                   const OutputOptions& options, const PlotsAhead& plots) {
+  write_run(outdir, report, std::cref(observed), input, input_path, options, plots);
 }
 
 }  // namespace fss

@@ -137,9 +137,8 @@ bool write_image(PngContext* ctx, png_uint_32 width, png_uint_32 height, int bit
   if (setjmp(png_jmpbuf(ctx->png))) return false;
   png_set_write_fn(ctx->png, ctx, write_to_memory, flush_nothing);
 
-  // The "up" filter alone: libpng's adaptive filter choice makes files 5 %
-  // smaller for 10 % more encoding work. zlib's level 3 suits the plots:
-  // on camera.png's two, 66 KB against 85 KB with Z_RLE.
+  // The "up" filter alone, and zlib's level 3 for the plots (CONTRIBUTING.md,
+  // "Hand-written fast paths").
   png_set_filter(ctx->png, 0, PNG_FILTER_UP);
   png_set_compression_level(ctx->png, 3);
   png_set_IHDR(ctx->png, ctx->info, width, height, bit_depth, color_type, PNG_INTERLACE_NONE,
@@ -373,6 +372,10 @@ std::vector<std::uint8_t> encode_with_libpng(const detail::PngRaster& raster,
   return out;
 }
 
+// kImage: the average filter and ISA-L's deflate at level 1, streamed over blocks of rows
+// (png_write.cpp): faster than zlib on large images and as small (docs/performance.md, "PNG
+// encoding"). kGraphics: libpng, the "up" filter and zlib level 3, whose long matches suit the
+// repeated runs of flat colour and text in plots better than run-length matching.
 std::vector<std::uint8_t> encode_rows(const detail::PngRaster& raster,
                                       const detail::StoredRowSource& rows,
                                       PngCompression compression) {

@@ -8,11 +8,8 @@
 // each operation is exact or correctly rounded the same way in scalar and
 // vector code (no contraction into fused multiply-adds: AVX2 alone does not
 // enable FMA).
-//
-// Measured on the 3844 x 3000 x 3 restoration of a 4000 x 3000 run (AMD
-// EPYC): the first version, one sample at a time with branches, took 55 to
-// 65 ms for 8-bit samples; channels converted apart then interleaved, 40 ms
-// for SSE2 and 28 ms with AVX2 (reading the doubles alone takes 11 ms).
+// Channels are converted apart, then interleaved, so that the conversion
+// vectorizes (CONTRIBUTING.md, "Hand-written fast paths").
 
 namespace fss::detail {
 namespace {

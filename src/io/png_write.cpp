@@ -10,23 +10,15 @@
 
 #include "fss/core/error.h"
 
-// Why ISA-L, level 1, and the average filter. Measured on the four outputs of
-// a 4000 x 3000 RGB run (3844 x 3000 x 3, 34.6 MB of filtered rows each) on
-// an AMD EPYC, the compressors alone: zlib level 3 with Z_RLE (fssim before)
-// took 0.26 to 0.34 s of one core an image, libdeflate level 1 0.15 to 0.28
-// s, ISA-L level 1 0.08 to 0.11 s, for files as small as zlib's with the
-// "up" filter (0.7 % larger to 12 % smaller). ISA-L's levels 2 and 3 are
-// slower for files as large; level 0 is 55 % larger on the noisy
-// restoration. The average filter (PNG type 3) then makes the four files 6 %
-// smaller than zlib's with "up" (82.7 against 88.1 MB; paeth is slower and
-// larger, "sub" and none larger but on the residual), and keeps camera.png's
-// outputs within 1 % of zlib's but for its ground truth (+4 %).
+// The image PNGs are deflated by ISA-L at level 1 after the average filter
+// (PNG type 3): the fastest of the compressors tried for files as small as
+// zlib's (CONTRIBUTING.md, "Hand-written fast paths", has the comparison).
 //
 // Determinism: the bytes depend on the rows, on the fixed sizes below and
 // on ISA-L's version, never on the thread. ISA-L picks its code at run time
 // by the processor's instructions; its deflate finds the same matches on
 // every x86-64 processor with SSE4.2, and other ones on a processor without
-// it (a hash computed otherwise). README, "Performance", has the measurement.
+// it (a hash computed otherwise). docs/performance.md has the measurement.
 
 namespace fss::detail {
 namespace {
@@ -161,7 +153,7 @@ class IdatWriter {
 };
 
 // The largest file: the rows stored as they are (ISA-L stores what it
-// cannot compress: 10 MiB of random bytes gave 0.035 % more) with a margin,
+// cannot compress, with a few bytes of block headers) with a margin,
 // zlib's 6 bytes and the chunks' frames. Reserved at once, so the file is
 // never copied while it grows; the pages not written are never touched, so
 // they cost no memory.

@@ -1,5 +1,7 @@
 #include "fss/io/report_json.h"
 
+#include "io/report_json_value.h"
+
 #include <cmath>
 
 #include "fss/model/code.h"

@@ -1,5 +1,5 @@
 // What the files of a run are made from: the argument of RunFile::make
-// (fss/io/run_files.h), filled in by write_outputs.
+// (io/run_files.h), filled in by write_outputs.
 #pragma once
 
 #include <functional>
@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "fss/core/image.h"
-#include "fss/io/observed_png8.h"
 #include "fss/io/png_io.h"
-#include "fss/io/run_files.h"
-#include "fss/io/run_plots.h"
 #include "fss/pipeline/simulate.h"
+#include "io/observed_png8.h"
+#include "io/run_files.h"
+#include "io/run_plots.h"
 
 namespace fss {
 

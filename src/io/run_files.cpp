@@ -1,4 +1,4 @@
-#include "fss/io/run_files.h"
+#include "io/run_files.h"
 
 #include <algorithm>
 #include <array>
@@ -7,16 +7,16 @@
 #include <vector>
 
 #include "fss/core/error.h"
-#include "fss/io/html_report.h"
 #include "fss/io/png_io.h"
 #include "fss/io/report_json.h"
-#include "fss/io/run_text.h"
-#include "fss/io/sheet.h"
 #include "fss/io/tiff_io.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/metrics.h"
+#include "io/html_report.h"
 #include "io/png_write.h"
 #include "io/run_file_sources.h"
+#include "io/run_text.h"
+#include "io/sheet.h"
 
 namespace fss {
 

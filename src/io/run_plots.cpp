@@ -1,4 +1,4 @@
-#include "fss/io/run_plots.h"
+#include "io/run_plots.h"
 
 #include "fss/core/error.h"
 #include "fss/io/plot.h"

@@ -1,4 +1,4 @@
-#include "fss/io/run_text.h"
+#include "io/run_text.h"
 
 #include <cmath>
 #include <sstream>

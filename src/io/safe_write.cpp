@@ -1,4 +1,4 @@
-#include "fss/io/safe_write.h"
+#include "io/safe_write.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

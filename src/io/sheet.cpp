@@ -1,4 +1,4 @@
-#include "fss/io/sheet.h"
+#include "io/sheet.h"
 
 #include <cstdio>
 #include <string>

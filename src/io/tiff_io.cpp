@@ -315,7 +315,8 @@ void check_decodable(const TiffLayout& layout, std::size_t size, const std::stri
   detail::check_decoding_memory(name, layout.width, layout.height, needed, max_bytes);
 }
 
-// One sample as a gray level of image.h: 8-bit s, 16-bit s / 257, a float as is.
+// One sample as a gray level: 8-bit s, 16-bit s / 257 (as a 16-bit PNG), a float as is, so that
+// the float TIFFs fssim writes read back as the gray levels they hold.
 double sample_value(const std::uint8_t* at, SampleKind kind) {
   switch (kind) {
     case SampleKind::kUint8:
@@ -482,6 +483,8 @@ Image read_tiff(const std::filesystem::path& path, std::size_t max_bytes) {
 
 namespace {
 
+// Min-is-black or RGB, contiguous samples, uncompressed, strips of libtiff's default size (about
+// 8 KiB).
 void set_float_fields(TIFF* tiff, int width, int height, int channels) {
   TIFFSetField(tiff, TIFFTAG_IMAGEWIDTH, static_cast<std::uint32_t>(width));
   TIFFSetField(tiff, TIFFTAG_IMAGELENGTH, static_cast<std::uint32_t>(height));

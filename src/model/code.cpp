@@ -84,6 +84,8 @@ ShutterCode parse_code_text(std::string_view text, const std::string& origin) {
     } else {
       std::size_t end = i;
       while (end < text.size() && !is_separator(text[end]) && text[end] != '#') ++end;
+      // kMaxCodeLength bounds the analysis of a code, which costs O(L^2): its |K| is scanned on
+      // 64 L points of [0, pi], each a sum over the L gains.
       if (code.gains.size() == static_cast<std::size_t>(kMaxCodeLength)) {
         throw_runtime_error("code file '" + shown_origin + "' line " + std::to_string(line) +
                             ": more than " + std::to_string(kMaxCodeLength) +

@@ -50,6 +50,8 @@ bool transfer_vanishes(double abs_k, double scale, double tolerance) {
   return abs_k <= transfer_zero_level(scale, tolerance);
 }
 
+// Scans |K| densely and refines every local minimum by golden-section search, so that a zero
+// between samples is found.
 KernelAnalysis analyze_kernel(std::span<const double> gains, double velocity, double dt) {
   KernelAnalysis result;
   double sum = 0.0;

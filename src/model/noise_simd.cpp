@@ -7,30 +7,23 @@
 // assumptions hold.
 //
 // Two builds of the same loops: 4-wide AVX2 (libmvec's _ZGVdN4v_*), taken
-// when the processor has AVX2, and 2-wide SSE (_ZGVbN2v_*) otherwise; about
-// twice as fast with AVX2. Our loops hold no a * b + c, so neither build can
-// fuse a multiply-add; libmvec's variants themselves may differ in the last
-// bits (so do its SSE4.1 and SSE2 variants, which glibc already picks by
-// processor): in 2.1e8 normals, 9% differed, by at most 6.6e-16 relative,
-// and no photon count round(lambda + sqrt(lambda) N) changed (it would need
-// lambda + sqrt(lambda) N within about 1e-13 of a half-integer); the output
-// matrix is byte-identical on both builds. The result is deterministic for
-// a given binary and processor. Kept for the per-frame sampler rather than
-// box_muller_portable (noise.h: the same bits on every processor, but 4.4
-// against 2.7 ns a normal in one measurement on an AMD EPYC) because its
-// counts are rounded: on a further 3.9e8 normals with lambda from 50 to
-// 25550, 9% of the normals differed between the AVX2 and SSE variants and
-// no count did. The aggregated sampler, whose normal is not rounded, uses
-// box_muller_portable.
+// when the processor has AVX2, and 2-wide SSE (_ZGVbN2v_*) otherwise. Our
+// loops hold no a * b + c, so neither build can fuse a multiply-add;
+// libmvec's variants themselves may differ in the last bits (so do its SSE4.1
+// and SSE2 variants, which glibc already picks by processor); the per-frame
+// sampler rounds its photon counts to integers, which hides such differences
+// unless lambda + sqrt(lambda) N is within about 1e-13 of a half-integer
+// (docs/method.md §3). The result is deterministic for a given binary and
+// processor. The aggregated sampler, whose normal is not rounded, uses
+// box_muller_portable (noise_stream.h) instead.
 // glibc declares libmvec to GCC only: clang (the sanitizer and fuzzing
-// builds) calls the scalar log, sin and cos, slower but as accurate; the
-// Poisson variates are rounded to integers, and on camera.png the two
-// builds write the same report.json.
+// builds) calls the scalar log, sin and cos, as accurate; the Poisson
+// variates are rounded to integers.
 #include <cmath>
 #include <cstddef>
 #include <vector>
 
-#include "fss/model/noise.h"
+#include "model/noise_stream.h"
 
 namespace fss {
 

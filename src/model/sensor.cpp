@@ -5,7 +5,7 @@
 
 #include "core/scaled_math.h"
 #include "fss/core/error.h"
-#include "fss/model/noise.h"
+#include "model/noise.h"
 
 namespace fss {
 
@@ -72,6 +72,7 @@ double readout_variance_electrons2(const SensorModel& sensor, double exposure_sl
 
 // numerical: sum_k alpha_k^2 (100 dt lambda2 + v_r) / lambda2^2
 // analog:    (100 dt sum_k alpha_k lambda2 + v_r) / lambda2^2
+// with v_r = readout_variance_electrons2 of the mode's readout.
 double level100_observation_variance(std::span<const double> gains, double dt, ShutterMode mode,
                                      double snr, const SensorModel& sensor) {
   const double lambda2 = snr * snr / 100.0;

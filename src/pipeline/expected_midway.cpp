@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "fss/core/parallel.h"
+#include "core/parallel.h"
 
 namespace fss::midway {
 
@@ -18,8 +18,7 @@ namespace {
 // The records of b's pixels are scattered into buckets of about
 // kBucketRecords (128 KiB: sorted in the level-2 cache); one thread's
 // buffer sorts at most kSortCapacity of them (larger buckets are split in
-// place first). Measured on the 3740 x 3000 window: 4096 / 16384 were 5
-// to 9 % slower, 16384 / 65536 2 to 4 %.
+// place first). The sizes: CONTRIBUTING.md, "Hand-written fast paths".
 constexpr std::size_t kBucketRecords = 8192;
 constexpr std::size_t kSortCapacity = 32768;
 
@@ -314,9 +313,9 @@ std::vector<std::size_t> place(const ChannelWindow& a, const ChannelWindow& b,
       const double* rk = keys.row(y);
       for (std::uint32_t x = 0; x < a.width; ++x) {
         const std::size_t s = slot[top.of_value(rk[x])]++;
-        // The bucket's line after next, asked for ahead (hand-written:
-        // this pass 66 -> 52 ms on a 3740 x 3000 channel; RecordBuffer holds
-        // kPrefetchSlack records more).
+        // The bucket's line after next, asked for ahead (a hand-written
+        // prefetch, CONTRIBUTING.md "Hand-written fast paths"; RecordBuffer
+        // holds kPrefetchSlack records more).
         __builtin_prefetch(records + s + kPrefetchSlack, 1);
         records[s] = make(ra[x], rb[x]);
       }

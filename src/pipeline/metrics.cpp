@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/parallel.h"
 #include "core/scaled_math.h"
 #include "fss/core/error.h"
-#include "fss/core/parallel.h"
 #include "pipeline/expected_midway.h"
 #include "pipeline/record_sort.h"
 
@@ -126,6 +126,9 @@ double psnr(double rmse_value) {
   return 20.0 * (std::log10(255.0) - std::log10(rmse_value));
 }
 
+// With a and b sorted, mid_i = (a_(i) + b_(i)) / 2 is the value rank i of both takes. Which rank
+// a pixel holds inside a group of equal values is arbitrary, so each pixel gets B_G, the mean of
+// mid_i over its group's ranks; without ties this is plain midway equalization.
 std::pair<Image, Image> midway_equalize(const Image& a, const Image& b) {
   require_same_size(a, b);
   Image ea(a.width, a.height, a.channels);
@@ -157,6 +160,24 @@ double rmse_contrast_invariant(const Image& a, const Image& b, int first, int en
   return rmse_contrast_invariant(a, 0, b, first, end, threads);
 }
 
+// The expectation (docs/method.md §5): for a pixel p in a's group G (ranks I_G) and b's group H
+// (ranks J_H), with B and A the means of mid_i and mid_i^2 over a group's ranks, the two orders
+// being independent,
+//   E[(a'_p - b'_p)^2] = A_G - 2 B_G B_H + A_H = (A_G - B_G^2) + (A_H - B_H^2) + (B_G - B_H)^2,
+// summed as in the second form (no cancellation) and in an order fixed by the values alone, so
+// that any arrangement of the pixels (a mirrored pair of images) gives the same bits. Ranks come
+// from a bucket sort of 16-byte records, one a pixel of the channel: b's value (its
+// order-preserving bits: exact) and a's group at that pixel. A ground truth on a lattice
+// (integers in [0, 65535], or k / 257: 8- and 16-bit images) is grouped by a histogram of its
+// levels, any other by sorting records of a's and b's values first. The records are scattered,
+// the pixels read in order, into buckets of about 8192 linear in b's value between two quantiles
+// of a sample (one bucket more below and one above); each bucket is sorted in cache, by value and
+// a's group, and swept at once for its midway values and a's group sums; one pass over the ranks
+// then takes the sums. The scratch is 16 bytes and at most 1 bit a pixel of one channel (the
+// records, a's group starts), plus 8 bytes per distinct value of a's window, plus about 5 MiB of
+// buffers (level counts, the sorters' buffers, b's tied runs). With two workers, two threads
+// count, scatter and sort (each of a's groups summed by one of them) and take the sums (each sum
+// by one of them): the result is the same.
 double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int first, int end,
                                int threads) {
   require_aligned(a, a_offset, b);
@@ -180,6 +201,8 @@ double rmse_contrast_invariant(const Image& a, int a_offset, const Image& b, int
   return std::sqrt(sum / count);
 }
 
+// Every pixel counts, the first included; ResidualRange::stretch divides before it multiplies,
+// which makes both ends exact.
 ResidualRange residual_range(const Image& a, int a_offset, const Image& b) {
   require_aligned(a, a_offset, b);
   ResidualRange range{std::numeric_limits<double>::infinity(),

@@ -1,13 +1,13 @@
-#include "fss/pipeline/noise_weights.h"
+#include "pipeline/noise_weights.h"
 
 #include <algorithm>
 #include <complex>
 #include <string>
 
+#include "core/fft.h"
 #include "fss/core/error.h"
-#include "fss/core/fft.h"
 #include "fss/model/transfer.h"
-#include "fss/pipeline/restore.h"
+#include "pipeline/restore.h"
 
 namespace fss {
 

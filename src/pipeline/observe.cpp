@@ -1,4 +1,4 @@
-#include "fss/pipeline/observe.h"
+#include "pipeline/observe.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,7 @@
 #include "core/scaled_math.h"
 #include "core/vectorize.h"
 #include "fss/core/error.h"
-#include "fss/core/parallel.h"
 #include "fss/model/transfer.h"
-#include "pipeline/reference_paths.h"
 
 namespace fss {
 
@@ -379,87 +377,6 @@ void RowObserver::for_each_slot(Scratch& scratch, const PerSlot& per_slot) const
     per_slot(k, std::span<const double>(scratch.doubled.data() + (w - o), w),
              SlotShift{first_period, o});
   }
-}
-
-// ---------------------------------------------------------------------------
-// Whole-image reference paths, for the tests (reference_paths.h).
-
-RowSpectra row_spectra(const Image& image, int threads) {
-  RowSpectra spectra;
-  spectra.width = image.width;
-  spectra.height = image.height;
-  spectra.channels = image.channels;
-  const int bins = spectra.spectrum_size();
-  const int rows = image.channels * image.height;
-  spectra.bins.resize(static_cast<std::size_t>(rows) * bins);
-  const RowFFT& fft = RowFFT::for_size(image.width);
-  parallel_for(rows, threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(image.width);
-    for (int r = begin; r < end; ++r) {
-      const double* src = image.data.data() + static_cast<std::size_t>(r) * image.width;
-      std::copy(src, src + image.width, workspace.real().begin());
-      fft.forward(workspace);
-      std::copy(workspace.spectrum().begin(), workspace.spectrum().end(),
-                spectra.bins.begin() + static_cast<std::ptrdiff_t>(r) * bins);
-    }
-  });
-  return spectra;
-}
-
-namespace {
-
-// The observation of every row of u, from its stored spectra.
-Image observe_all(const RowSpectra& u, std::span<const double> gains, ShutterMode mode, bool noisy,
-                  const ObservationParams& params) {
-  const RowObserver observer(u.width, gains, mode, params);
-  Image out(u.width, u.height, u.channels);
-  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
-    RowObserver::Scratch scratch(observer);
-    for (int r = begin; r < end; ++r) {
-      const int c = r / u.height;
-      const int y = r % u.height;
-      observer.load_spectrum(u.row(c, y), scratch);
-      observer.observe(noisy, params.seed, c, y, scratch,
-                       std::span<double>(out.row(c, y), static_cast<std::size_t>(u.width)));
-    }
-  });
-  return out;
-}
-
-}  // namespace
-
-Image convolve_rows(const RowSpectra& u, std::span<const double> gains,
-                    const ObservationParams& params) {
-  Image out(u.width, u.height, u.channels);
-  const RowFFT& fft = RowFFT::for_size(u.width);
-  const auto filter = transfer_function_bins(gains, params.velocity, params.dt, u.width);
-  const int bins = u.spectrum_size();
-  parallel_for(u.channels * u.height, params.threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(u.width);
-    for (int r = begin; r < end; ++r) {
-      const int c = r / u.height;
-      const int y = r % u.height;
-      std::copy(u.row(c, y), u.row(c, y) + bins, workspace.spectrum().begin());
-      fft.inverse_filtered(workspace, filter);  // e = IDFT(DFT(u) K)
-      std::copy(workspace.real().begin(), workspace.real().end(), out.row(c, y));
-    }
-  });
-  return out;
-}
-
-Image observe_noise_free(const RowSpectra& u, std::span<const double> gains, ShutterMode mode,
-                         const ObservationParams& params) {
-  return observe_all(u, gains, mode, false, params);
-}
-
-Image observe_analog(const RowSpectra& u, std::span<const double> gains,
-                     const ObservationParams& params) {
-  return observe_all(u, gains, ShutterMode::kAnalog, true, params);
-}
-
-Image observe_numerical(const RowSpectra& u, std::span<const double> gains,
-                        const ObservationParams& params) {
-  return observe_all(u, gains, ShutterMode::kNumerical, true, params);
 }
 
 }  // namespace fss

@@ -4,6 +4,11 @@
 
 namespace fss {
 
+// The scale range [kMinScale, kMaxScale] is far enough from the limits of double precision that
+// K, lambda2 = snr^2 / 100 and their products stay finite and nonzero. The integer rules take
+// long long, so that a caller can pass a parsed value that does not fit an int and still get the
+// rule it breaks.
+
 std::string velocity_rule(double velocity) {
   return std::isfinite(velocity) ? std::string() : "must be a finite number";
 }
@@ -29,6 +34,8 @@ std::string noise_rule(bool aggregated, bool analog) {
              : std::string();
 }
 
+// The aggregated noise adds the read noise and the dark current exactly but cannot clip a frame
+// it does not draw (docs/method.md §10).
 std::string sensor_noise_rule(bool aggregated, bool sensor_linear) {
   return aggregated && !sensor_linear
              ? "must be poisson or none with a full well or an ADC (the aggregated noise does not "

@@ -13,9 +13,8 @@ namespace fss::midway {
 
 namespace {
 // Buffers of at least kHugeBuffer bytes are asked for on huge pages of
-// kHugePage: measured on a 3740 x 3000 window, the scatter of a channel's
-// records took 52 to 64 ms instead of 63 to 155 ms (the first channel pays
-// the page faults), RMSE_CI 10 % less CPU in all.
+// kHugePage: fewer page faults and TLB misses in the scatter of a channel's
+// records (CONTRIBUTING.md, "Hand-written fast paths").
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
 constexpr std::size_t kHugeBuffer = std::size_t{16} << 20;
 }  // namespace

@@ -1,4 +1,4 @@
-#include "fss/pipeline/restore.h"
+#include "pipeline/restore.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,12 +7,10 @@
 #include <string>
 #include <utility>
 
+#include "core/fft.h"
 #include "fss/core/error.h"
-#include "fss/core/fft.h"
-#include "fss/core/parallel.h"
 #include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
-#include "pipeline/reference_paths.h"
 
 namespace fss {
 
@@ -113,12 +111,9 @@ void apply_folded_filters(std::span<Complex> spectrum, std::span<const Complex> 
 // The folded convolution's round-off is spread over every frequency, at about
 // eps sup|1/K| times the row's magnitude, K(0) times the image's; the grid's is
 // eps times each bin's own gain. The convolution is used only while
-// sup|1/K| |K(0)| stays below this: measured, 3.3e3 gave a largest difference
-// of 1e-12 from the grid on a row of values up to 255 (the paper's codes at
-// |v| dt <= 1 are below 30), and a kernel near a zero of K (1e16) differences
-// of 5 to 22 gray levels, where the grid's bins keep the mirror row's exact
-// cancellations. (Measured with a convolution of the mirror row on a length
-// >= N + Wo - 1; the folded one's round-off is of the same kind.)
+// sup|1/K| |K(0)| stays below this, where that round-off stays far below a
+// gray level (the paper's codes at |v| dt <= 1 are below 30); near a zero of
+// K the grid's bins keep the mirror row's exact cancellations instead.
 constexpr double kMaxFoldingConditioning = 1e6;
 
 // sup_i |1/K_i| |K(0)| over the grid's bins, infinity when K(0) = 0.
@@ -189,64 +184,6 @@ void RowRestorer::restore(const double* observation, Scratch& scratch, double* r
   fft_.inverse(scratch.workspace);
   const double* convolved = buffer.data() + (wa - 1);
   std::copy(convolved, convolved + geometry_.output_width, restored);
-}
-
-// ---------------------------------------------------------------------------
-// Whole-image reference paths, for the tests (reference_paths.h).
-
-Image mirror_extend(const Image& crop) {
-  const int wa = crop.width;
-  Image out(2 * wa, crop.height, crop.channels);
-  for (int c = 0; c < crop.channels; ++c) {
-    for (int y = 0; y < crop.height; ++y) {
-      const double* src = crop.row(c, y);
-      double* dst = out.row(c, y);
-      std::copy(src, src + wa, dst);
-      std::reverse_copy(src, src + wa, dst + wa);  // column j >= Wa is 2 Wa - 1 - j
-    }
-  }
-  return out;
-}
-
-Deconvolution inverse_filter(const Image& mirrored, std::span<const double> gains, double velocity,
-                             double dt, int threads) {
-  const int n = mirrored.width;
-  Deconvolution result;
-  const std::vector<Complex> inverse =
-      inverse_transfer_bins(gains, velocity, dt, n, &result.zero_bins);
-  result.image = Image(n, mirrored.height, mirrored.channels);
-  const RowFFT& fft = RowFFT::for_size(n);
-  parallel_for(mirrored.channels * mirrored.height, threads, [&](int begin, int end) {
-    RowFFT::Workspace workspace(n);
-    for (int r = begin; r < end; ++r) {
-      const double* src = mirrored.data.data() + static_cast<std::size_t>(r) * n;
-      std::copy(src, src + n, workspace.real().begin());
-      inverse_filter_row(fft, inverse, workspace);
-      std::copy(workspace.real().begin(), workspace.real().end(),
-                result.image.data.data() + static_cast<std::size_t>(r) * n);
-    }
-  });
-  return result;
-}
-
-Restoration restore(const Image& observation, const Image& input, const Geometry& geometry,
-                    std::span<const double> gains, double velocity, double dt, int threads) {
-  const int h = geometry.half_blur;
-  const RowRestorer restorer(geometry, gains, velocity, dt);
-  Restoration out;
-  out.restored = Image(geometry.output_width, observation.height, observation.channels);
-  parallel_for(observation.channels * observation.height, threads, [&](int begin, int end) {
-    RowRestorer::Scratch scratch(restorer);
-    for (int r = begin; r < end; ++r) {
-      const int c = r / observation.height;
-      const int y = r % observation.height;
-      restorer.restore(observation.row(c, y), scratch, out.restored.row(c, y));
-    }
-  });
-  out.observed = crop_columns(observation, 3 * h, geometry.output_width);
-  out.groundtruth = crop_columns(input, 3 * h, geometry.output_width);
-  out.zero_bins = restorer.zero_bins();
-  return out;
 }
 
 }  // namespace fss

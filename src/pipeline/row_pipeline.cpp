@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "fss/core/parallel.h"
+#include "core/parallel.h"
 #include "fss/pipeline/metrics.h"
 
 namespace fss {

@@ -14,9 +14,10 @@
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/geometry.h"
-#include "fss/pipeline/observe.h"
-#include "fss/pipeline/restore.h"
-#include "fss/pipeline/simulate.h"
+#include "fss/pipeline/simulation_options.h"
+#include "pipeline/noise_free_run.h"
+#include "pipeline/observe.h"
+#include "pipeline/restore.h"
 
 namespace fss {
 

@@ -10,11 +10,11 @@
 #include <limits>
 #include <set>
 
+#include "campaign/sha256.h"
 #include "fss/campaign/check.h"
 #include "fss/campaign/figures.h"
 #include "fss/campaign/results.h"
 #include "fss/campaign/run.h"
-#include "fss/campaign/sha256.h"
 #include "fss/campaign/spec.h"
 #include "fss/io/png_io.h"
 #include "support/test_util.h"

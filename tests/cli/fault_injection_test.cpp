@@ -1,4 +1,4 @@
-// Fault injection into the publishing of a run's outputs (README,
+// Fault injection into the publishing of a run's outputs (docs/testing.md,
 // "Guarantees"): a run killed (SIGKILL) at every system call of staging,
 // committing, publishing and cleaning up; publishing that fails half way (an
 // injected error, an immutable file); concurrent runs into one directory.

@@ -229,7 +229,7 @@ TEST_F(NumericExtremes, SimulationBeyondDoublePrecisionNamesTheSensor) {
 
 TEST_F(NumericExtremes, RestoreVelocityIsNamedAsSuch) {
   expect_error(simulate("--restore-velocity 1e308"), 2,
-               "the blur of restore velocity 1e+308 (--restore-velocity) over 52 slots of dt 1 "
+               "the blur of restore velocity 1e+308 over 52 slots of dt 1 "
                "spans inf pixels, more than the image width 480");
   expect_error(simulate("--velocity -1e308"), 2,
                "the blur of velocity -1e+308 over 52 slots of dt 1 spans inf pixels, more than "

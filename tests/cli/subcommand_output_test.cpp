@@ -12,7 +12,7 @@
 #include <string>
 
 #include "fss/io/png_io.h"
-#include "fss/io/safe_write.h"
+#include "io/safe_write.h"
 #include "support/test_util.h"
 
 namespace fss {

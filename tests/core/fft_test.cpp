@@ -1,7 +1,7 @@
 // Tests of fss/fft.h: the row FFT (scaling, layout, workspaces) and the
 // half-spectrum filter product.
 
-#include "fss/core/fft.h"
+#include "core/fft.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// Tests of fss/core/number_text.h: parse_finite_number, the one reader of a
+// Tests of src/core/number_text.h: parse_finite_number, the one reader of a
 // number typed as text (campaign ranges, the command line's ranges).
 
-#include "fss/core/number_text.h"
+#include "core/number_text.h"
 
 #include <gtest/gtest.h>
 

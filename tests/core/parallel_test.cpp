@@ -1,6 +1,6 @@
 // Tests of parallel_for (parallel.h): coverage of the range, exceptions, and
 // a system that refuses new threads.
-#include "fss/core/parallel.h"
+#include "core/parallel.h"
 
 #include <gtest/gtest.h>
 

@@ -298,7 +298,7 @@ TEST(Analysis, PaperCodesAtVelocityOne) {
   EXPECT_DOUBLE_EQ(raskar.square_sum, 26.0);
   EXPECT_DOUBLE_EQ(raskar.normalized_l1, 26.0);
   EXPECT_DOUBLE_EQ(raskar.q, 26.0);
-  EXPECT_NEAR(raskar.snr_level100, 48.128, 0.01);  // README's Table 1 (DFT grid)
+  EXPECT_NEAR(raskar.snr_level100, 48.128, 0.01);  // Table 1, docs/designing-codes.md (DFT grid)
   EXPECT_NEAR(raskar.ratio_to_snapshot, raskar.snr_level100 / snapshot.snr_level100, 1e-12);
   EXPECT_NEAR(raskar.noise_figure, raskar.q * raskar.m, 1e-12);
 

@@ -13,6 +13,9 @@
 #include "fss/io/png_io.h"
 #include "fss/io/tiff_io.h"
 #include "fss/model/code.h"
+#include "fss/pipeline/memory_estimate.h"
+#include "io/observed_png8.h"
+#include "io/write_run.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -168,15 +171,22 @@ TEST(OutputsMemory, FloatAnd16BitOutputsAreCountedInTheLimit) {
   const std::size_t with_floats =
       estimate_working_memory_bytes(input.width, input.height, 3, g, 1, nullptr, 24);
   ASSERT_GT(with_floats, plain);
-  simulation.max_memory_bytes = plain;  // enough for Simulate, not for the TIFFs
-  EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, OutputOptions{}, nullptr));
-  EXPECT_TRUE(test::throws_error(
-      [&] { check_outputs_memory(simulation, input, code, floats, nullptr); }, ErrorKind::kLimit,
-      {"extra outputs (sheet, report, float or 16-bit)", "memory limit"}));
-  simulation.max_memory_bytes = with_floats;
-  EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, floats, nullptr));
+  // The one check every interface makes, with the outputs' bytes counted.
+  const ImageShape shape{input.width, input.height, input.channels};
+  const std::size_t run_plain = estimate_run_memory_bytes(shape, simulation, code, false, 0);
+  const std::size_t run_floats = estimate_run_memory_bytes(shape, simulation, code, false, 24);
+  EXPECT_EQ(run_floats - run_plain, with_floats - plain);
+  const auto check = [&](std::size_t extra) {
+    check_run_memory(shape, simulation, code, false, extra, "this run");
+  };
+  simulation.max_memory_bytes = run_plain;  // enough for Simulate, not for the TIFFs
+  EXPECT_NO_THROW(check(0));
+  EXPECT_TRUE(test::throws_error([&] { check(24); }, ErrorKind::kLimit,
+                                 {"this run needs about", "memory limit"}));
+  simulation.max_memory_bytes = run_floats;
+  EXPECT_NO_THROW(check(24));
   simulation.max_memory_bytes = 0;  // no limit
-  EXPECT_NO_THROW(check_outputs_memory(simulation, input, code, floats, nullptr));
+  EXPECT_NO_THROW(check(24));
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Tests of report.html (html_report.h): its links, its escaping, its content,
 // and the page as a real browser (headless Chromium) renders it.
-#include "fss/io/html_report.h"
+#include "io/html_report.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

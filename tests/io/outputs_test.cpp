@@ -2,6 +2,9 @@
 // the optional plots, sheet and page, the observed rows collected as 8-bit
 // samples, and the all-or-nothing writing of the output directory.
 #include "fss/io/outputs.h"
+#include "io/observed_png8.h"
+#include "io/run_plots.h"
+#include "io/write_run.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -18,15 +21,15 @@
 #include <vector>
 
 #include "fss/core/error.h"
-#include "fss/io/html_report.h"
-#include "fss/io/output_set.h"
 #include "fss/io/plot.h"
 #include "fss/io/png_io.h"
-#include "fss/io/report_json.h"
-#include "fss/io/run_text.h"
-#include "fss/io/sheet.h"
 #include "fss/model/code.h"
 #include "fss/model/transfer.h"
+#include "io/html_report.h"
+#include "io/output_set.h"
+#include "io/report_json_value.h"
+#include "io/run_text.h"
+#include "io/sheet.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -685,9 +688,9 @@ TEST(RenderRunPlots, AreTheBytesWriteOutputsDraws) {
     const SimulationReport report = Simulate(options, input, code);
     test::TempDir dir;
     write_outputs(dir / "drawn", report, input, "input.png");
-    OutputOptions given;
-    given.rendered_plots = plots;
-    write_outputs(dir / "given", report, input, "input.png", given);
+    PlotsAhead given;
+    given.drawn = plots;
+    write_outputs(dir / "given", report, input, "input.png", OutputOptions{}, given);
     for (const char* name : {"code.png", "spectrum.png"}) {
       const std::string drawn = test::read_file(dir / "drawn" / name);
       EXPECT_TRUE(drawn == test::read_file(dir / "given" / name)) << name;
@@ -721,11 +724,11 @@ TEST(RenderRunPlots, PlotsOfAnotherRunAreRefused) {
   wrong.emplace_back("dt 0.5, the run's is 1", render_run_plots(*builtin_code("raskar"), options));
   for (const auto& [what, plots] : wrong) {
     test::TempDir dir;
-    OutputOptions given;
-    given.rendered_plots = plots;
-    EXPECT_TRUE(
-        test::throws_error([&] { write_outputs(dir / "out", report, input, "input.png", given); },
-                           ErrorKind::kUsage, {"not for the report's run: drawn for " + what}));
+    PlotsAhead given;
+    given.drawn = plots;
+    EXPECT_TRUE(test::throws_error(
+        [&] { write_outputs(dir / "out", report, input, "input.png", OutputOptions{}, given); },
+        ErrorKind::kUsage, {"not for the report's run: drawn for " + what}));
     EXPECT_FALSE(fs::exists(dir / "out")) << what;
   }
 }

@@ -25,7 +25,7 @@ namespace {
 
 using Rgb = std::array<int, 3>;
 
-// Colours of the plots' palette (plot.cpp) that the tests look for.
+// Colours of the plots' palette (plot_backend.cpp) that the tests look for.
 constexpr Rgb kWhite = {255, 255, 255};
 constexpr Rgb kCodeLine = {31, 92, 170};
 constexpr Rgb kCodeFill = {196, 214, 238};

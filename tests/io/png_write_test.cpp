@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "fss/core/error.h"
-#include "fss/core/parallel.h"
 #include "fss/io/png_io.h"
 #include "support/test_util.h"
 

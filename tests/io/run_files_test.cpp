@@ -1,7 +1,7 @@
 // Tests of the table of a run's files (run_files.h): it is consistent, it
-// drives output_file_names and report.html's figures, and the README's
-// "Outputs" table lists the same files under the same conditions.
-#include "fss/io/run_files.h"
+// drives output_file_names and report.html's figures, and the "Outputs"
+// table of docs/cli.md lists the same files under the same conditions.
+#include "io/run_files.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "fss/io/html_report.h"
 #include "fss/io/outputs.h"
+#include "io/html_report.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -34,8 +34,8 @@ std::vector<std::pair<std::string, RunFileCondition>> table_rows() {
   return rows;
 }
 
-// How the README says when a file is written, at the end of its content.
-RunFileCondition readme_condition(const std::string& content) {
+// How docs/cli.md says when a file is written, at the end of its content.
+RunFileCondition documented_condition(const std::string& content) {
   const std::vector<std::pair<std::string, RunFileCondition>> markers = {
       {"(not with `--no-plots`)", kPlots},
       {"(`--sheet`)", kSheet},
@@ -53,21 +53,22 @@ RunFileCondition readme_condition(const std::string& content) {
   return found;
 }
 
-// (name, condition) of every row of the table under the README's
-// "## Outputs" heading, in order.
-std::vector<std::pair<std::string, RunFileCondition>> readme_rows() {
+// (name, condition) of every row of the table under the "## Outputs"
+// heading of docs/cli.md, in order.
+std::vector<std::pair<std::string, RunFileCondition>> documented_rows() {
   std::vector<std::pair<std::string, RunFileCondition>> rows;
   bool in_section = false;
-  for (const std::string& line : test::lines_of(test::read_file(test::source_path("README.md")))) {
+  const std::string cli_docs = test::read_file(test::source_path("docs/cli.md"));
+  for (const std::string& line : test::lines_of(cli_docs)) {
     if (line.rfind("## ", 0) == 0) in_section = line == "## Outputs";
     if (!in_section || line.rfind("| `", 0) != 0) continue;
     const std::size_t name_end = line.find('`', 3);
     const std::size_t content = line.find('|', name_end);
     if (name_end == std::string::npos || content == std::string::npos) {
-      ADD_FAILURE() << "cannot read the README row: " << line;
+      ADD_FAILURE() << "cannot read the docs/cli.md row: " << line;
       continue;
     }
-    rows.emplace_back(line.substr(3, name_end - 3), readme_condition(line.substr(content)));
+    rows.emplace_back(line.substr(3, name_end - 3), documented_condition(line.substr(content)));
   }
   return rows;
 }
@@ -95,8 +96,8 @@ TEST(RunFiles, RowsAreCompleteAndNamesUnique) {
   }
 }
 
-TEST(RunFiles, TheReadmeListsTheSameFilesUnderTheSameConditions) {
-  EXPECT_EQ(readme_rows(), table_rows());
+TEST(RunFiles, TheCliDocsListTheSameFilesUnderTheSameConditions) {
+  EXPECT_EQ(documented_rows(), table_rows());
 }
 
 TEST(RunFiles, OutputFileNamesAreTheRowsTheOptionsSelectInOrder) {

@@ -1,10 +1,10 @@
-// Tests of fss/model/noise.h: the random streams, the Poisson variate of
+// Tests of src/model/noise.h: the random streams, the Poisson variate of
 // Algorithm 1 (docs/method.md §3), PoissonSNR, its exact variance and the
 // aggregated sampler (docs/method.md §6c). Statistical checks use fixed
 // seeds and a 5 (4 for the per-pixel maps) standard error band, so they are
 // deterministic and fail only on a real bias.
 
-#include "fss/model/noise.h"
+#include "model/noise.h"
 
 #include <gtest/gtest.h>
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "fss/model/noise.h"
 #include "fss/pipeline/prediction.h"
+#include "model/noise.h"
 
 namespace fss {
 namespace {

@@ -13,10 +13,10 @@
 #include "fss/core/image.h"
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
-#include "fss/model/noise.h"
-#include "fss/pipeline/observe.h"
 #include "fss/pipeline/simulate.h"
-#include "pipeline/reference_paths.h"
+#include "model/noise.h"
+#include "pipeline/observe.h"
+#include "support/reference_paths.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -159,7 +159,7 @@ struct Moments {
 
 // Moments of the numerical observation of `u` over seeds [0, seeds).
 Moments observation_moments(const RowSpectra& u, const std::vector<double>& gains,
-                            ObservationParams params, int seeds) {
+                            ReferenceParams params, int seeds) {
   const std::size_t n = static_cast<std::size_t>(u.width) * u.height * u.channels;
   std::vector<double> sum(n, 0.0), sum_sq(n, 0.0);
   for (int s = 0; s < seeds; ++s) {
@@ -189,7 +189,7 @@ struct ExactVariance {
 };
 
 ExactVariance exact_variance(const RowSpectra& u, const std::vector<double>& gains,
-                             const ObservationParams& params) {
+                             const ReferenceParams& params) {
   const double lambda2 = params.snr * params.snr / 100.0;
   ExactVariance exact;
   exact.variance.assign(static_cast<std::size_t>(u.width) * u.height * u.channels, 0.0);
@@ -227,7 +227,7 @@ TEST_P(ObservationMaps, AgreeWithThePerFrameSamplerAndTheExactMoments) {
   for (double& value : input.data) value = 10.0 + 0.9 * value;
   const RowSpectra u = row_spectra(input, 1);
   const std::vector<double> gains = test::paper_gains(c.code);
-  ObservationParams params;
+  ReferenceParams params;
   params.velocity = c.velocity;
   params.snr = c.snr;
   const Image expectation = observe_noise_free(u, gains, ShutterMode::kNumerical, params);

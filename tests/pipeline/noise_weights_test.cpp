@@ -1,7 +1,7 @@
-// Tests of fss/pipeline/noise_weights.h (docs/method.md §6b): the noise
+// Tests of src/pipeline/noise_weights.h (docs/method.md §6b): the noise
 // weights against the restoration itself applied to unit impulses.
 
-#include "fss/pipeline/noise_weights.h"
+#include "pipeline/noise_weights.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 
 #include "fss/core/error.h"
 #include "fss/model/transfer.h"
-#include "fss/pipeline/restore.h"
+#include "pipeline/restore.h"
 #include "support/test_util.h"
 
 namespace fss {

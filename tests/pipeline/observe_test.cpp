@@ -1,6 +1,6 @@
 // Tests of the flutter shutter observation (observe.h and the whole-image
 // reference paths, docs/method.md §2 and §3).
-#include "fss/pipeline/observe.h"
+#include "pipeline/observe.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 #include "fss/core/error.h"
 #include "fss/model/code.h"
 #include "fss/model/transfer.h"
-#include "pipeline/reference_paths.h"
+#include "support/reference_paths.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -23,9 +23,9 @@ namespace {
 
 std::vector<double> code_gains(const char* name) { return builtin_code(name).value().gains; }
 
-ObservationParams make_params(double velocity, double dt, double snr, std::uint64_t seed,
-                              int threads) {
-  ObservationParams p;
+ReferenceParams make_params(double velocity, double dt, double snr, std::uint64_t seed,
+                            int threads) {
+  ReferenceParams p;
   p.velocity = velocity;
   p.dt = dt;
   p.snr = snr;
@@ -147,7 +147,7 @@ TEST(ConvolveRows, ImpulseGivesTheKernelShiftedByTheMotion) {
 
 TEST(ObserveNoiseFree, AnalogIsTheClippedConvolution) {
   const RowSpectra u = row_spectra(dark_edges_image(128, 6), 1);
-  const ObservationParams p = make_params(1.0, 1.0, 100.0, 0, 2);
+  const ReferenceParams p = make_params(1.0, 1.0, 100.0, 0, 2);
   int negatives = 0;
   for (const char* name : {"snapshot", "raskar"}) {
     const std::vector<double> gains = code_gains(name);
@@ -170,7 +170,7 @@ TEST(ObserveNoiseFree, NumericalIsTheSumOfClippedSlotExposures) {
     const std::vector<double> gains = code_gains(name);
     const int length = static_cast<int>(gains.size());
     const RowSpectra u = row_spectra(dark_edges_image(96, 4), 1);
-    const ObservationParams p = make_params(1.0, 1.0, 100.0, 0, 2);
+    const ReferenceParams p = make_params(1.0, 1.0, 100.0, 0, 2);
     Image expected(96, 4, 1);
     bool clipped = false;
     for (int k = 0; k < length; ++k) {
@@ -193,7 +193,7 @@ TEST(ObserveNoiseFree, NumericalEqualsTheConvolutionForASmoothImage) {
     const std::vector<double> gains = code_gains(name);
     for (const Image& input : {smooth_image(128, 5, 2), Image(128, 5, 2, 42.0)}) {
       const RowSpectra u = row_spectra(input, 1);
-      const ObservationParams p = make_params(0.8, 1.1, 100.0, 0, 2);
+      const ReferenceParams p = make_params(0.8, 1.1, 100.0, 0, 2);
       const Image o = observe_noise_free(u, gains, ShutterMode::kNumerical, p);
       // Round-off of 52 FFT rows summed, values of order 52 * 160.
       EXPECT_LT(test::max_abs_difference(o, convolve_rows(u, gains, p)), 1e-9) << name;
@@ -221,7 +221,7 @@ TEST_P(ObserveVariance, IsEachPixelsVarianceComputedSlotBySlot) {
   const int length = static_cast<int>(gains.size());
   const Image input = dark_edges_image(120, 3);
   const RowSpectra u = row_spectra(input, 1);
-  const ObservationParams p = make_params(c.velocity, c.dt, c.snr, 0, 1);
+  const ReferenceParams p = make_params(c.velocity, c.dt, c.snr, 0, 1);
   const double lambda2 = PoissonSNR(c.snr).lambda2();
   // Brute force, and which branches of the sampler it went through.
   Image expected(120, 3, 1);
@@ -280,7 +280,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(ObserveAnalog, RefusesGainsOutsideTheUnitInterval) {
   const RowSpectra u = row_spectra(Image(32, 2, 1, 10.0), 1);
-  const ObservationParams p = make_params(1.0, 1.0, 100.0, 0, 1);
+  const ReferenceParams p = make_params(1.0, 1.0, 100.0, 0, 1);
   const std::vector<std::vector<double>> bad = {
       {0.5, 1.2}, {-0.1, 1.0}, {1.0, 0.0, -1.0}, {0.3, std::nan("")}};
   for (const auto& gains : bad) {
@@ -360,7 +360,7 @@ TEST_P(ObservationStatistics, MeanAndVarianceFollowTheTheory) {
   const double expected_variance = 100.0 * q * 100.0 / (c.snr * c.snr);
 
   const RowSpectra u = row_spectra(Image(256, 256, 1, 100.0), 2);
-  const ObservationParams p = make_params(0.0, dt, c.snr, 12345, 2);
+  const ReferenceParams p = make_params(0.0, dt, c.snr, 12345, 2);
   const Image o = c.mode == ShutterMode::kNumerical ? observe_numerical(u, gains, p)
                                                     : observe_analog(u, gains, p);
   const Moments m = moments(o.data);

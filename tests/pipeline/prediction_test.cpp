@@ -17,12 +17,13 @@
 #include "fss/io/png_io.h"
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
-#include "fss/model/noise.h"
 #include "fss/pipeline/metrics.h"
-#include "fss/pipeline/noise_weights.h"
 #include "fss/pipeline/simulate.h"
-#include "pipeline/reference_paths.h"
+#include "model/noise.h"
+#include "pipeline/noise_weights.h"
+#include "pipeline/predict.h"
 #include "pipeline/row_pipeline.h"
+#include "support/reference_paths.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -140,7 +141,7 @@ Image bars_image(int width, int height, int channels) {
 // Var(PoissonSNR(e))), summed over rows and channels at observation column h + j.
 std::vector<double> brute_force_variance_sums(const Image& input, const SimulationReport& r) {
   const RowSpectra u = row_spectra(input, 1);
-  ObservationParams params;
+  ReferenceParams params;
   params.velocity = r.options.velocity_px_per_slot;
   params.dt = r.options.dt;
   const double lambda2 = PoissonSNR(r.options.snr).lambda2();

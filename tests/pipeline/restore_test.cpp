@@ -1,6 +1,6 @@
 // Tests of the geometry, the mirror extension and the inverse filter
 // (geometry.h, restore.h and the whole-image reference paths, docs/method.md §4).
-#include "fss/pipeline/restore.h"
+#include "pipeline/restore.h"
 
 #include <gtest/gtest.h>
 
@@ -10,13 +10,13 @@
 #include <random>
 #include <vector>
 
+#include "core/fft.h"
 #include "fss/core/error.h"
-#include "fss/core/fft.h"
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
-#include "fss/pipeline/observe.h"
-#include "pipeline/reference_paths.h"
+#include "pipeline/observe.h"
+#include "support/reference_paths.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -356,7 +356,7 @@ TEST(RowRestorer, FoldsWhenKIsWellConditionedOnly) {
 TEST(Restore, ConstantImageIsRestoredExactly) {
   const std::vector<double> gains = raskar();
   const Image input(512, 4, 1, 80.0);
-  ObservationParams params;
+  ReferenceParams params;
   params.threads = 1;
   const Image observation = convolve_rows(row_spectra(input, 1), gains, params);
   const Geometry g = Geometry::compute(512, 52, 1.0, 1.0);
@@ -374,7 +374,7 @@ TEST_P(RestoreAlignment, RestoredIsAlignedWithGroundTruth) {
   const double v = GetParam();
   const std::vector<double> gains = raskar();
   const Image input = test::make_test_image(512, 16, 1, 4);
-  ObservationParams params;
+  ReferenceParams params;
   params.velocity = v;
   params.threads = 2;
   const Image observation = convolve_rows(row_spectra(input, 2), gains, params);

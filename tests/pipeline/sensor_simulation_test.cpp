@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "fss/campaign/sha256.h"
+#include "campaign/sha256.h"
 #include "fss/core/error.h"
 #include "fss/model/code.h"
 #include "fss/model/sensor.h"

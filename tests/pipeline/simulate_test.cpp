@@ -1,6 +1,7 @@
 // Tests of the whole simulation (simulate.h): option validation, the
 // reference regression, the error prediction, and the refusals.
 #include "fss/pipeline/simulate.h"
+#include "fss/pipeline/option_rules.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

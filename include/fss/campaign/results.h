@@ -32,15 +32,13 @@ const std::vector<ResultColumn>& campaign_columns();
 // Index of a column by name; -1 if there is none.
 int campaign_column_index(std::string_view name);
 
-// The columns of trials.csv and trials.jsonl (a campaign with per_trial):
-// the setting columns of results.csv (image to trials, in their order),
-// then trial (0, 1, ...), trial_seed (seed + trial), rmse, rmse_ci and
-// psnr of that trial.
+// The columns of trials.csv and trials.jsonl (a campaign with per_trial): the setting columns of
+// results.csv (image to trials), then trial (0, 1, ...), trial_seed (seed + trial), rmse, rmse_ci
+// and psnr of that trial.
 const std::vector<ResultColumn>& trial_columns();
 
-// One row: campaign_columns().size() cells. Numbers are in shortest
-// round-trip form ("inf" where a prediction is infinite), empty where the
-// setting has no value.
+// One row: campaign_columns().size() cells; numbers in shortest round-trip form ("inf" where a
+// prediction is infinite), empty where the setting has no value.
 using ResultRow = std::vector<std::string>;
 
 // Row status values.
@@ -56,16 +54,13 @@ struct SettingRunOptions {
   int threads = 0;                   // SimulationOptions::threads
   std::size_t max_memory_bytes = 0;  // SimulationOptions::max_memory_bytes
   std::string fssim_version;         // the fssim_version column
-  // Every setting with this seed instead of its own (setting_seed): the
-  // rule of fssim sweep, whose curves are smooth for it. Never set by a
-  // campaign run.
+  // Every setting with this seed instead of its own (setting_seed): fssim sweep's rule. Never set
+  // by a campaign run.
   std::optional<std::uint64_t> seed = std::nullopt;
 };
 
-// The plans (fss::SimulationPlan) of the settings a run goes through, kept
-// while they fit in kMaxBytes: a campaign computes each kernel once per
-// code, mode, velocity, restore velocity, dt and image width, not once per
-// snr value (settings are image-, code-, mode- and velocity-major).
+// The plans (fss::SimulationPlan) of the settings a run goes through, kept while they fit in
+// kMaxBytes and kMaxPlans, so that each kernel is computed once, not once per snr value.
 class SimulationPlanCache {
  public:
   static constexpr std::size_t kMaxBytes = std::size_t{256} << 20;
@@ -85,12 +80,11 @@ class SimulationPlanCache {
   long long reused_ = 0;
 };
 
-// Runs `setting` of `campaign` on `image` (the setting's image, decoded)
-// with fss::Simulate and returns its row. A setting that cannot run is a
-// row with its status and message; runtime and memory-limit errors are
-// thrown as fss::Error. With `plans`, the kernel part comes from (and goes
-// to) that cache; the row is the same. With `trial_rows`, it receives the
-// setting's trial rows (trial_columns; none for a setting that did not run).
+// Runs `setting` of `campaign` on `image` (the setting's image, decoded) with fss::Simulate and
+// returns its row. A setting that cannot run is a row with its status and message; runtime and
+// memory-limit errors are thrown. With `plans`, the kernel part comes from (and goes to) that
+// cache: the row is the same. `trial_rows`, when not null, receives the setting's trial rows
+// (trial_columns; none for a setting that did not run).
 ResultRow run_setting(const ResolvedCampaign& campaign, const Setting& setting, const Image& image,
                       const SettingRunOptions& options, SimulationPlanCache* plans = nullptr,
                       std::vector<ResultRow>* trial_rows = nullptr);

@@ -1,17 +1,5 @@
-// Running a campaign into a directory, resumably, in shards, and merging
-// the shards (docs/campaign.md).
-//
-// DIR/journal.jsonl is append-only: a header line naming the campaign (its
-// canonical specification and hash) and the shard, then one line per
-// finished setting, written as soon as the setting ends (so a killed
-// process loses none) and fsynced, while the next setting runs, before the
-// next line is written. A rerun into the same DIR reads it and runs only the settings it
-// lacks (a torn last line, from a kill mid-write, is cut off); a different
-// campaign or shard is refused. Once every setting of the shard is in the
-// journal, results.csv, results.jsonl and campaign.json (and, for a campaign
-// with per_trial, trials.csv and trials.jsonl) are written from it,
-// each to a temporary file renamed into place: their bytes depend on the
-// specification and the fssim version only.
+// Running a campaign into a directory, resumably and in shards, and merging the shards
+// (docs/campaign.md).
 #pragma once
 
 #include <functional>
@@ -75,24 +63,21 @@ inline constexpr const char* kCampaignTrialsJsonl = "trials.jsonl";
 // Largest journal read (checked before reading): some million settings.
 inline constexpr std::size_t kMaxCampaignJournalBytes = std::size_t{2} << 30;
 
-// Runs the settings of `options.shard` missing from dir's journal (dir is
-// created if needed) and writes the result files. Throws a usage fss::Error
-// when dir holds another campaign or shard, or when a file it writes is one
-// of its inputs (images, code files, options.inputs), a runtime one when a
-// file cannot be read or written or a setting fails at run time (the journal
-// keeps what finished; a failed run before any setting finished leaves no
-// directory it created).
+// Runs the settings of `options.shard` missing from dir's journal (dir is created if needed),
+// journalling each as it ends so that a rerun resumes a killed run, then writes the result files,
+// whose bytes depend only on the specification and the fssim version. Throws a usage fss::Error
+// when dir holds another campaign or shard, or when a file it writes is one of its inputs (images,
+// code files, options.inputs), a runtime one when a file cannot be read or written or a setting
+// fails at run time (the journal keeps what finished; a failed run before any setting finished
+// leaves no directory it created).
 CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
                                const CampaignRunOptions& options);
 
-// Merges the directories of the shards 1/N .. N/N of one campaign into dir:
-// refuses (usage fss::Error) parts of different campaigns (hash), different
-// N, a shard given twice or missing, and a part whose journal lacks some of
-// its settings, and an output file that is one of the parts' journals.
-// Writes the files a single-machine run writes, byte for byte.
-// Also writes dir's journal, as a finished single-machine run leaves it.
-// Returns the rows in product order; *campaign (when not null) receives the
-// campaign.
+// Merges the directories of the shards 1/N .. N/N of one campaign into dir, writing the files,
+// journal included, a single-machine run leaves, byte for byte. Refuses (usage fss::Error) parts
+// of different campaigns or N, a shard given twice or missing, a part whose journal lacks some of
+// its settings, and an output file that is one of the parts' journals. Returns the rows in product
+// order; *campaign (when not null) receives the campaign.
 std::vector<ResultRow> MergeCampaignParts(const std::vector<std::string>& parts,
                                           const std::string& dir,
                                           ResolvedCampaign* campaign = nullptr);

@@ -1,7 +1,6 @@
-// A campaign's specification (docs/campaign.md): images x codes x modes x
-// velocities x restore velocities x snrs x dts, its canonical form and hash,
-// and the settings of the cartesian product in a stable order, each with
-// its own seed. Conventions: fss/fss.h.
+// A campaign's specification (docs/campaign.md), its canonical form and hash, and the settings
+// of its cartesian product (images x codes x modes x velocities x ...) in a stable order, each
+// with its own seed. Conventions: fss/fss.h.
 #pragma once
 
 #include <cstddef>
@@ -20,9 +19,7 @@ namespace fss {
 // Most values one value list may hold, and most settings of a campaign.
 inline constexpr int kMaxCampaignValues = 10000;
 inline constexpr long long kMaxCampaignSettings = 10'000'000;
-// Largest campaign file and campaign image read (checked before reading; a
-// stream is cut there): a campaign file of any real size, and a PNG file of
-// the largest image decoded, are far smaller.
+// Largest campaign file and campaign image read (checked before reading; a stream is cut there).
 inline constexpr std::size_t kMaxCampaignFileBytes = std::size_t{16} << 20;
 inline constexpr std::size_t kMaxCampaignImageBytes = std::size_t{1} << 30;
 
@@ -32,13 +29,11 @@ struct ValueList {
   bool geometric = false;  // some item was a geometric range (a log axis suits it)
 };
 
-// Parses `text` for field `field` (named in errors): comma-separated items,
-// each a finite number V, an arithmetic range start:stop:step (start,
-// start + step, ..., the last value not beyond stop + step / 2) or a
-// geometric one start:stop:xF (start, start F, start F^2, ..., the last not
-// beyond stop sqrt(F); start and stop > 0, F > 1). Range values are
-// start + i step and start F^i, rounded to 12 significant digits so that
-// 0.1 steps read 0.3. Throws a usage fss::Error naming the field and the item.
+// Parses `text` for field `field` (named in errors): comma-separated items, each a finite number,
+// an arithmetic range start:stop:step (start + i step, the last not beyond stop + step / 2) or a
+// geometric one start:stop:xF (start F^i, the last not beyond stop sqrt(F); start and stop > 0,
+// F > 1), range values rounded to 12 significant digits. Throws a usage fss::Error naming the
+// field and the item.
 ValueList parse_value_list(std::string_view text, const std::string& field);
 
 // What the user asked for: the campaign specification before files are read.
@@ -55,24 +50,20 @@ struct CampaignSpec {
   NoiseModel noise = NoiseModel::kPoisson;
   int rmse_margin_columns = -1;  // -1: 3 B
   bool per_trial = false;        // also one row per trial (trials.csv, trials.jsonl)
-  // The sensor (docs/method.md §10): the read noise is an axis (a value
-  // list, electrons RMS per readout), the other parts are fixed for the
-  // campaign; sensor.read_noise_electrons is not used.
+  // The sensor (docs/method.md §10): the read noise is an axis (a value list, electrons RMS per
+  // readout), the other parts are fixed; sensor.read_noise_electrons is not used.
   std::string read_noise = "0";
   SensorModel sensor;
 
-  // False, with a message naming the field, its value and the rule, when a
-  // field is malformed on its own (values a setting cannot run with, such as
-  // snr = 0, are rows with a status instead).
+  // False, with a message naming the field, its value and the rule, when a field is malformed on
+  // its own (values a setting cannot run with, such as snr = 0, are rows with a status instead).
   bool IsValid(std::string* error) const;
 };
 
-// Parses the text of a campaign file (docs/campaign.md): a JSON object with
-// the keys input, code, mode, velocity, restore_velocity, snr, dt, trials,
-// seed, noise and rmse_margin; fields it does not name keep their defaults.
-// Value lists are kept as text (numbers in shortest round-trip form) for
-// CampaignSpec::IsValid. Throws a usage fss::Error naming the file (`name`)
-// for malformed JSON, an unknown key or a value of the wrong type.
+// Parses the text of a campaign file (docs/campaign.md), a JSON object; fields it does not name
+// keep their defaults, value lists are kept as text for CampaignSpec::IsValid. Throws a usage
+// fss::Error naming the file (`name`) for malformed JSON, an unknown key or a value of the wrong
+// type.
 CampaignSpec parse_campaign_file(std::string_view text, const std::string& name);
 
 // Reads the campaign file at `path` (at most kMaxCampaignFileBytes; a
@@ -113,26 +104,22 @@ struct ResolvedCampaign {
   ValueList read_noises = {{0.0}, false};  // the read noise axis
   SensorModel sensor;                      // the fixed parts; its read noise unused
 
-  // True when the campaign uses a sensor: a read noise other than {0} or
-  // a fixed part on. Only then do the canonical JSON and the settings'
-  // descriptions name the sensor, so that a campaign without one keeps its
-  // hash and its seeds.
+  // True when the campaign uses a sensor (a read noise other than {0} or a fixed part on): only
+  // then do the canonical JSON and the settings' descriptions name the sensor.
   bool has_sensor() const;
 
-  // Canonical JSON of everything above (one line, keys sorted, numbers in
-  // shortest round-trip form) and its SHA-256: two specifications that run
-  // the same settings have the same hash, whatever their spelling.
+  // Canonical JSON of everything above (one line, keys sorted, numbers in shortest round-trip
+  // form) and its SHA-256: specifications that run the same settings have the same hash.
   std::string canonical_json;
   std::string sha256;
 
   long long setting_count() const;
 };
 
-// Reads and expands `spec`: directories give their *.png files, globs their
-// matches, each sorted by name; codes are loaded (load_code). An image path
-// or code name given twice is kept once, at its first place. Throws a usage
-// fss::Error for an invalid spec or an input that matches nothing, a
-// runtime one for a file that cannot be read.
+// Reads and expands `spec`: directories give their *.png files, globs their matches, each sorted
+// by name; codes are loaded (load_code); an image path or code name given twice is kept once, at
+// its first place. Throws a usage fss::Error for an invalid spec or an input that matches
+// nothing, a runtime one for a file that cannot be read.
 ResolvedCampaign resolve_campaign(const CampaignSpec& spec);
 
 // Rebuilds a resolved campaign from its canonical JSON (as a journal keeps
@@ -151,17 +138,14 @@ struct Setting {
 // (the last varies fastest).
 Setting setting_at(const ResolvedCampaign& campaign, long long index);
 
-// The setting's canonical description: the digests of its image and code
-// and its values, as one line of JSON; trials, noise and margin are the
-// campaign's and are left out, so that more trials extend a setting's seeds.
-// With a sensor (ResolvedCampaign::has_sensor) it also holds the setting's
-// read noise and the fixed sensor parts.
+// The setting's canonical description, one line of JSON: the digests of its image and code and
+// its values (with a sensor, its read noise and the fixed sensor parts); not the campaign's
+// trials, noise and margin, so that more trials extend a setting's seeds.
 std::string setting_description(const ResolvedCampaign& campaign, const Setting& setting);
 
-// The setting's seed: splitmix64 of the campaign seed plus the first 64
-// bits of SHA-256(description). It depends on the setting's values only,
-// never on its index, its shard or the order of the run; its trials use
-// seed, seed + 1, ... (SimulationOptions::trials).
+// The setting's seed: splitmix64 of the campaign seed plus the first 64 bits of
+// SHA-256(description), so it depends on the setting's values only, never on its index, shard or
+// the order of the run; its trials use seed, seed + 1, ...
 std::uint64_t setting_seed(const ResolvedCampaign& campaign, const Setting& setting);
 
 // The SimulationOptions of a setting (threads and memory limit left at

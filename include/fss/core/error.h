@@ -1,6 +1,5 @@
-// fss error reporting: every failure is an fss::Error carrying a one-line,
-// self-contained message that names the file, option or value at fault and
-// what was expected. The kind tells a front end how to exit.
+// fss::Error, which every failure throws: a one-line message naming the file, option or value
+// at fault and what was expected; its kind tells a front end how to exit.
 #pragma once
 
 #include <cstddef>
@@ -33,9 +32,8 @@ class Error : public std::runtime_error {
 // "1.5 GiB", "800.0 MiB", "12.0 KiB" (binary units, as --max-memory reads them).
 std::string format_bytes(double bytes);
 
-// `needed` and `limit` as format_bytes writes them, with more decimals when
-// that would write two different sizes alike ("10.0001 MiB" and "10.0000
-// MiB", never "10.0 MiB" twice): the pair for "needs A, over the limit of B".
+// `needed` and `limit` as format_bytes writes them, with as many more decimals as it takes to
+// write two different sizes differently: the pair for "needs A, over the limit of B".
 std::pair<std::string, std::string> format_bytes_distinct(double needed, double limit);
 
 // Throws the limit fss::Error "<subject> needs about <needed> of memory, more
@@ -43,31 +41,24 @@ std::pair<std::string, std::string> format_bytes_distinct(double needed, double 
 [[noreturn]] void throw_memory_limit_error(const std::string& subject, std::size_t needed,
                                            std::size_t limit);
 
-// A number exactly: the shortest digits that read back as the same double,
-// laid out as printf("%g") lays out numbers ("1.0000001", "0.1", "1e+300",
-// "100000", "1e-320"; "nan", "inf", "-inf"). The one formatter of values in
-// messages; %g ("1") would hide that 1.0000001 is above 1.
+// A number exactly, for messages: the shortest digits that read back as the same double, laid
+// out as printf("%g") lays them out ("1.0000001", "0.1", "1e+300"; "nan", "inf", "-inf").
 std::string format_exact(double value);
 
-// A number as printf("%.*g") writes it with `significant_digits` digits
-// ("nan", never "-nan"; "inf", "-inf"): the default is printf("%g"), for
-// messages; 17 digits give back the same double.
+// A number as printf("%.*g") writes it with `significant_digits` digits ("nan", never "-nan";
+// "inf", "-inf"); 17 digits give back the same double.
 std::string format_number(double value, int significant_digits = 6);
 
-// Writes `text` on the standard error stream (stdio's stderr, flushed), after
-// any picture being drawn: the plots capture descriptor 2 while they draw
-// (to keep PLplot's messages off it), and a message written meanwhile from
-// another thread would be captured with them. Front ends write their
-// warnings and errors through this; a write error shows in ferror(stderr).
+// Writes `text` on stdio's stderr and flushes it, waiting for any plot being drawn (which
+// captures descriptor 2). Thread-safe; front ends write their warnings and errors through it. A
+// write error shows in ferror(stderr).
 void write_stderr(std::string_view text);
 
-// `text` for a message: control bytes as \xNN (escape_control_characters),
-// cut after about `shown` characters with "..." so that a binary file or a
-// long argument still gives a short, one-line message.
+// `text` for a message: control bytes as \xNN (escape_control_characters), cut after about
+// `shown` characters with "...".
 std::string shorten_for_message(std::string_view text, std::size_t shown = 40);
 
-// `text` with control characters (a newline in a file name, a terminal
-// escape) written as \xNN, so that a message stays on one readable line.
+// `text` with control characters (a newline, a terminal escape) written as \xNN.
 std::string escape_control_characters(std::string_view text);
 
 }  // namespace fss

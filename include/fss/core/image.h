@@ -1,17 +1,4 @@
-// The image type of fss and the conventions every fss function follows.
-//
-// Conventions (stated once here, not repeated in the other headers):
-//  - Layout: planar doubles; channel c, row y, column x is
-//    data[(c * height + y) * width + x]. Rows are the direction of motion.
-//  - Scale: values are on the 0..255 scale of an 8-bit image. A 16-bit PNG is
-//    divided by 257, keeping its fractional precision. Values are never
-//    clamped inside the pipeline; only 8-bit encoding rounds and clamps.
-//  - Channels: 1 (gray) or 3 (RGB); channels are always processed
-//    independently and alpha is dropped when reading.
-//  - Columns: functions taking a column range use half-open [first, end).
-//  - Errors: bad arguments and unreadable data throw fss::Error (error.h).
-//  - Threads: a `threads` argument of 0 means "all hardware threads"; results
-//    never depend on it.
+// The image type of fss: planar doubles on the 0..255 scale (conventions: fss/fss.h).
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
-// Generating flutter shutter codes: the paper's constructions (sinc, MIP) for
-// a velocity and slot, random codes, the snapshot and the accumulation
-// (docs/method.md §7). Conventions: core/image.h.
+// Generating flutter shutter codes: the paper's constructions (sinc, MIP) for a velocity and
+// slot, random codes, the snapshot and the accumulation (docs/method.md §7).
+// Conventions: fss/fss.h.
 #pragma once
 
 #include <cstdint>
@@ -20,26 +20,21 @@ enum class CodeFamily { kSinc, kMip, kRandom, kSnapshot, kAccumulation };
 std::string to_string(CodeFamily family);
 std::optional<CodeFamily> code_family_from_string(std::string_view text);
 
-// True when the sinc and MIP constructions are defined: 0 < |v| dt < 2 (the
-// band |theta| <= pi |v| dt is not empty and 1 / sinc_h stays finite on it).
+// True when the sinc and MIP constructions are defined: 0 < |v| dt < 2.
 bool design_band_is_valid(double velocity, double dt);
 
-// The sinc code: gain k is the real part of the Fourier coefficient
-//   (1 / 2 pi) int_{|theta| <= pi |v| dt} exp(i theta (k - c)) / sinc_h(theta) d theta,
-// c = floor(L / 2), normalized so that max |alpha_k| = 1. Its |K| is flat on
-// the band (up to the truncation to L gains). Throws a usage fss::Error unless
-// length >= 1 and design_band_is_valid(velocity, dt).
+// The sinc code (docs/method.md §7): |K| flat on the band |theta| <= pi |v| dt up to the
+// truncation to L gains, max |alpha_k| = 1. Throws a usage fss::Error unless length >= 1 and
+// design_band_is_valid(velocity, dt).
 std::vector<double> generate_sinc_code(int length, double velocity, double dt);
 
-// The motion-invariant (MIP) code: target T(theta) = sqrt(pi / |theta|)
-// exp(-i pi / 4 sign theta), time origin t0 = c, so gain k is the real part of
-//   (1 / 2 pi) int_{|theta| <= pi |v| dt} T(theta) exp(i theta (k - c + 1/2)) / sinc_h(theta),
-// normalized so that max |alpha_k| = 1. The 1 / sqrt(theta) singularity is
-// removed exactly by the substitution theta = u^2. Same errors as above.
+// The motion-invariant (MIP) code (docs/method.md §7), max |alpha_k| = 1. Same errors as
+// generate_sinc_code.
 std::vector<double> generate_mip_code(int length, double velocity, double dt);
 
-// Independent uniform gains on [-1, 1) (numerical) or [0, 1) (analog) from a
-// generator seeded with `seed`; the same seed gives the same code everywhere.
+// Independent uniform gains on [-1, 1) (numerical) or [0, 1) (analog) from a generator seeded
+// with `seed`: the same seed gives the same code everywhere. Throws a usage fss::Error for
+// length < 1.
 std::vector<double> generate_random_code(int length, std::uint64_t seed, bool analog);
 
 std::vector<double> snapshot_code(int length);      // (1, 0, ..., 0)

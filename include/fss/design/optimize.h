@@ -1,6 +1,6 @@
-// Optimizing flutter shutter codes: the code of a given length that maximizes
-// the SNR at level 100 (design/analyze.h) at a velocity, under the constraints
-// of the mode. Conventions: core/image.h.
+// Optimizing flutter shutter codes: the code of a given length that maximizes the SNR at level
+// 100 (design/analyze.h) at a velocity, under the constraints of the mode.
+// Conventions: fss/fss.h.
 #pragma once
 
 #include <cstdint>
@@ -14,22 +14,18 @@
 
 namespace fss {
 
-// Longest code optimize_code accepts (the band basis holds 2 G L doubles).
+// Longest code optimize_code accepts (its band basis holds 2 x grid x L doubles).
 inline constexpr int kMaxOptimizedCodeLength = kMaxCodeLength;
-// Bounds of the search's effort: restarts and iterations per start, and the
-// objective's grid (each start costs about iterations x grid x L).
+// Bounds of the search's effort: restarts, iterations per start and the objective's grid (a start
+// costs about iterations x grid x L).
 inline constexpr int kMaxRestarts = 10000;
 inline constexpr int kMaxIterations = 100000;
 inline constexpr int kMaxObjectiveGridPoints = 1 << 16;
 
-// Q_eff M of a code of fixed length on a midpoint band grid, with its
-// gradient; Q_eff = Q + R c with the readout noise c in slots of level-100
-// light (readout_noise_slots, design/analyze.h; 0: photon noise only, Q_eff
-// = Q): numerical Q_eff = (dt + c) sum alpha_k^2, analog dt sum alpha_k + c.
-// K is linear in alpha, K(xi_j) = sum_k alpha_k E_jk with
-// E_jk = dt sinc_h(theta_j) exp(-i theta_j (k + 1/2)), so
-//   dM / d alpha_k = -(2 / G) sum_j Re(conj(K_j) E_jk) / |K_j|^4,
-//   dQ_eff / d alpha_k = 2 (dt + c) alpha_k (numerical) or dt (analog).
+// The optimizer's objective: Q_eff M of a code of fixed length on a midpoint band grid of
+// grid_points nodes, with its gradient. Q_eff = Q + R c (docs/method.md §10), c = readout_slots
+// the readout noise in slots of level-100 light (readout_noise_slots; 0: photon noise only).
+// Throws a usage fss::Error for length < 1, grid_points < 1 or a negative or non-finite c.
 class NoiseFigure {
  public:
   NoiseFigure(int length, double velocity, double dt, ShutterMode mode,
@@ -37,9 +33,9 @@ class NoiseFigure {
 
   int length() const { return length_; }
 
-  // Q_eff M of `gains` (length() values); +infinity when K vanishes at a
-  // node (fss::transfer_vanishes, model/kernel.h) or Q_eff <= 0. When `gradient` is not empty
-  // (length() values) it receives d(Q_eff M) / d alpha (left unspecified for an infinite value).
+  // Q_eff M of `gains` (length() values); +infinity when K vanishes at a node or Q_eff <= 0. A
+  // non-empty `gradient` (length() values) receives d(Q_eff M) / d alpha, unspecified for an
+  // infinite value. Other sizes are a usage fss::Error.
   double Evaluate(std::span<const double> gains, std::span<double> gradient = {}) const;
 
  private:
@@ -56,23 +52,20 @@ struct OptimizeOptions {
   int length = 52;                    // 1 <= L <= kMaxOptimizedCodeLength
   double velocity_px_per_slot = 1.0;  // 0 < |v| dt < 2
   double dt = 1.0;                    // > 0
-  // > 0; photo-electrons per gray level per slot lambda2 = snr^2 / 100. It
-  // scales the reported SNR only, unless the sensor adds readout noise, which
-  // counts against lambda2.
+  // > 0; lambda2 = snr^2 / 100 photo-electrons per gray level per slot. It scales the reported
+  // SNR only, unless the sensor adds readout noise, which counts against lambda2.
   double snr = 100.0;
   ShutterMode mode = ShutterMode::kNumerical;
-  // Read noise, dark current and ADC of the figure of merit (design/analyze.h;
-  // default: photon noise only). No full well (check_design_sensor).
+  // Read noise, dark current and ADC of the figure of merit (design/analyze.h; default: photon
+  // noise only). No full well (check_design_sensor).
   SensorModel sensor;
-  // Gains in {0, 1} (Agrawal-Raskar's search space); then Q is the same in
-  // both modes.
+  // Gains in {0, 1} (Agrawal-Raskar's search space); then Q is the same in both modes.
   bool binary = false;
-  // Light budget: analog or binary codes must let in at least this much light,
-  // sum alpha_k >= min_light_slots (in slots of full light; the snapshot lets
-  // in 1, Agrawal-Raskar's code 26). 0 means no constraint; at most length.
+  // Light budget of analog or binary codes: sum alpha_k >= min_light_slots, in slots of full
+  // light (the snapshot lets in 1, Agrawal-Raskar's code 26). 0: no constraint; at most length.
   double min_light_slots = 0.0;
-  // Random starting codes, besides the deterministic ones (the snapshot, and
-  // the sinc code for numerical gains). Seeded by `seed`.
+  // Random starting codes, seeded by `seed`, besides the snapshot and (numerical gains) the sinc
+  // code.
   int restarts = 24;
   std::uint64_t seed = 0;
   // Per start: quasi-Newton iterations (continuous gains) or moves (binary).
@@ -86,8 +79,8 @@ struct OptimizeOptions {
 
 struct OptimizationResult {
   OptimizeOptions options;
-  // The best code found: numerical codes are scaled to max |alpha| = 1
-  // (which changes nothing), analog ones to max alpha = 1 (which can only help).
+  // The best code found, numerical codes scaled to max |alpha| = 1, analog ones to max alpha = 1
+  // (binary codes as found).
   std::vector<double> gains;
   CodeAnalysis analysis;  // of `gains`, at the options' v, dt, snr, mode, default grid
   int starts = 0;         // starting codes tried
@@ -99,15 +92,10 @@ struct OptimizationResult {
   std::string FullReport() const;
 };
 
-// Minimizes Q_eff M, i.e. maximizes SNR_100 (with the sensor's readouts),
-// under the constraints of the mode:
-// any real gains (numerical), gains in [0, 1] (analog), gains in {0, 1}
-// (binary), and sum alpha >= min_light_slots. Continuous gains: projected
-// L-BFGS on log(Q M) from each start. Binary gains: steepest-descent local
-// search over single bit flips, and swaps of a 1 with a 0 when no flip helps,
-// from each start. The run is bounded by iterations, not time, and depends
-// only on the options. Throws a usage fss::Error when the options are not
-// valid.
+// Minimizes Q_eff M, i.e. maximizes SNR_100 with the sensor's readouts, under the constraints of
+// the mode: any real gains (numerical), gains in [0, 1] (analog), gains in {0, 1} (binary), and
+// sum alpha >= min_light_slots. Bounded by iterations, not time: the result depends only on the
+// options. Throws a usage fss::Error when the options are not valid.
 OptimizationResult optimize_code(const OptimizeOptions& options);
 
 }  // namespace fss

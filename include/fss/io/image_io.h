@@ -1,6 +1,5 @@
-// Reading an input image, PNG or TIFF, told apart by the file's first bytes
-// (its signature), whatever its name. Conventions: image.h; what each format
-// accepts: png_io.h, tiff_io.h.
+// Reading an input image, PNG or TIFF, told apart by its signature whatever its name (what each
+// format accepts: png_io.h, tiff_io.h). Conventions: fss/fss.h.
 #pragma once
 
 #include <cstdint>
@@ -24,10 +23,9 @@ struct ImageFileInfo {
   bool floating = false;    // 32-bit float TIFF
 };
 
-// Reads the PNG or TIFF file at `path` (decode_png, decode_tiff), refusing
-// anything else after its first 8 bytes (even an endless stream such as
-// /dev/zero) and a directory. `info`, when not null, receives how the file
-// stores its samples. Errors as decode_png's and decode_tiff's.
+// Reads the PNG or TIFF file at `path` (decode_png, decode_tiff), refusing a directory and
+// anything else after its first 8 bytes (even an endless stream). `info`, when not null, receives
+// how the file stores its samples. Errors as decode_png's and decode_tiff's.
 Image read_image(const std::filesystem::path& path, std::size_t max_bytes = 0,
                  ImageFileInfo* info = nullptr);
 

@@ -1,5 +1,5 @@
-// PNG reading (libpng) and 8- or 16-bit PNG encoding (ISA-L for images,
-// libpng for plots). Conventions: image.h.
+// PNG reading (libpng) and 8- or 16-bit PNG encoding (ISA-L for images, libpng for plots).
+// Conventions: fss/fss.h.
 #pragma once
 
 #include <cstdint>
@@ -18,39 +18,29 @@ namespace fss {
 // Largest width or height accepted when reading.
 inline constexpr int kMaxImageSide = 1 << 16;
 
-// Reads a PNG of any colour type (gray, gray+alpha, RGB, RGBA, palette) and
-// bit depth (1..16), interlaced or not. Gray stays one channel, everything
-// else becomes three; alpha is ignored. Throws a runtime fss::Error naming
-// the file on any problem; libpng warnings are not errors and are dropped.
-// With max_bytes > 0, an image whose decoding would need more memory than
-// that is refused from its header, before anything is allocated (kLimit).
+// Reads a PNG of any colour type and bit depth (1..16), interlaced or not: gray stays one
+// channel, everything else becomes three, alpha is ignored. Throws a runtime fss::Error naming
+// the file on any problem (libpng's warnings are dropped); with max_bytes > 0, a kLimit one from
+// the header, before anything is allocated, when decoding would need more than max_bytes.
 Image read_png(const std::filesystem::path& path, std::size_t max_bytes = 0);
 
 // Same, from bytes in memory; `name` is used in error messages.
 Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string& name,
                  std::size_t max_bytes = 0);
 
-// Memory that decoding a width x height image with `channels` (1 or 3
-// after conversion) and `row_bytes` bytes a decoded row takes at its peak.
+// Peak memory of decoding a width x height image of `channels` (1 or 3 after conversion) with
+// `row_bytes` bytes a decoded row.
 std::size_t png_decode_bytes(std::size_t width, std::size_t height, int channels,
                              std::size_t row_bytes);
 
-// How an encoded PNG is compressed; the pixels are the same, only file size
-// and encoding time differ.
-//  - kImage: the average filter and ISA-L's deflate at level 1, streamed
-//    over blocks of rows (src/io/png_write.cpp): 3 to 4 times as fast as
-//    zlib level 3 with run-length matching (fssim before) on large images,
-//    and as small. The bytes do not depend on the thread; they depend on
-//    ISA-L's version and on whether the processor has SSE4.2 (README,
-//    "Performance").
-//  - kGraphics: libpng, the "up" filter and zlib level 3, whose long matches
-//    suit the repeated runs of flat colour and text in plots (run-length
-//    matching makes them 28 % larger).
+// How an encoded PNG is compressed; the pixels are the same, only file size and encoding time
+// differ. kImage suits images (ISA-L; the bytes never depend on the thread, but do on ISA-L's
+// version and on whether the processor has SSE4.2); kGraphics suits plots (libpng and zlib).
 enum class PngCompression { kImage, kGraphics };
 
-// A value as an 8-bit PNG sample: rounded to the nearest integer (halves
-// away from zero), clamped to [0, 255]; NaN gives 0. The same as
-// std::clamp(std::round(value), 0.0, 255.0) without a libm call.
+// A value as an 8-bit PNG sample: rounded to the nearest integer (halves away from zero) and
+// clamped to [0, 255], as std::clamp(std::round(value), 0.0, 255.0) without a libm call; NaN
+// gives 0.
 inline std::uint8_t png8_sample(double value) {
   if (!(value >= 0.5)) return 0;  // negatives, [0, 0.5) and NaN
   if (value >= 255.0) return 255;
@@ -58,11 +48,9 @@ inline std::uint8_t png8_sample(double value) {
   return static_cast<std::uint8_t>(whole + (value - whole >= 0.5 ? 1 : 0));
 }
 
-// A value as a 16-bit PNG sample, on the scale a 16-bit PNG is read with
-// (image.h: sample / 257): value x 257 rounded to the nearest integer
-// (halves away from zero), clamped to [0, 65535]; NaN gives 0. A value
-// read from a 16-bit PNG gives back its sample exactly, and an integer
-// gray level g gives 257 g, the 16-bit sample of the same brightness.
+// A value as a 16-bit PNG sample: value x 257 rounded to the nearest integer (halves away from
+// zero), clamped to [0, 65535]; NaN gives 0. A value read from a 16-bit PNG gives back its sample
+// exactly; an integer gray level g gives 257 g, the 16-bit sample of the same brightness.
 inline std::uint16_t png16_sample(double value) {
   const double scaled = value * 257.0;
   if (!(scaled >= 0.5)) return 0;  // negatives, [0, 0.5) and NaN
@@ -76,11 +64,9 @@ enum class PngDepth { k8, k16 };
 std::string to_string(PngDepth depth);  // "8", "16"
 std::optional<PngDepth> png_depth_from_string(std::string_view text);
 
-// The size the header (IHDR) of a PNG file declares, read from its first 33
-// bytes without decoding: channels as read_png gives them (1 for gray, 3 for
-// colour and palettes) and the bits per sample. Nothing when the file does
-// not start with a PNG signature and an IHDR, or is not a regular file (a
-// pipe is read once, by read_png): read_png then says why.
+// The size a PNG file's header (IHDR) declares, without decoding: channels as read_png gives
+// them, and the bits per sample. Nothing when the file does not start with a PNG signature and an
+// IHDR or is not a regular file (a pipe is read once, by read_png): read_png then says why.
 struct PngHeaderSize {
   int width = 0;
   int height = 0;

@@ -1,10 +1,7 @@
-// report.json of a run: every parameter and result (README, "Outputs").
-// The only io header that includes nlohmann/json.
+// report.json of a run: every parameter and result (docs/report-schema.md).
 #pragma once
 
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "fss/pipeline/simulate.h"
 
@@ -20,11 +17,7 @@ inline constexpr int kReportSchemaVersion = 1;
 // from a checkout ("0.1.0 (git 0396604)").
 std::string report_fssim_version();
 
-// report.json content; `input_path` is recorded as given. Infinite and NaN
-// values are null.
-nlohmann::json report_json(const SimulationReport& report, const std::string& input_path);
-
-// The bytes of report.json: report_json indented by 2 and a line end. Paths
+// The bytes of report.json, indented by 2, and a line end. Paths
 // are bytes: one that is not UTF-8 is kept with U+FFFD in place of its
 // invalid bytes rather than failing the run.
 std::string report_json_text(const SimulationReport& report, const std::string& input_path);

@@ -1,17 +1,6 @@
-// The sensor beyond photon noise (docs/method.md §10): read noise, dark
-// current, full well and an ADC. Every part is off by default, so a default
-// SensorModel observes exactly what the paper's photon-noise model does.
-//
-// Units: a gray level g seen through one unit time slot gives lambda2 * g
-// photo-electrons, lambda2 = snr^2 / 100 (noise.h). A readout is one frame
-// (numerical mode: L readouts, one per slot, each of exposure dt) or the one
-// exposure of the analog mode (exposure L dt: the shutter does not stop the
-// dark current). A readout's charge is
-//   photo-electrons + dark electrons (Poisson, mean d * exposure),
-// clipped at the full well F, plus read noise N(0, sigma_r^2); the ADC rounds
-// it to counts in [0, 2^b - 1] (a negative readout gives 0) and converts back
-// to electrons (counts * G); the dark mean d * exposure is subtracted
-// (dark-frame correction) and the result divided by lambda2 to gray levels.
+// The sensor beyond photon noise (docs/method.md §10): read noise, dark current, full well and
+// an ADC, in electrons. Every part is off by default: a default SensorModel observes exactly
+// what the paper's photon-noise model does.
 #pragma once
 
 #include <limits>
@@ -23,9 +12,8 @@
 
 namespace fss {
 
-// Upper bound of the read noise, the dark current and the ADC gain (the range
-// of dt and snr): their squares and products with a code's exposure stay
-// finite.
+// Upper bound of the read noise, the dark current and the ADC gain (the range of dt and snr), so
+// that their squares and products with a code's exposure stay finite.
 inline constexpr double kMaxSensorScale = 1e100;
 
 struct SensorModel {
@@ -36,12 +24,9 @@ struct SensorModel {
   int adc_bits = 0;                           // 0: no ADC; otherwise in [1, 32]
   double adc_gain_electrons_per_count = 1.0;  // G, in (0, 1e100]; used only with an ADC
 
-  // True when any part is on (the observation then differs from the
-  // photon-noise model's).
+  // True when any part is on (the observation then differs from the photon-noise model's).
   bool enabled() const;
-  // True when the observation is linear in the charge: no full well and no
-  // ADC (the ADC's rounding is then counted as G^2 / 12 of variance, and the
-  // prediction is approximate where readouts come near 0 or 2^b - 1).
+  // True when the observation is linear in the charge: no full well and no ADC.
   bool linear() const;
 
   // False, with a message naming the field, its value and the rule, when a
@@ -49,25 +34,22 @@ struct SensorModel {
   bool IsValid(std::string* error) const;
 };
 
-// Exposure of one readout in unit slots: dt (numerical, one frame) or
-// gains.size() * dt (analog, the whole exposure).
+// Exposure of one readout in unit slots: dt (numerical: one frame per slot) or
+// code_length * dt (analog: the one exposure).
 double readout_exposure_slots(std::size_t code_length, double dt, ShutterMode mode);
 
 // Variance, in electrons^2, that one readout of `exposure_slots` adds beyond
 // its photo-electrons: sigma_r^2 + d * exposure + (ADC: G^2 / 12).
 double readout_variance_electrons2(const SensorModel& sensor, double exposure_slots);
 
-// Variance, in gray levels^2, of the observation of a constant landscape at
-// level 100 through `gains` (before division by K(0)):
-//   numerical: sum_k alpha_k^2 (100 dt lambda2 + v_r) / lambda2^2
-//   analog:    (100 dt sum_k alpha_k lambda2 + v_r) / lambda2^2
-// with v_r = readout_variance_electrons2 of that mode's readout. With a
-// default sensor this is 100 Q (100 / snr^2), Q = noise_gain (prediction.h).
+// Variance, in gray levels^2, of the observation of a constant landscape at level 100 through
+// `gains` (before division by K(0)), lambda2 = snr^2 / 100 (docs/method.md §10). With a default
+// sensor it is 100 Q (100 / snr^2), Q = noise_gain (prediction.h).
 double level100_observation_variance(std::span<const double> gains, double dt, ShutterMode mode,
                                      double snr, const SensorModel& sensor);
 
-// One readout's sensor parameters in electrons, the form the samplers use
-// (noise.h): a SensorModel at a given exposure.
+// One readout's sensor parameters in electrons: a SensorModel at a given exposure, the form the
+// noise samplers use.
 struct SensorReadout {
   double dark_electrons = 0.0;  // d * exposure: mean dark charge, subtracted after the readout
   double read_noise_electrons = 0.0;  // sigma_r
@@ -82,10 +64,9 @@ struct SensorReadout {
   // Whether a readout of mean charge `charge` saturates: charge >= clip_electrons()
   // (at the clip exactly, the readout's distribution is already cut there).
   bool saturates(double charge) const { return charge >= clip_electrons(); }
-  // The readout of a charge (electrons, with dark charge) and its read noise
-  // draw r ~ N(0, 1), minus the dark mean (docs/method.md §10):
-  //   q = min(charge, F) + sigma_r r;  ADC: q = min(round+(q / G), 2^b - 1) G
-  //   (round+ is 0 for q <= 0);  result q - d * exposure.
+  // The readout of `charge` (electrons, dark charge included) with read noise draw r ~ N(0, 1),
+  // minus the dark mean (docs/method.md §10): q = min(charge, F) + sigma_r r; with an ADC
+  // q = min(round+(q / G), 2^b - 1) G (round+ is 0 for q <= 0); result q - d * exposure.
   double read(double charge, double r) const;
 };
 

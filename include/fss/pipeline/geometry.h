@@ -1,5 +1,5 @@
-// Every width and window of a simulation, computed in one place
-// (docs/method.md §4 and §5). Conventions: image.h.
+// Every width and window of a simulation, computed in one place (docs/method.md §4, §5).
+// Conventions: fss/fss.h.
 #pragma once
 
 #include <string>
@@ -18,9 +18,8 @@ struct Geometry {
   static Geometry compute(int width, int code_length, double velocity, double dt);
 };
 
-// The measurement windows, in output columns: the RMSE window
-// [margin, Wo - margin) (margin 3B by default) and the RMSE_CI window
-// [B, Wo - B).
+// The measurement windows, in output columns: RMSE [margin, Wo - margin) (margin 3B by default)
+// and RMSE_CI [B, Wo - B).
 struct MetricWindows {
   int rmse_first = 0;
   int rmse_end = 0;
@@ -32,11 +31,10 @@ struct MetricWindows {
 // needed, when a window is empty.
 MetricWindows metric_windows(const Geometry& geometry, int margin_columns);
 
-// Why a run cannot have its outputs and both windows: the message Simulate
-// would throw from Geometry::compute or metric_windows, "" when it can.
-// `velocity` is the larger of |v| and |v_r| (Simulate's blur covers both).
-// *blur_length (when not null) receives B, or -1 when the blur is wider than
-// the image or the code is empty.
+// Why a run cannot have its outputs and both windows: the message Simulate would throw from
+// Geometry::compute or metric_windows, "" when it can. `velocity`: the larger of |v| and |v_r|.
+// *blur_length (when not null) receives B, or -1 when the blur is wider than the image or the
+// code is empty.
 std::string too_narrow_reason(int width, int code_length, double velocity, double dt,
                               int margin_columns, int* blur_length = nullptr);
 

@@ -8,11 +8,11 @@
 #include <span>
 #include <vector>
 
-#include "fss/core/fft.h"
+#include "core/fft.h"
 #include "fss/core/image.h"
 #include "fss/model/code.h"
-#include "fss/model/noise.h"
 #include "fss/model/sensor.h"
+#include "model/noise.h"
 
 namespace fss {
 
@@ -30,9 +30,6 @@ struct ObservationParams {
   // checks for clipping (ReadoutClipping); end -1: the whole row.
   int clipping_first_column = 0;
   int clipping_end_column = -1;
-  // Used only by the whole-image reference paths (src/pipeline/reference_paths.h).
-  std::uint64_t seed = 0;
-  int threads = 0;
 };
 
 // Readouts of a noise-free pass whose mean charge (photo plus dark electrons)

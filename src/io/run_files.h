@@ -1,8 +1,8 @@
 // The files a run writes, as one table: which files there are, what each
 // holds, when it is written and how it is made. The table drives
 // write_outputs (which files, in which order), output_file_names,
-// report.html's figures and list of files, and a test holds the README's
-// "Outputs" table to it. Adding an output is adding a row (src/io/run_files.cpp).
+// report.html's figures and list of files, and a test holds the "Outputs"
+// table of docs/cli.md to it. Adding an output is adding a row (src/io/run_files.cpp).
 // report.json lists no files.
 #pragma once
 

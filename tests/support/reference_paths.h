@@ -1,20 +1,27 @@
 // Whole-image versions of the observation and the restoration, for the tests
 // only: they check the row pipeline (RowObserver, RowRestorer) against the
-// definitions of docs/method.md §2-§4 written image by image. Internal to the
-// library and its tests, not part of the public headers. Definitions in
-// observe.cpp and restore.cpp. Conventions: image.h.
+// definitions of docs/method.md §2-§4 written image by image. Conventions:
+// image.h.
 #pragma once
 
 #include <complex>
+#include <cstdint>
 #include <span>
 #include <vector>
 
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/pipeline/geometry.h"
-#include "fss/pipeline/observe.h"
+#include "pipeline/observe.h"
 
 namespace fss {
+
+// The observation's parameters and what the whole-image paths add: the seed
+// of the noise streams and the worker threads (0: all).
+struct ReferenceParams : ObservationParams {
+  std::uint64_t seed = 0;
+  int threads = 0;
+};
 
 // The DFT of every row of an image (channel-major, then row), computed once
 // and shared by every observation of that image.
@@ -34,7 +41,7 @@ RowSpectra row_spectra(const Image& image, int threads);
 // e = rowconv(u, K) = IDFT(DFT(u) K), row by row, circular: the ideal
 // observation of both modes.
 Image convolve_rows(const RowSpectra& u, std::span<const double> gains,
-                    const ObservationParams& params);
+                    const ReferenceParams& params);
 
 // The expectation of the noisy observation, E[o]: PoissonSNR(e) has mean
 // max(e, 0), so this is max(rowconv(u, K), 0) (analog) or
@@ -42,17 +49,17 @@ Image convolve_rows(const RowSpectra& u, std::span<const double> gains,
 // the band-limited interpolation of the image rings below 0 near dark edges;
 // it is what the reference program's run at a huge SNR converges to.
 Image observe_noise_free(const RowSpectra& u, std::span<const double> gains, ShutterMode mode,
-                         const ObservationParams& params);
+                         const ReferenceParams& params);
 
 // Analog flutter shutter: o = PoissonSNR(rowconv(u, K)). Gains must lie in [0, 1].
 Image observe_analog(const RowSpectra& u, std::span<const double> gains,
-                     const ObservationParams& params);
+                     const ReferenceParams& params);
 
 // Numerical flutter shutter: o = sum_k alpha_k PoissonSNR(rowconv(u, K_k)),
 // one elementary exposure per slot, streamed into one accumulator (memory
 // O(W H)). Slots with alpha_k = 0 contribute nothing and are skipped.
 Image observe_numerical(const RowSpectra& u, std::span<const double> gains,
-                        const ObservationParams& params);
+                        const ReferenceParams& params);
 
 // Row of width 2 Wa: column j is crop column j for j < Wa, 2 Wa - 1 - j after.
 Image mirror_extend(const Image& crop);

@@ -1,7 +1,7 @@
 // Writing one output file so that nothing is lost: a file is replaced
 // atomically (a hidden temporary in its directory, fsync'ed, renamed over
 // it), never over an input, and a device, FIFO or /proc/self/fd/N is written
-// in place, never replaced by a regular file (README, "Guarantees").
+// in place, never replaced by a regular file (docs/testing.md, "Guarantees").
 #pragma once
 
 #include <filesystem>

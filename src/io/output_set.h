@@ -26,7 +26,8 @@ struct OutputFile {
 // failure, a signal (SIGKILL included) or a concurrent run, `outdir` holds
 // the old files or the new ones, never some of each (a run killed while
 // publishing, a window of milliseconds, is completed by the next run into
-// `outdir`: README, "Guarantees"). Other files in `outdir` are never touched.
+// `outdir`: docs/testing.md, "Guarantees"). Other files in `outdir` are never
+// touched.
 // Refuses, before writing anything, to write into a path that is not a
 // directory, to replace a directory, or to replace any of `protected_inputs`
 // (compared as files: device and inode). Runs into one directory publish one

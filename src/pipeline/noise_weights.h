@@ -25,7 +25,7 @@
 #include <span>
 #include <vector>
 
-#include "fss/pipeline/restore.h"
+#include "pipeline/restore.h"
 
 namespace fss {
 

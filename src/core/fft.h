@@ -6,9 +6,9 @@
 // direction is planned on its first use, since planning costs about a
 // millisecond and some lengths are only ever transformed one way) and
 // executed many times on per-thread workspaces with FFTW's new-array
-// interface, which is thread-safe. FFTW_MEASURE was measured and rejected:
-// it spends 0.1 to 0.9 s planning sizes 512 to 7000 to save 2-20% of a
-// transform, which a single run never earns back.
+// interface, which is thread-safe. Plans are FFTW_ESTIMATE: FFTW_MEASURE's
+// planning costs more than a single run's transforms save (CONTRIBUTING.md,
+// "Hand-written fast paths").
 //
 // Scaling: forward is the unnormalized DFT X[i] = sum_x u[x] exp(-2 pi i i x / N);
 // inverse is unnormalized too, so inverse(forward(u)) = N u.

@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "fss/core/fft.h"
+#include "core/fft.h"
 #include "fss/core/image.h"
 #include "fss/pipeline/geometry.h"
 
@@ -22,9 +22,9 @@ namespace fss {
 // the crop alone, one with the crop reversed, which one transform pair of a
 // length M >= Wa + Wo - 1 < N computes (restore.cpp, folded_filters). M is
 // chosen fast for FFTW (2^a m, m in {1, 3, 5, 7, 9, 15}), while N = 2 (W - B)
-// is set by the image width and often has a large prime factor: at W = 4000,
-// N = 7896 = 2^3 3 7 47 took 114 us a forward-inverse pair and M = 8192 31 us
-// (FFTW_ESTIMATE, AMD EPYC); at W = 512, 920 took 7.0 us and M = 896 2.4 us.
+// is set by the image width and often has a large prime factor, which makes
+// its transforms several times slower (CONTRIBUTING.md, "Hand-written fast
+// paths").
 // The folded convolution's round-off is spread over every frequency, so a K
 // near a zero (sup |1/K| |K(0)| above 1e6) keeps the grid, where each bin's
 // round-off stays its own. Both compute the same operator and differ by

@@ -1,0 +1,177 @@
+// The numerical mode's aggregated photon noise (aggregated_sampler.h).
+// Compiled with the samplers' flags (CMakeLists.txt), so that its row loops
+// vectorize.
+#include "model/aggregated_sampler.h"
+
+#include <cmath>
+
+#include "core/vectorize.h"
+#include "model/poisson_sampler.h"
+
+namespace fss {
+
+AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
+
+std::size_t AggregatedRowSampler::intensities_of(std::span<const double> e, double dark,
+                                                 IntensityRows& rows) const {
+  const std::size_t n = e.size();
+  rows.lambda.resize(n);
+  rows.mean_part.resize(n);
+  rows.variance_part.resize(n);
+  std::size_t normal_pixels = 0;
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    // Locals, not the captured references, so that the loop vectorizes.
+    const double* __restrict intensity = e.data();
+    double* __restrict lambda = rows.lambda.data();
+    double* __restrict mean = rows.mean_part.data();
+    double* __restrict variance = rows.variance_part.data();
+    const double lambda2 = lambda2_;
+    const double dark_electrons = dark;
+    std::size_t count = 0;
+    for (std::size_t x = 0; x < n; ++x) {
+      lambda[x] = std::max(intensity[x], 0.0) * lambda2 + dark_electrons;
+      const bool normal = lambda[x] >= kKnuthLimit;
+      mean[x] = normal ? lambda[x] : 0.0;
+      variance[x] = normal ? lambda[x] + 1.0 / 12.0 : 0.0;
+      count += normal ? 1 : 0;
+    }
+    normal_pixels = count;
+  });
+  return normal_pixels;
+}
+
+void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
+                                     std::span<double> out, const SensorReadout* readout) {
+  const double dark = readout != nullptr ? readout->dark_electrons : 0.0;
+  const std::size_t normal_pixels = intensities_of(e, dark, intensities_);
+  add_frame(FrameIntensities{intensities_.lambda, intensities_.mean_part,
+                             intensities_.variance_part, normal_pixels},
+            id, gain, out, readout);
+}
+
+void AggregatedRowSampler::add_frame(const FrameIntensities& frame, const RowNoiseId& id,
+                                     double gain, std::span<double> out,
+                                     const SensorReadout* readout) {
+  const std::size_t n = frame.lambda.size();
+  if (!has_frame_) {  // the row's first frame
+    mean_.assign(n, 0.0);
+    variance_.assign(n, 0.0);
+    has_frame_ = true;
+  }
+  // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12); the
+  // parts are 0 on Knuth's branch, and alpha 0 or alpha^2 0 adds a zero that
+  // leaves every sum's bits as they are.
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict mean_part = frame.mean_part.data();
+    const double* __restrict variance_part = frame.variance_part.data();
+    double* __restrict mean = mean_.data();
+    double* __restrict variance = variance_.data();
+    const double alpha = gain;
+    const double alpha_squared = gain * gain;
+    for (std::size_t x = 0; x < n; ++x) {
+      mean[x] += alpha * mean_part[x];
+      variance[x] += alpha_squared * variance_part[x];
+    }
+  });
+  if (frame.normal_pixels > 0) has_normal_ = true;
+  if (readout != nullptr) add_readout_terms(gain, *readout);
+  if (frame.normal_pixels == n) return;
+  add_knuth_branch(frame.lambda, n - frame.normal_pixels, id, gain, out);
+}
+
+void AggregatedRowSampler::add_knuth_branch(std::span<const double> lambda,
+                                            std::size_t knuth_pixels, const RowNoiseId& id,
+                                            double gain, std::span<double> out) {
+  // Drawn now: out += gain P / lambda2, uniforms in pixel order.
+  RandomStream knuth_stream = lane_stream(id, id.frame, NoiseLane::kAggregateKnuth);
+  const double scale = gain / lambda2_;
+  AggregatedRowPlan::KnuthFrame* recorded = nullptr;
+  if (plan_ != nullptr && plan_->knuth_pixels + knuth_pixels <= max_knuth_pixels_) {
+    plan_->knuth_pixels += knuth_pixels;
+    recorded = &plan_->knuth.emplace_back();
+    recorded->frame = id.frame;
+    recorded->gain = gain;
+    recorded->pixels.reserve(knuth_pixels);
+    recorded->lambdas.reserve(knuth_pixels);
+  } else if (plan_ != nullptr) {
+    plan_->knuth_pixels = max_knuth_pixels_ + 1;  // too many: the row is not recorded
+  }
+  for (std::size_t x = 0; x < lambda.size(); ++x) {
+    if (lambda[x] < kKnuthLimit) {
+      out[x] += scale * poisson_variate(lambda[x], knuth_stream);
+      if (recorded != nullptr) {
+        recorded->pixels.push_back(static_cast<std::uint32_t>(x));
+        recorded->lambdas.push_back(lambda[x]);
+      }
+    }
+  }
+}
+
+void AggregatedRowSampler::add_readout_terms(double gain, const SensorReadout& readout) {
+  // Every pixel: M -= alpha dark (dark-frame correction), V += alpha^2 sigma_r^2.
+  const double read_variance = readout.read_noise_electrons * readout.read_noise_electrons;
+  for (std::size_t x = 0; x < mean_.size(); ++x) {
+    mean_[x] -= gain * readout.dark_electrons;
+    variance_[x] += gain * gain * read_variance;
+  }
+  has_normal_ = true;
+}
+
+void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,
+                                       std::span<const double> variance_photons,
+                                       const RowNoiseId& id, std::span<double> out) {
+  const std::size_t n = mean_photons.size();
+  draw_normals(lane_stream(id, 0, NoiseLane::kAggregateNormal), n, u1_, u2_, normals_,
+               /*portable=*/true);
+  // out += (M + sqrt(V) N) / lambda2
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict mean = mean_photons.data();
+    const double* __restrict variance = variance_photons.data();
+    const double* __restrict normal = normals_.data();
+    double* __restrict sum = out.data();
+    const double lambda2 = lambda2_;
+    for (std::size_t x = 0; x < n; ++x) {
+      sum[x] += (mean[x] + std::sqrt(variance[x]) * normal[x]) / lambda2;
+    }
+  });
+}
+
+void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
+  if (has_normal_) add_normals(mean_, variance_, id, out);
+  if (plan_ != nullptr) {
+    if (plan_->knuth_pixels <= max_knuth_pixels_) {
+      if (has_normal_) {
+        plan_->mean = mean_;
+        plan_->variance = variance_;
+      }
+      plan_->recorded = true;
+    } else {
+      *plan_ = AggregatedRowPlan();
+    }
+    plan_ = nullptr;
+  }
+  has_frame_ = false;
+  has_normal_ = false;
+}
+
+void AggregatedRowSampler::record_next_row(AggregatedRowPlan* plan, std::size_t max_knuth_pixels) {
+  *plan = AggregatedRowPlan();
+  plan_ = plan;
+  max_knuth_pixels_ = max_knuth_pixels;
+}
+
+void AggregatedRowSampler::replay(const AggregatedRowPlan& plan, const RowNoiseId& id,
+                                  std::span<double> out) {
+  // The Knuth-branch frames in their order, each from its own lane and in
+  // pixel order, then the normal: add_frame()'s and finish()'s operations.
+  for (const AggregatedRowPlan::KnuthFrame& frame : plan.knuth) {
+    RandomStream knuth_stream = lane_stream(id, frame.frame, NoiseLane::kAggregateKnuth);
+    const double scale = frame.gain / lambda2_;
+    for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
+      out[frame.pixels[i]] += scale * poisson_variate(frame.lambdas[i], knuth_stream);
+    }
+  }
+  if (!plan.mean.empty()) add_normals(plan.mean, plan.variance, id, out);
+}
+
+}  // namespace fss

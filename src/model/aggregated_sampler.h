@@ -1,0 +1,136 @@
+// The numerical mode's photon noise with the normal-branch frames of each
+// pixel aggregated into one normal (docs/method.md §6c, `--noise aggregated`).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "fss/model/sensor.h"
+#include "model/noise_stream.h"
+
+namespace fss {
+
+// The numerical mode's observation of one row,
+//   o[x] = sum_k alpha_k PoissonSNR(e_k[x]),
+// with the normal-branch frames aggregated (docs/method.md §6c): for each
+// pixel, the frames with lambda_k = max(e_k[x], 0) lambda2 >= 50 are
+// replaced by ONE normal
+//   A[x] = M[x] + sqrt(V[x]) N[x],   M = sum alpha_k lambda_k,
+//                                    V = sum alpha_k^2 (lambda_k + 1/12),
+// added as A[x] / lambda2, not rounded; the frames with lambda_k < 50 are
+// drawn one by one by Knuth's method, as PoissonRowSampler does. One normal
+// per pixel and row instead of one per pixel and frame. Each pixel's mean and
+// variance are the per-frame sampler's; what differs beyond them is in
+// docs/method.md §6c. The variates come from the kAggregate lanes, so the
+// aggregated and per-frame observations of one seed are independent draws.
+// N comes from box_muller_portable: A is not rounded, so N's bits must not
+// depend on the processor (docs/method.md §3).
+//
+// Use, per row: add_frame() for each frame with a nonzero gain, then
+// finish(). Each frame has its own Knuth stream, so the frames' order (or
+// skipping a zero gain) changes no variate, only the rounding of the sums;
+// the observer adds them in k order, as for the per-frame sampler. The
+// Knuth-branch frames go straight into `out`; the normal-branch ones are
+// summed into two row-sized accumulators, M and V, which finish() turns
+// into the normal and resets for the next row: no frame's row is kept.
+// Holds scratch buffers: one sampler per thread.
+//
+// Trials: everything but the variates is the same for every seed. A row's
+// AggregatedRowPlan (M, V and the Knuth-branch frames' pixels and
+// intensities), recorded while the row is drawn once, lets replay() draw the
+// row again for any seed without its frames: the same bytes as add_frame()
+// for each frame then finish().
+struct AggregatedRowPlan {
+  struct KnuthFrame {
+    std::uint64_t frame = 0;
+    double gain = 0.0;
+    std::vector<std::uint32_t> pixels;  // in pixel order
+    std::vector<double> lambdas;        // their intensities, lambda < 50
+  };
+  bool recorded = false;
+  std::vector<double> mean;      // M; empty when no pixel had a normal-branch frame
+  std::vector<double> variance;  // V
+  std::vector<KnuthFrame> knuth;
+  std::size_t knuth_pixels = 0;  // total over the frames
+};
+
+class AggregatedRowSampler {
+ public:
+  explicit AggregatedRowSampler(double snr);
+  double lambda2() const { return lambda2_; }
+  // Frame id.frame of row (id.seed, id.channel, id.row): out[x] +=
+  // gain * PoissonSNR(e[x]) where lambda < 50, accumulated into M and V
+  // otherwise. e and out have the row's width, the same for every frame.
+  // With a `readout` (a linear sensor: dark current and read noise only,
+  // docs/method.md §10), aggregated exactly: each lambda gains the dark
+  // charge (a sum of Poissons is one Poisson), and every pixel's
+  // M -= alpha dark (the dark-frame correction) and V += alpha^2 sigma_r^2
+  // (a sum of independent normals is one normal); the full well and the ADC
+  // are not applied (Simulate refuses them with aggregated noise).
+  void add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
+                 std::span<double> out, const SensorReadout* readout = nullptr);
+
+  // A frame's intensities as add_frame() computes them from e first:
+  // lambda[x] = max(e[x], 0) lambda2 + dark, its normal-branch parts
+  // (lambda and lambda + 1/12 where lambda >= 50, 0 elsewhere) and the count
+  // of normal-branch pixels. A row whose frames are circular shifts of one
+  // exposure computes them once (intensities_of) and gives each frame a
+  // window of them (the count is the same for every shift).
+  struct FrameIntensities {
+    std::span<const double> lambda;
+    std::span<const double> mean_part;
+    std::span<const double> variance_part;
+    std::size_t normal_pixels = 0;
+  };
+  struct IntensityRows {
+    std::vector<double> lambda;
+    std::vector<double> mean_part;
+    std::vector<double> variance_part;
+  };
+  // Fills `rows` (resized to e's size) for exposure e; returns the count.
+  std::size_t intensities_of(std::span<const double> e, double dark, IntensityRows& rows) const;
+  // The same as add_frame(e, ...) for the exposure whose intensities these are.
+  void add_frame(const FrameIntensities& frame, const RowNoiseId& id, double gain,
+                 std::span<double> out, const SensorReadout* readout = nullptr);
+  // out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from the row's
+  // kAggregateNormal lane (id.frame is ignored), then M = V = 0. Draws
+  // nothing when no pixel had a normal-branch frame.
+  void finish(const RowNoiseId& id, std::span<double> out);
+
+  // Records the row's plan during the next add_frame() calls and finish()
+  // into `plan` (which must outlive them); finish() marks it recorded unless
+  // its Knuth-branch pixel frames exceeded `max_knuth_pixels` (then it is
+  // left empty and not recorded: that row is drawn from its frames).
+  void record_next_row(AggregatedRowPlan* plan, std::size_t max_knuth_pixels);
+  // The row of a recorded plan with the noise of (id.seed, id.channel,
+  // id.row): out[x] += what add_frame() for each of its frames, then
+  // finish(), would add.
+  void replay(const AggregatedRowPlan& plan, const RowNoiseId& id, std::span<double> out);
+
+ private:
+  // A linear sensor's frame of gain alpha: M -= alpha dark, V += alpha^2 sigma_r^2.
+  void add_readout_terms(double gain, const SensorReadout& readout);
+  // The frame's pixels on Knuth's branch (lambda < 50, `knuth_pixels` of
+  // them): out += gain P / lambda2, recorded into the plan being recorded.
+  void add_knuth_branch(std::span<const double> lambda, std::size_t knuth_pixels,
+                        const RowNoiseId& id, double gain, std::span<double> out);
+  // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
+  void add_normals(std::span<const double> mean, std::span<const double> variance,
+                   const RowNoiseId& id, std::span<double> out);
+
+  double lambda2_;
+  AggregatedRowPlan* plan_ = nullptr;  // being recorded
+  std::size_t max_knuth_pixels_ = 0;
+  bool has_frame_ = false;   // add_frame() was called since the last finish()
+  bool has_normal_ = false;  // and some pixel of some frame was on the normal branch
+  IntensityRows intensities_;
+  std::vector<double> mean_;      // M, in photons
+  std::vector<double> variance_;  // V, in photons^2
+  std::vector<double> u1_;
+  std::vector<double> u2_;
+  std::vector<double> normals_;
+};
+
+}  // namespace fss

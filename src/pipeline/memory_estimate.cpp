@@ -1,0 +1,90 @@
+#include "fss/pipeline/memory_estimate.h"
+
+#include <algorithm>
+#include <cstddef>
+
+#include "fss/core/error.h"
+#include "pipeline/row_pipeline.h"
+#include "pipeline/run_checks.h"
+
+namespace fss {
+
+namespace {
+
+// The input, the observed (doubles, or 8-bit samples when `!keep_observed`) and restored outputs
+// (one more restoration buffer when trials > 1), and the larger of the RMSE_CI scratch and the
+// PNG encoding buffers. Rows in flight are a few kilobytes a thread and are not counted, nor are
+// the exact prediction's variance sums (at most 64 rows of W - B doubles, docs/method.md §6b).
+std::size_t working_bytes(int width, int height, int channels, const Geometry& geometry, int trials,
+                          bool keep_observed, std::size_t extra_encoding_bytes_per_sample) {
+  const auto w = static_cast<std::size_t>(width);
+  const auto h = static_cast<std::size_t>(height);
+  const auto c = static_cast<std::size_t>(channels);
+  const auto wo = static_cast<std::size_t>(std::max(geometry.output_width, 0));
+  const auto ci_width =
+      static_cast<std::size_t>(std::max(geometry.output_width - 2 * geometry.blur_length, 0));
+  const std::size_t input = w * h * c * sizeof(double);
+  const std::size_t outputs =
+      ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
+  // RMSE_CI (metrics.h): 16 bytes and at most 1 bit a pixel of one
+  // channel's window (its records, a's group starts), and buffers of a
+  // bounded size: two threads' level counts (1 MiB) and sorters (1.75
+  // MiB), the groups of an 8- or 16-bit ground truth (at most 65536: 1.25
+  // MiB with their values and starts), b's tied runs (512 KiB), the 16-bit
+  // levels (512 KiB): 5 MiB, 5.5 with the allocator's.
+  const std::size_t ci_pixels = ci_width * h;
+  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{11} << 19);
+  // The four image PNGs, each at most a byte a sample (ISA-L stores what it
+  // cannot compress), encoded row by row straight into their files' bytes:
+  // no raster of samples, no copy (src/io/png_write.cpp); and the encoders'
+  // own buffers (ISA-L's state, a block of rows, a chunk of stream), about
+  // 1.1 MiB for each PNG encoded at once, at most five.
+  const std::size_t encoders = std::size_t{6} << 20;
+  const std::size_t encoding = (4 + extra_encoding_bytes_per_sample) * wo * h * c + encoders;
+  return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
+}
+
+}  // namespace
+
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry, int trials,
+                                          const ObservedRowSink* observed_sink,
+                                          std::size_t extra_encoding_bytes_per_sample) {
+  return working_bytes(width, height, channels, geometry, trials, observed_sink == nullptr,
+                       extra_encoding_bytes_per_sample);
+}
+
+// RowPipeline::plan_bytes: aggregated noise with trials > 1 keeps each row's recorded plan (M, V
+// and its Knuth-branch pixels) for the later trials.
+std::size_t estimate_working_memory_bytes(int width, int height, int channels,
+                                          const Geometry& geometry,
+                                          const SimulationOptions& options, int code_length,
+                                          const ObservedRowSink* observed_sink,
+                                          std::size_t extra_encoding_bytes_per_sample) {
+  return working_bytes(width, height, channels, geometry, options.trials, observed_sink == nullptr,
+                       extra_encoding_bytes_per_sample) +
+         RowPipeline::plan_bytes(width, height, channels, options, code_length);
+}
+
+std::size_t estimate_run_memory_bytes(const ImageShape& shape, const SimulationOptions& options,
+                                      const ShutterCode& code, bool observed_to_sink,
+                                      std::size_t extra_encoding_bytes_per_sample) {
+  // The run's geometry: its blur covers both velocities.
+  const Geometry geometry = checked_geometry(options, shape.width, code);
+  return working_bytes(shape.width, shape.height, shape.channels, geometry, options.trials,
+                       !observed_to_sink, extra_encoding_bytes_per_sample) +
+         RowPipeline::plan_bytes(shape.width, shape.height, shape.channels, options, code.length());
+}
+
+void check_run_memory(const ImageShape& shape, const SimulationOptions& options,
+                      const ShutterCode& code, bool observed_to_sink,
+                      std::size_t extra_encoding_bytes_per_sample, const std::string& subject) {
+  if (options.max_memory_bytes == 0) return;
+  const std::size_t needed = estimate_run_memory_bytes(shape, options, code, observed_to_sink,
+                                                       extra_encoding_bytes_per_sample);
+  if (needed > options.max_memory_bytes) {
+    throw_memory_limit_error(subject, needed, options.max_memory_bytes);
+  }
+}
+
+}  // namespace fss

@@ -1,0 +1,87 @@
+#include "pipeline/plan_core.h"
+
+#include <algorithm>
+#include <bit>
+#include <complex>
+#include <cstdint>
+#include <limits>
+
+#include "core/number_text.h"
+#include "fss/core/error.h"
+#include "fss/model/transfer.h"
+#include "pipeline/noise_weights.h"
+#include "pipeline/row_pipeline.h"
+#include "pipeline/run_checks.h"
+
+namespace fss {
+
+PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCode& code)
+    : code_name_(code.name),
+      gains_(code.gains),
+      mode_(options.mode),
+      velocity_(options.velocity_px_per_slot),
+      restore_velocity_(options.restore_velocity_px_per_slot.value_or(velocity_)),
+      dt_(options.dt),
+      margin_(options.rmse_margin_columns),
+      noisy_(options.noise != NoiseModel::kNone),
+      geometry_(checked_geometry(options, width, code)),
+      windows_(metric_windows(geometry_, margin_)),
+      observer_(width, code.gains, options.mode, observation_params(options, geometry_)),
+      restorer_(geometry_, code.gains, restore_velocity_, dt_) {
+  analyze(code);
+}
+
+void PlanCore::analyze(const ShutterCode& code) {
+  // The kernel the restoration inverts, K at the restore velocity v_r
+  // (docs/method.md §1), the divisor of the observed image, and their warnings.
+  kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
+  if (!kernel_.invertible) {
+    warnings_.push_back("code '" + escape_control_characters(code.name) +
+                        "' is not invertible at velocity " + format_exact(restore_velocity_) +
+                        ": min |K| = " + format_number(kernel_.min_abs) +
+                        " at xi = " + format_number(kernel_.min_abs_xi) +
+                        "; the restoration cannot recover the frequencies where K vanishes and "
+                        "amplifies the noise near them: no finite error prediction exists");
+  }
+  observed_divisor_ = kernel_.k0;
+  if (transfer_vanishes(std::abs(kernel_.k0), transfer_scale(code.gains, dt_))) {
+    observed_divisor_ = dt_ * gain_max_abs(code.gains);
+    warnings_.push_back("K(0) = dt * sum of gains vanishes (it is " + format_number(kernel_.k0) +
+                        "): observed.png is divided by dt * max |gain| = " +
+                        format_number(observed_divisor_) + " instead");
+  }
+  // The prediction's M and W(j) (docs/method.md §6, §6b).
+  m_amplification_ = std::numeric_limits<double>::infinity();
+  if (kernel_.invertible) {
+    m_amplification_ =
+        mean_inverse_power(code.gains, restore_velocity_, dt_, geometry_.mirror_width);
+    if (noisy_) {
+      noise_weights_ = noise_energy_weights(geometry_, code.gains, restore_velocity_, dt_,
+                                            windows_.rmse_first, windows_.rmse_end);
+    }
+  }
+}
+
+bool PlanCore::fits(const SimulationOptions& options, int width, const ShutterCode& code) const {
+  const double v = options.velocity_px_per_slot;
+  // Compared as bits: -0.0 and 0.0 are different velocities to the filters.
+  const auto same = [](double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+  };
+  return code.name == code_name_ && code.gains.size() == gains_.size() &&
+         std::equal(gains_.begin(), gains_.end(), code.gains.begin(), same) &&
+         options.mode == mode_ && same(v, velocity_) &&
+         same(options.restore_velocity_px_per_slot.value_or(v), restore_velocity_) &&
+         same(options.dt, dt_) && width == geometry_.width &&
+         options.rmse_margin_columns == margin_ &&
+         (options.noise == NoiseModel::kNone || noisy_ || !kernel_.invertible);
+}
+
+std::size_t PlanCore::bytes() const {
+  const std::size_t bins = static_cast<std::size_t>(geometry_.width) / 2 + 1;
+  const std::size_t filters = (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins;
+  return sizeof(*this) + sizeof(std::complex<double>) * filters + restorer_.bytes() +
+         sizeof(double) * (noise_weights_.size() + gains_.size());
+}
+
+}  // namespace fss

@@ -1,0 +1,65 @@
+// The part of a run that does not depend on the image's rows, snr, seed,
+// trials or threads (SimulationPlan, simulate.h, is its handle): the
+// geometry and metric windows, the kernel analysis and its warnings, the
+// observation filters, the inverse filter, and the prediction's M and W(j)
+// (docs/method.md §6, §6b).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "fss/model/code.h"
+#include "fss/model/kernel.h"
+#include "fss/pipeline/geometry.h"
+#include "fss/pipeline/simulation_options.h"
+#include "pipeline/observe.h"
+#include "pipeline/restore.h"
+
+namespace fss {
+
+class PlanCore {
+ public:
+  // Throws the usage fss::Error Simulate would (run_checks.h).
+  PlanCore(const SimulationOptions& options, int width, const ShutterCode& code);
+
+  bool fits(const SimulationOptions& options, int width, const ShutterCode& code) const;
+
+  const Geometry& geometry() const { return geometry_; }
+  const MetricWindows& windows() const { return windows_; }
+  const KernelAnalysis& kernel() const { return kernel_; }
+  double observed_divisor() const { return observed_divisor_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  // The observer (at the snr of the options it was made with; the
+  // pipeline takes the run's snr) and the restorer of the row pipeline.
+  const RowObserver& observer() const { return observer_; }
+  const RowRestorer& restorer() const { return restorer_; }
+  // M (infinite when not invertible) and W(j) (empty without noise or when
+  // not invertible), for predict.
+  double m_amplification() const { return m_amplification_; }
+  const std::vector<double>& noise_weights() const { return noise_weights_; }
+  std::size_t bytes() const;
+
+ private:
+  void analyze(const ShutterCode& code);
+
+  std::string code_name_;
+  std::vector<double> gains_;
+  ShutterMode mode_;
+  double velocity_;
+  double restore_velocity_;
+  double dt_;
+  int margin_;
+  bool noisy_;
+  Geometry geometry_;
+  MetricWindows windows_;
+  KernelAnalysis kernel_;
+  double observed_divisor_ = 1.0;
+  std::vector<std::string> warnings_;
+  RowObserver observer_;
+  RowRestorer restorer_;
+  double m_amplification_ = 0.0;
+  std::vector<double> noise_weights_;
+};
+
+}  // namespace fss

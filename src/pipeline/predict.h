@@ -1,0 +1,26 @@
+// The prediction of a run's error from its report and noise-free pass
+// (docs/method.md §6, §6b).
+#pragma once
+
+#include "fss/core/image.h"
+#include "fss/pipeline/prediction.h"
+#include "fss/pipeline/simulate.h"
+#include "pipeline/noise_free_run.h"
+
+namespace fss {
+
+class PlanCore;  // plan_core.h
+
+// The prediction for the run `report` describes (its options, code, geometry,
+// RMSE window and kernel) on `input`, from its noise-free pass. The noise
+// parts are 0 without noise, and infinite for a kernel that is not
+// invertible. Throws a usage fss::Error for a noisy run whose
+// noise_free.crop_variance_sums does not have one value per observed-crop
+// column.
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free);
+// The same with M and W(j) from the plan the report was run with.
+Prediction predict(const SimulationReport& report, const Image& input,
+                   const NoiseFreeRun& noise_free, const PlanCore& plan);
+
+}  // namespace fss

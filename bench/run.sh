@@ -3,25 +3,49 @@
 # (bench/numpy_flutter.py): median wall time over RUNS runs (default 5) and
 # peak resident memory (GNU time) of fssim with its per-frame photon noise,
 # fssim with the aggregated noise (when this fssim has `--noise aggregated`)
-# and numpy, on camera.png, astronaut.png and a generated 4000x3000 RGB image;
-# then the micro-benchmarks (SKIP_MICRO=1 leaves them out). The slow cases
-# (4000x3000, 100 trials) run BIG_RUNS times (default 1): the machine may be
-# shared. Builds in Release in build-bench/.
-# Usage: bench/run.sh            RUNS=3 BIG_RUNS=2 bench/run.sh
+# and numpy, on camera.png, astronaut.png, a generated 4000x3000 RGB image
+# (bench/make_image) and a 4000x3000 RGB photograph (data/astronaut.png
+# resized by bench/scale_image.py, Pillow's LANCZOS filter); then numpy's own
+# generators and the micro-benchmarks (SKIP_MICRO=1 leaves them out). The slow
+# cases (4000x3000, 100 trials) run BIG_RUNS times (default 1): the machine may
+# be shared. Builds in Release in build-bench/ (at nice 10).
+#
+# Prints a Markdown table, and writes the results as tab-separated lines to
+# BENCH_RESULTS (default build-bench/results.tsv; a relative path is taken from
+# the repository), which bench/report.py turns into docs/performance.md:
+#   meta  KEY  VALUE                      date, commit, dirty, cpu, cores,
+#                                         memory_gib, runs, big_runs, load_start,
+#                                         load_end, fssim_version, note
+#   case  NAME  PROGRAM  RUNS  MEDIAN_S  PEAK_MB  ARGUMENTS
+#                                         PROGRAM: fssim, fssim-aggregated, numpy
+#   numpy_generator  NAME  M_VARIATES_PER_S
+#   micro  NAME  REAL_TIME  TIME_UNIT  ITEMS_PER_SECOND (empty if none)
+# BENCH_NOTE, free text, is recorded as the note (the conditions of the run).
+# Usage: bench/run.sh            RUNS=3 BIG_RUNS=2 BENCH_NOTE="idle machine" bench/run.sh
 set -euo pipefail
 export LC_ALL=C  # a dot in $EPOCHREALTIME and in printf
 cd "$(dirname "$0")/.."
 runs=${RUNS:-5}
 big_runs=${BIG_RUNS:-1}
 build="build-bench"
+results=${BENCH_RESULTS:-$build/results.tsv}
 python=/usr/bin/python3  # Debian's, with python3-numpy and python3-pil
 [ -x /usr/bin/time ] || { echo "bench: GNU time is needed (apt-get install time)" >&2; exit 1; }
+"$python" -c 'import PIL' 2>/dev/null || {
+  echo "bench: $python with PIL is needed for the 4000x3000 photograph (apt-get install python3-pil)" >&2
+  exit 1
+}
+load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DFSS_BUILD_TESTS=OFF -DFSS_BUILD_BENCH=ON >/dev/null
-cmake --build "$build" -j "$(nproc)" >/dev/null
+nice -n 10 cmake --build "$build" -j "$(nproc)" >/dev/null
 big=$build/big_4000x3000.png
 [ -f "$big" ] || "$build/bench/make_image" 4000 3000 "$big"
+photo=$build/astronaut_4000x3000.png
+[ -f "$photo" ] || "$python" bench/scale_image.py data/astronaut.png 4000 3000 "$photo"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+mkdir -p "$(dirname "$results")"
+tsv=$out/results.tsv
 
 have_numpy=1
 if ! "$python" -c 'import numpy, PIL' 2>/dev/null; then
@@ -31,6 +55,24 @@ fi
 # The aggregated noise is an option of newer fssim builds only.
 have_aggregated=0
 if "$build/fssim" --help | grep -q aggregated; then have_aggregated=1; fi
+
+meta() { printf 'meta\t%s\t%s\n' "$1" "$2" >> "$tsv"; }
+cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')
+meta date "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+meta commit "$(git rev-parse HEAD 2>/dev/null || echo unknown)"
+if [ -n "$(git status --porcelain --untracked-files=no 2>/dev/null | head -1)" ]; then
+  meta dirty yes
+else
+  meta dirty no
+fi
+meta cpu "$cpu"
+meta cores "$(nproc)"
+meta memory_gib "$(awk '/^MemTotal:/ { printf "%.0f", $2 / 1048576 }' /proc/meminfo)"
+meta runs "$runs"
+meta big_runs "$big_runs"
+meta load_start "$load_start"
+meta fssim_version "$("$build/fssim" --version | head -1)"
+meta note "${BENCH_NOTE:-}"
 
 # median of the numbers on stdin
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
@@ -57,12 +99,18 @@ measure() {
 
 cell() { awk -v t="$1" -v m="$2" 'BEGIN { printf "%.3f s, %d MB", t, m }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1fx", a / b }'; }
+# record NAME PROGRAM RUNS SECONDS MB ARGUMENTS...: one case line of the results.
+record() {
+  local name=$1 program=$2 count=$3 seconds=$4 megabytes=$5; shift 5
+  printf 'case\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$program" "$count" "$seconds" "$megabytes" \
+    "$*" >> "$tsv"
+}
 
 # row NAME RUNS FSSIM_ARGS...: one line of the table; the numpy program takes
 # the same arguments but --no-plots (it draws no plots). NUMPY=0 before the
 # call leaves numpy out of that row. numpy's figures are kept by its
 # arguments, so the rows of a case with and without plots share one
-# measurement (the 4000x3000 numpy run takes about 95 s).
+# measurement (a 4000x3000 numpy run takes one to two minutes).
 declare -A numpy_seen
 row() {
   local name=$1 count=$2; shift 2
@@ -71,10 +119,12 @@ row() {
   result=$(measure "$count" "$build/fssim" "$@")
   read -r ft fm <<< "$result"
   frame=$(cell "$ft" "$fm")
+  record "$name" fssim "$count" "$ft" "$fm" "$@"
   if [ "$have_aggregated" = 1 ] && [[ " $* " == *" numerical "* ]]; then
     result=$(measure "$count" "$build/fssim" "$@" --noise aggregated)
     read -r at am <<< "$result"
     agg=$(cell "$at" "$am")
+    record "$name" fssim-aggregated "$count" "$at" "$am" "$@" --noise aggregated
   fi
   if [ "$have_numpy" = 1 ] && [ "${NUMPY:-1}" = 1 ]; then
     local numpy_args=()
@@ -85,13 +135,14 @@ row() {
     fi
     read -r nt nm <<< "${numpy_seen[$key]}"
     numpy=$(cell "$nt" "$nm")
+    record "$name" numpy "$count" "$nt" "$nm" "${numpy_args[@]}"
     speed=$(ratio "$nt" "$ft")
     [ "$agg" = "n/a" ] || agg_speed=$(ratio "$nt" "$at")
   fi
   printf '| %s | %s | %s | %s | %s | %s |\n' "$name" "$frame" "$agg" "$numpy" "$speed" "$agg_speed"
 }
 
-echo "fssim benchmark, $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), median of $runs runs ($big_runs for the slow cases)"
+echo "fssim benchmark, $(nproc) cores, $cpu, median of $runs runs ($big_runs for the slow cases)"
 [ "$have_aggregated" = 1 ] || echo "(this fssim has no --noise aggregated: that column is n/a)"
 echo
 echo "| case (raskar, v = 1, snr 100) | fssim per-frame | fssim aggregated | numpy per-frame | numpy / fssim | numpy / aggregated |"
@@ -99,6 +150,7 @@ echo "|---|---:|---:|---:|---:|---:|"
 camera=(--input data/camera.png --code raskar)
 astronaut=(--input data/astronaut.png --code raskar)
 generated=(--input "$big" --code raskar)
+photograph=(--input "$photo" --code raskar)
 row "camera.png 512x512 gray, numerical" "$runs" "${camera[@]}" --mode numerical
 row "camera.png, numerical, no plots" "$runs" "${camera[@]}" --mode numerical --no-plots
 row "camera.png, analog" "$runs" "${camera[@]}" --mode analog
@@ -106,7 +158,9 @@ row "camera.png, analog, no plots" "$runs" "${camera[@]}" --mode analog --no-plo
 row "astronaut.png 512x512 RGB, numerical" "$runs" "${astronaut[@]}" --mode numerical
 row "astronaut.png, numerical, no plots" "$runs" "${astronaut[@]}" --mode numerical --no-plots
 row "4000x3000 RGB (generated), numerical" "$big_runs" "${generated[@]}" --mode numerical
-row "4000x3000 RGB, numerical, no plots" "$big_runs" "${generated[@]}" --mode numerical --no-plots
+row "4000x3000 RGB (generated), numerical, no plots" "$big_runs" "${generated[@]}" --mode numerical --no-plots
+row "4000x3000 RGB (photograph), numerical" "$big_runs" "${photograph[@]}" --mode numerical
+row "4000x3000 RGB (photograph), numerical, no plots" "$big_runs" "${photograph[@]}" --mode numerical --no-plots
 NUMPY=0 row "camera.png, numerical, 100 trials" "$big_runs" "${camera[@]}" --mode numerical --trials 100
 echo
 echo "fssim draws its plots (code.png, spectrum.png) but in the no-plots rows; the numpy program"
@@ -114,24 +168,44 @@ echo "draws none. Both write the observed, restored, residual and ground-truth P
 # numpy's own generators, per variate: the floor a numpy user starts from.
 if [ "$have_numpy" = 1 ]; then
   echo
-  "$python" - <<'PY'
+  "$python" - "$tsv" <<'PY'
+import sys
 import time
 import numpy as np
 rng = np.random.default_rng(0)
 lam = 100.0 * (20.0 + (np.arange(4000) * 37 % 230))  # a row at snr 100, as micro_bench's
-for name, draw in (("standard_normal", lambda: rng.standard_normal(4000)),
-                   ("poisson (row at snr 100)", lambda: rng.poisson(lam))):
-    draw()
-    best = float("inf")
-    for _ in range(5):
-        start = time.perf_counter()
-        for _ in range(200):
-            draw()
-        best = min(best, time.perf_counter() - start)
-    print(f"numpy Generator.{name}: {200 * 4000 / best / 1e6:.0f} M variates/s")
+with open(sys.argv[1], "a") as results:
+    for name, draw in (("standard_normal", lambda: rng.standard_normal(4000)),
+                       ("poisson (row at snr 100)", lambda: rng.poisson(lam))):
+        draw()
+        best = float("inf")
+        for _ in range(5):
+            start = time.perf_counter()
+            for _ in range(200):
+                draw()
+            best = min(best, time.perf_counter() - start)
+        rate = 200 * 4000 / best / 1e6
+        print(f"numpy Generator.{name}: {rate:.0f} M variates/s")
+        print(f"numpy_generator\t{name}\t{rate:.1f}", file=results)
 PY
 fi
 if [ "${SKIP_MICRO:-0}" != 1 ]; then
   echo
-  "$build/bench/micro_bench" --benchmark_counters_tabular=true
+  "$build/bench/micro_bench" --benchmark_counters_tabular=true \
+    --benchmark_out="$out/micro.json" --benchmark_out_format=json
+  "$python" - "$out/micro.json" >> "$tsv" <<'PY'
+import json
+import sys
+with open(sys.argv[1]) as f:
+    for b in json.load(f)["benchmarks"]:
+        if b.get("run_type", "iteration") != "iteration":
+            continue  # aggregates of repetitions
+        items = b.get("items_per_second")
+        print("\t".join(["micro", b["name"], repr(b["real_time"]), b["time_unit"],
+                         "" if items is None else repr(items)]))
+PY
 fi
+meta load_end "$(cut -d' ' -f1-3 /proc/loadavg)"
+cp "$tsv" "$results"
+echo
+echo "bench: results in $results (bench/report.py renders docs/performance.md from them)"

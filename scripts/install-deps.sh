@@ -17,8 +17,9 @@ packages=(
   strace  # fault injection into output publishing (tests/cli/fault_injection_test.cpp)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
+  clang-format clang-tidy  # scripts/lint.sh (version 14, with run-clang-tidy)
   slurmctld slurmd slurm-client munge  # the campaign's single-node Slurm cluster test (label slurm)
-  parallel  # the README's GNU parallel recipe for campaign shards
+  parallel  # the GNU parallel recipe of docs/campaign.md for campaign shards
   gnuplot-nox  # the plot of scripts/read_noise_study.sh (docs/read_noise_study.png)
 )
 for argument in "$@"; do

@@ -424,6 +424,7 @@ std::vector<Part> read_parts(const std::vector<std::string>& part_dirs, const st
                              ResolvedCampaign* campaign) {
   if (part_dirs.empty()) throw_usage_error("campaign merge needs at least one part");
   std::vector<std::string> journals;
+  journals.reserve(part_dirs.size());
   for (const std::string& part : part_dirs) {
     if (same_file(part, dir)) {
       throw_usage_error("the merge output " + shown_path(dir) + " must not be one of the parts");
@@ -432,6 +433,7 @@ std::vector<Part> read_parts(const std::vector<std::string>& part_dirs, const st
   }
   refuse_outputs_over_inputs(dir, journals);
   std::vector<Part> parts;
+  parts.reserve(part_dirs.size());
   for (const std::string& part : part_dirs) parts.push_back(read_part(part));
   check_parts(parts);
   try {

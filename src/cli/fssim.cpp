@@ -19,7 +19,7 @@ namespace {
 // CLI11's message for `e` in fssim's words: "unexpected arguments: 3 -x" (in
 // the order typed), "--velocity needs a value".
 std::string parse_error_message(const CLI::App& app, const CLI::ParseError& e) {
-  const std::string what = e.what();
+  std::string what = e.what();
   if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
     std::string extras;
     for (const std::string& word : app.remaining(true))

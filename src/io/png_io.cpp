@@ -373,8 +373,8 @@ std::vector<std::uint8_t> encode_with_libpng(const detail::PngRaster& raster,
 }
 
 // kImage: the average filter and ISA-L's deflate at level 1, streamed over blocks of rows
-// (png_write.cpp): faster than zlib on large images and as small (docs/performance.md, "PNG
-// encoding"). kGraphics: libpng, the "up" filter and zlib level 3, whose long matches suit the
+// (png_write.cpp): faster than zlib on large images and as small (CONTRIBUTING.md, "Hand-written
+// fast paths"). kGraphics: libpng, the "up" filter and zlib level 3, whose long matches suit the
 // repeated runs of flat colour and text in plots better than run-length matching.
 std::vector<std::uint8_t> encode_rows(const detail::PngRaster& raster,
                                       const detail::StoredRowSource& rows,

@@ -18,7 +18,7 @@
 // on ISA-L's version, never on the thread. ISA-L picks its code at run time
 // by the processor's instructions; its deflate finds the same matches on
 // every x86-64 processor with SSE4.2, and other ones on a processor without
-// it (a hash computed otherwise). docs/performance.md has the measurement.
+// it (a hash computed otherwise).
 
 namespace fss::detail {
 namespace {

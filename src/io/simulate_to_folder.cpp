@@ -183,7 +183,7 @@ SimulationReport SimulateToFolder(const std::string& input_path, const ShutterCo
   std::optional<ObservedPng8> observed_png8;
   if (observed_to_sink(outputs)) observed_png8.emplace(image.height, image.channels);
   check_outputs_memory(image, options, code, outputs);
-  const SimulationReport report =
+  SimulationReport report =
       simulate_with(plan, options, image, code, observed_png8 ? &*observed_png8 : nullptr);
   if (run.on_simulated) run.on_simulated(report);
   announce(run, "writing the outputs to '" + outdir.string() + "'");

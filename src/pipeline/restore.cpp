@@ -14,10 +14,9 @@
 
 namespace fss {
 
-namespace {
-// 1 / K on the n-point grid; bins where K vanishes (transfer_vanishes: K is 0
-// there up to round-off) carry no information and are set to 0, so that the
-// restoration drops those frequencies (counted in *zero_bins).
+// Bins where K vanishes (transfer_vanishes: K is 0 there up to round-off)
+// carry no information and are set to 0, so that the restoration drops those
+// frequencies.
 std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double velocity,
                                            double dt, int n, int* zero_bins) {
   std::vector<Complex> inverse = transfer_function_bins(gains, velocity, dt, n);
@@ -33,6 +32,8 @@ std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double
   }
   return inverse;
 }
+
+namespace {
 
 // r = IDFT(DFT(row) / K), in place in workspace.real().
 void inverse_filter_row(const RowFFT& fft, const std::vector<Complex>& inverse,

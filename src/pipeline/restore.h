@@ -8,6 +8,7 @@
 
 #include "core/fft.h"
 #include "fss/core/image.h"
+#include "fss/model/transfer.h"
 #include "fss/pipeline/geometry.h"
 
 namespace fss {
@@ -30,6 +31,11 @@ namespace fss {
 // round-off stays its own. Both compute the same operator and differ by
 // round-off only (1e-13 of the values, tested). transform_length() says which
 // length a restorer uses.
+// 1 / K on the n-point grid, 0 at the bins where K vanishes, as the
+// restoration takes it; the number of those bins in *zero_bins.
+std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double velocity,
+                                           double dt, int n, int* zero_bins);
+
 class RowRestorer {
  public:
   RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity, double dt);

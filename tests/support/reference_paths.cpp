@@ -91,28 +91,6 @@ Image observe_numerical(const RowSpectra& u, std::span<const double> gains,
   return observe_all(u, gains, ShutterMode::kNumerical, true, params);
 }
 
-namespace {
-
-// 1 / K on the n-point grid, 0 at the bins where K vanishes
-// (transfer_vanishes), as the restoration takes it; counted in *zero_bins.
-std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double velocity,
-                                           double dt, int n, int* zero_bins) {
-  std::vector<Complex> inverse = transfer_function_bins(gains, velocity, dt, n);
-  const double scale = transfer_scale(gains, dt);
-  *zero_bins = 0;
-  for (Complex& k : inverse) {
-    if (transfer_vanishes(std::abs(k), scale)) {
-      ++*zero_bins;
-      k = Complex(0.0);
-    } else {
-      k = 1.0 / k;
-    }
-  }
-  return inverse;
-}
-
-}  // namespace
-
 Image mirror_extend(const Image& crop) {
   const int wa = crop.width;
   Image out(2 * wa, crop.height, crop.channels);

@@ -348,11 +348,13 @@ std::size_t simulation_memory_bytes(const SimulationOptions& options, const Shut
 
 void check_simulation_memory(const SimulationOptions& options, const ShutterCode& code,
                              const ImageSize& size) {
-  simulation_memory_bytes(options, code, size);  // its usage errors first
-  check_run_memory(
-      {size.width, size.height, size.channels}, options, code, false, kExtraOutputBytesPerSample,
-      "a run on this " + std::to_string(size.width) + " x " + std::to_string(size.height) + " x " +
-          std::to_string(size.channels) + " image");
+  const std::size_t needed = simulation_memory_bytes(options, code, size);  // usage errors first
+  if (options.max_memory_bytes != 0 && needed > options.max_memory_bytes) {
+    throw_memory_limit_error("a run on this " + std::to_string(size.width) + " x " +
+                                 std::to_string(size.height) + " x " +
+                                 std::to_string(size.channels) + " image",
+                             needed, options.max_memory_bytes);
+  }
 }
 
 // ---------------------------------------------------------------------------

@@ -20,8 +20,8 @@ namespace fss {
 
 namespace {
 
-// True when `check` passes or throws a usage error: Simulate reports those,
-// in its own order.
+// Runs `check`, letting a usage error go: Simulate reports those, in its own
+// order.
 template <typename Check>
 void unless_simulate_refuses(const Check& check) {
   try {

@@ -87,7 +87,11 @@ fss::ShutterMode mode_argument(std::string_view text) {
 
 namespace {
 
-constexpr std::array<Names, 8> kSimulateNames = {{
+constexpr std::array<Names, 12> kSimulateNames = {{
+    {"restoration.regularization", "regularization"},
+    {"restoration.prior_exponent", "prior"},
+    {"restoration.prior_level", "prior"},
+    {"restoration.prior", "prior"},
     {"velocity_px_per_slot", "velocity"},
     {"restore_velocity_px_per_slot", "restore_velocity"},
     {"rmse_margin_columns", "rmse_margin"},
@@ -104,6 +108,33 @@ NoiseModel noise_argument(std::string_view text) {
     throw_usage_error("noise: " + quote_text(text) + " is not 'poisson', 'aggregated' or 'none'");
   }
   return *noise;
+}
+
+// restoration, regularization and prior into `options`.
+void restoration_arguments(const SimulateArguments& a, SimulationOptions& options) {
+  const std::optional<RestorationMethod> method = restoration_method_from_string(a.restoration);
+  if (!method) {
+    throw_usage_error("restoration: " + quote_text(a.restoration) +
+                      " is not 'inverse', 'tikhonov' or 'wiener'");
+  }
+  RestorationOptions& r = options.restoration;
+  r.method = *method;
+  if ((a.regularization || a.regularization_optimal) && r.method != RestorationMethod::kTikhonov) {
+    throw_usage_error("regularization: only restoration='tikhonov' takes it (this run is " +
+                      a.restoration + ")");
+  }
+  r.regularization = a.regularization;
+  if (a.prior && r.method != RestorationMethod::kWiener) {
+    throw_usage_error("prior: only restoration='wiener' takes it (this run is " + a.restoration +
+                      ")");
+  }
+  std::string problem;
+  if (a.prior && !parse_prior(*a.prior, &r, &problem)) throw_usage_error("prior: " + problem);
+  if (r.prior_level) {
+    throw_usage_error("prior: " + quote_text(*a.prior) +
+                      " gives a level; a simulation estimates it from a calibration observation "
+                      "(give 'power-law' or 'power-law:GAMMA')");
+  }
 }
 
 }  // namespace
@@ -127,6 +158,7 @@ SimulationOptions simulation_options(const SimulateArguments& a) {
   options.sensor.full_well_electrons = a.full_well;
   options.sensor.adc_bits = int_argument("adc_bits", a.adc_bits, 0, 32);
   options.sensor.adc_gain_electrons_per_count = a.adc_gain.value_or(1.0);
+  restoration_arguments(a, options);
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(rename_field(error, kSimulateNames));
   if (a.adc_gain && options.sensor.adc_bits == 0) {

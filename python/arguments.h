@@ -77,11 +77,19 @@ struct SimulateArguments {
   std::optional<double> full_well;
   long long adc_bits = 0;
   std::optional<double> adc_gain;  // empty: not given (1 electron per count)
+  // The restoration (docs/method.md §12): "inverse", "tikhonov" or "wiener"; the regularization
+  // (Tikhonov) as a number, or "optimal", or not given; the prior (Wiener) as fssim's --prior.
+  std::string restoration = "inverse";
+  std::optional<double> regularization;
+  bool regularization_optimal = false;  // regularization="optimal"
+  std::optional<std::string> prior;
 };
 
 // The options of a run, checked as fssim checks its options
 // (SimulationOptions::IsValid), named as the keywords; adc_gain without
-// adc_bits is refused as fssim refuses --adc-gain without --adc-bits.
+// adc_bits is refused as fssim refuses --adc-gain without --adc-bits, and a
+// regularization or a prior for a restoration that does not take it as fssim
+// refuses them.
 fss::SimulationOptions simulation_options(const SimulateArguments& arguments);
 
 // ---------------------------------------------------------------------------

@@ -283,7 +283,8 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
 // The keywords of fss.simulate, as Python objects.
 struct SimulateCall {
   py::object image, code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
-      rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain;
+      rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain, restoration,
+      regularization, prior;
 };
 
 args::SimulateArguments simulate_arguments(const SimulateCall& c) {
@@ -304,6 +305,16 @@ args::SimulateArguments simulate_arguments(const SimulateCall& c) {
   a.full_well = optional_float(c.full_well, "full_well");
   a.adc_bits = int_argument(c.adc_bits, "adc_bits");
   a.adc_gain = optional_float(c.adc_gain, "adc_gain");
+  a.restoration = string_argument(c.restoration, "restoration");
+  if (py::isinstance<py::str>(c.regularization)) {
+    if (string_argument(c.regularization, "regularization") != "optimal") {
+      fss::throw_usage_error("regularization: a string must be 'optimal' (or give a number)");
+    }
+    a.regularization_optimal = true;
+  } else {
+    a.regularization = optional_float(c.regularization, "regularization");
+  }
+  if (!c.prior.is_none()) a.prior = string_argument(c.prior, "prior");
   return a;
 }
 
@@ -598,17 +609,21 @@ void define_simulate(py::module_& m) {
          const py::object& restore_velocity, const py::object& threads,
          const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
          const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
-         const py::object& adc_gain) {
-        return simulate({image, code, mode, velocity, snr, dt, seed, trials, noise,
-                         restore_velocity, threads, rmse_margin, max_memory, read_noise,
-                         dark_current, full_well, adc_bits, adc_gain});
+         const py::object& adc_gain, const py::object& restoration,
+         const py::object& regularization, const py::object& prior) {
+        return simulate({image,     code,        mode,       velocity,    snr,
+                         dt,        seed,        trials,     noise,       restore_velocity,
+                         threads,   rmse_margin, max_memory, read_noise,  dark_current,
+                         full_well, adc_bits,    adc_gain,   restoration, regularization,
+                         prior});
       },
       py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
       py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
       py::arg("trials") = 1, py::arg("noise") = "poisson", py::arg("restore_velocity") = py::none(),
       py::arg("threads") = 0, py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
       py::arg("read_noise") = 0.0, py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(),
-      py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(),
+      py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
+      py::arg("regularization") = py::none(), py::arg("prior") = py::none(),
       "Simulates a flutter shutter run on `image` (H x W or H x W x 3, gray levels on the "
       "0..255 scale) as `fssim --input` does; returns a SimulationResult. Every number is "
       "checked as fssim checks its option (a ValueError naming the keyword). max_memory "
@@ -617,7 +632,11 @@ void define_simulate(py::module_& m) {
       "dark_current (electrons per slot), full_well (electrons, None: none), adc_bits (0: no "
       "ADC) and adc_gain (electrons per count, default 1; only with adc_bits); all off by "
       "default. With a sensor, result.report['sensor'] holds them and "
-      "result.prediction['exact'] says whether the prediction is exact.");
+      "result.prediction['exact'] says whether the prediction is exact. The restoration "
+      "(docs/method.md §12): restoration 'inverse' (the paper's), 'tikhonov' (regularization: "
+      "lambda in [1e-8, 1e2], or None / 'optimal' for the lambda minimising the run's exact "
+      "expected error) or 'wiener' (prior: 'power-law', 'power-law:GAMMA' or 'oracle'); "
+      "result.report['restoration'] says what was applied.");
 }
 
 void define_simulate_to_folder(py::module_& m) {
@@ -629,11 +648,15 @@ void define_simulate_to_folder(py::module_& m) {
          const py::object& noise, const py::object& restore_velocity, const py::object& threads,
          const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
          const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
-         const py::object& adc_gain, const py::object& plots, const py::object& sheet,
-         const py::object& report, const py::object& save_float, const py::object& png_depth) {
+         const py::object& adc_gain, const py::object& restoration,
+         const py::object& regularization, const py::object& prior, const py::object& plots,
+         const py::object& sheet, const py::object& report, const py::object& save_float,
+         const py::object& png_depth) {
         return simulate_to_folder(
-            {input, code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
-             rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain},
+            {input,       code,           mode,         velocity,         snr,      dt,
+             seed,        trials,         noise,        restore_velocity, threads,  rmse_margin,
+             max_memory,  read_noise,     dark_current, full_well,        adc_bits, adc_gain,
+             restoration, regularization, prior},
             {outdir, plots, sheet, report, save_float, png_depth});
       },
       py::arg("input"), py::arg("outdir"), py::kw_only(), py::arg("code") = "raskar",
@@ -642,8 +665,10 @@ void define_simulate_to_folder(py::module_& m) {
       py::arg("restore_velocity") = py::none(), py::arg("threads") = 0,
       py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0, py::arg("read_noise") = 0.0,
       py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(), py::arg("adc_bits") = 0,
-      py::arg("adc_gain") = py::none(), py::arg("plots") = true, py::arg("sheet") = false,
-      py::arg("report") = false, py::arg("save_float") = false, py::arg("png_depth") = "8",
+      py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
+      py::arg("regularization") = py::none(), py::arg("prior") = py::none(),
+      py::arg("plots") = true, py::arg("sheet") = false, py::arg("report") = false,
+      py::arg("save_float") = false, py::arg("png_depth") = "8",
       "Runs `fssim --input INPUT --outdir OUTDIR` from Python: reads the image file, simulates "
       "and writes the same files, byte for byte, all of them or none (the options of "
       "fss.simulate; plots, sheet, report, save_float and png_depth as --no-plots, --sheet, "

@@ -13,6 +13,7 @@ packages=(
   jq time
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module fss (python/)
   python3-pil  # with python3-numpy: the numpy column of bench/run.sh (bench/numpy_flutter.py)
+  python3-skimage  # the outside check of SSIM (python/tests/test_restoration.py)
   libgsl-dev  # GSL's normal and Poisson generators, a reference in bench/micro_bench
   strace  # fault injection into output publishing (tests/cli/fault_injection_test.cpp)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)

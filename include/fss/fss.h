@@ -37,6 +37,7 @@
 #include "fss/io/tiff_io.h"
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
+#include "fss/model/restoration.h"
 #include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/geometry.h"

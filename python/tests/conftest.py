@@ -101,3 +101,15 @@ def png8_samples(values):
     whole = np.trunc(values)
     rounded = whole + (values - whole >= 0.5)
     return np.where(~(values >= 0.5), 0, np.where(values >= 255.0, 255, rounded)).astype(np.uint8)
+
+
+@pytest.fixture(scope="session")
+def camera_array(camera):
+    """data/camera.png as an 8-bit array, read by the decoder above."""
+    return read_png8(camera)
+
+
+@pytest.fixture(scope="session")
+def astronaut_array(astronaut):
+    """data/astronaut.png as an 8-bit H x W x 3 array."""
+    return read_png8(astronaut)

@@ -26,6 +26,16 @@ CASES = [
                 "2", "--full-well", "30000", "--seed", "5"],
      {"read_noise": 6, "dark_current": 0.5, "adc_bits": 14, "adc_gain": 2, "full_well": 30000,
       "seed": 5}, "camera"),
+    # the restorations (docs/method.md §12)
+    ("tikhonov_optimal", ["--restoration", "tikhonov", "--trials", "2"],
+     {"restoration": "tikhonov", "trials": 2}, "camera"),
+    ("tikhonov_lambda", ["--restoration", "tikhonov", "--regularization", "0.003", "--mode",
+                         "analog"],
+     {"restoration": "tikhonov", "regularization": 0.003, "mode": "analog"}, "astronaut"),
+    ("wiener_power_law", ["--restoration", "wiener", "--prior", "power-law:1.5", "--seed", "4"],
+     {"restoration": "wiener", "prior": "power-law:1.5", "seed": 4}, "camera"),
+    ("wiener_oracle", ["--restoration", "wiener", "--prior", "oracle", "--code", "accumulation"],
+     {"restoration": "wiener", "prior": "oracle", "code": "accumulation"}, "camera"),
 ]
 
 

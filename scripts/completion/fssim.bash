@@ -12,26 +12,28 @@ _fssim_options() {
       echo "-h --help --version -i --input -c --code -m --mode -v --velocity --restore-velocity
             --dt --snr --seed --noise --rmse-margin --trials --threads --max-memory -o --outdir
             --no-plots --sheet --report --save-float --png-depth
-            --read-noise --dark-current --full-well --adc-bits --adc-gain" ;;
+            --read-noise --dark-current --full-well --adc-bits --adc-gain
+            --restoration --regularization --prior" ;;
     spectra) echo "-h --help -o --output -v --velocity --dt --linear --width --height --title" ;;
     code) echo "-h --help" ;;
     generate) echo "-h --help -L --length -v --velocity --dt --seed --analog -o --output" ;;
     analyze)
       echo "-h --help -v --velocity --dt --snr -m --mode --grid --read-noise --dark-current
-            --adc-bits --adc-gain --full-well --json" ;;
+            --adc-bits --adc-gain --full-well --json --restoration --regularization --prior" ;;
     optimize)
       echo "-h --help -L --length -v --velocity --dt --snr -m --mode --binary --min-light
             --restarts --iterations --seed --read-noise --dark-current --adc-bits --adc-gain
-            --full-well -o --output" ;;
+            --full-well -o --output --restoration --regularization --prior" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
             --noise --rmse-margin --threads --max-memory -o --output --plot
-            --read-noise --dark-current --full-well --adc-bits --adc-gain" ;;
+            --read-noise --dark-current --full-well --adc-bits --adc-gain
+            --restoration --regularization --prior" ;;
     campaign)
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
             --snr --dt --trials --seed --noise --rmse-margin --per-trial --threads -o --output
             --shard --figures --no-progress --read-noise --dark-current --full-well --adc-bits
-            --adc-gain" ;;
+            --adc-gain --restoration --regularization --prior" ;;
     merge) echo "-h --help -o --output --figures" ;;
     check) echo "-h --help --columns --abs --rel --k-se --junit" ;;
   esac
@@ -96,6 +98,15 @@ _fssim() {
       return ;;
     --png-depth)
       _fssim_add "8 16 auto" "$cur"
+      return ;;
+    --restoration)
+      _fssim_add "inverse tikhonov wiener" "$cur"
+      return ;;
+    --regularization)
+      _fssim_add "optimal" "$cur"
+      return ;;
+    --prior)
+      _fssim_add "power-law oracle" "$cur"
       return ;;
     -i | --input | --json | --plot | -f | --file | --junit)
       _fssim_paths -f "$cur"

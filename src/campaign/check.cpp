@@ -100,13 +100,26 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
 
 namespace {
 
-const char* const kSettingColumns[] = {
-    "image",        "code",      "mode",     "velocity",    "restore_velocity",
-    "snr",          "dt",        "noise",    "rmse_margin", "read_noise",
-    "dark_current", "full_well", "adc_bits", "adc_gain"};
-const char* const kNotCompared[] = {"image_sha256", "code_sha256", "seed",
-                                    "trials",       "rmse_sd",     "rmse_ci_sd",
-                                    "blur_length",  "message",     "fssim_version"};
+const char* const kSettingColumns[] = {"image",
+                                       "code",
+                                       "mode",
+                                       "velocity",
+                                       "restore_velocity",
+                                       "snr",
+                                       "dt",
+                                       "noise",
+                                       "rmse_margin",
+                                       "read_noise",
+                                       "dark_current",
+                                       "full_well",
+                                       "adc_bits",
+                                       "adc_gain",
+                                       "restoration",
+                                       "regularization",
+                                       "prior"};
+const char* const kNotCompared[] = {"image_sha256", "code_sha256",  "seed",    "trials",
+                                    "rmse_sd",      "rmse_ci_sd",   "ssim_sd", "blur_length",
+                                    "message",      "fssim_version"};
 
 bool is_setting(const std::string& c) {
   for (const char* s : kSettingColumns) {

@@ -61,7 +61,18 @@ std::string fixed_settings(const ResolvedCampaign& c, const Setting& s, const Ax
   add("snr", "snr", shortest(c.snrs.values[s.snr]));
   add("dt", "dt", shortest(c.dts.values[s.dt]));
   if (c.has_sensor()) add("read_noise", "read noise", shortest(c.read_noises.values[s.read_noise]));
+  // One restoration other than the inverse filter: named here, not on each curve.
+  if (c.restorations.size() == 1 && c.has_restorations()) {
+    text += ", " + describe(c.restorations.front());
+  }
   return text;
+}
+
+// A curve's name: its code, and its restoration when the campaign has several.
+std::string curve_name(const ResolvedCampaign& c, const Setting& s) {
+  std::string name = c.codes[s.code].name;
+  if (c.restorations.size() > 1) name += ": " + describe(c.restorations[s.restoration]);
+  return name;
 }
 
 // The curves of one figure: for each code, y and error at each x.
@@ -94,13 +105,15 @@ std::string figure_title(const ResolvedCampaign& c, const Setting& s, const Axis
 }
 
 // The figures of one axis, keyed by the other settings (and the block of
-// codes): each code's curve gets the ok rows' mean RMSE and sd.
+// curves): each curve (a code, and a restoration when there are several)
+// gets the ok rows' mean RMSE and sd.
 std::map<std::vector<int>, FigureData> axis_figures(const ResolvedCampaign& c,
                                                     const std::vector<ResultRow>& rows,
                                                     const Axis& axis) {
   const int status = campaign_column_index("status");
   std::map<std::vector<int>, FigureData> groups;
-  std::map<std::vector<int>, std::map<int, std::size_t>> code_series;
+  std::map<std::vector<int>, std::map<int, std::size_t>> curve_series;
+  const int variants = static_cast<int>(c.restorations.size());
   std::vector<double> xs = axis.values;
   std::sort(xs.begin(), xs.end());
   xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
@@ -108,13 +121,14 @@ std::map<std::vector<int>, FigureData> axis_figures(const ResolvedCampaign& c,
     Setting s = setting_at(c, static_cast<long long>(i));
     const double x = axis.values[s.*axis.field];
     s.*axis.field = 0;
-    const std::vector<int> key = {
-        s.image, s.mode, s.velocity, s.restore_velocity, s.snr, s.dt, s.code / kMaxCodesPerFigure};
+    const int curve = s.code * variants + s.restoration;
+    const std::vector<int> key = {s.image, s.mode, s.velocity,   s.restore_velocity,
+                                  s.snr,   s.dt,   s.read_noise, curve / kMaxCurvesPerFigure};
     FigureData& f = groups[key];
     if (f.x.empty()) f = {figure_title(c, s, axis), xs, {}, axis.log, axis.label};
-    auto [it, added] = code_series[key].try_emplace(s.code, f.series.size());
+    auto [it, added] = curve_series[key].try_emplace(curve, f.series.size());
     if (added) {
-      f.series.push_back({c.codes[s.code].name, std::vector<double>(xs.size(), std::nan("")),
+      f.series.push_back({curve_name(c, s), std::vector<double>(xs.size(), std::nan("")),
                           std::vector<double>(xs.size(), std::nan(""))});
     }
     const auto j = static_cast<std::size_t>(std::lower_bound(xs.begin(), xs.end(), x) - xs.begin());

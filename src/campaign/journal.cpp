@@ -113,6 +113,8 @@ void parse_row(const std::string& path, std::string_view line, int number, Conte
   try {
     index = integer_at(j, "index");
     ResultRow row = j.at("row").get<ResultRow>();
+    // A row an earlier fssim journalled (results schema 2) resumes in the present columns.
+    if (auto present = upgrade_schema2_row(row, false)) row = std::move(*present);
     if (index < 0 || index >= c.settings || !row_fits(row, campaign_columns())) {
       fail(path, where + " does not fit the campaign");
     }
@@ -123,7 +125,8 @@ void parse_row(const std::string& path, std::string_view line, int number, Conte
     }
     if (const auto trials = j.find("trials"); trials != j.end()) {
       std::vector<ResultRow> rows = trials->get<std::vector<ResultRow>>();
-      for (const ResultRow& trial : rows) {
+      for (ResultRow& trial : rows) {
+        if (auto present = upgrade_schema2_row(trial, true)) trial = std::move(*present);
         if (!row_fits(trial, trial_columns())) {
           fail(path, where + " has a trial row that does not fit");
         }

@@ -18,6 +18,12 @@ namespace fss {
 // setting's row (src/campaign/results.cpp).
 std::string row_setting_mismatch(const ResolvedCampaign& c, long long index, const ResultRow& row);
 
+// A row (a trial row when `trial`) of results schema 2, as an fssim before the restorations
+// journalled it, in the present columns: its cells where it has them, the restoration "inverse",
+// the other cells (SSIM, the restoration's) empty; nullopt when `row` does not have schema 2's
+// width (src/campaign/results.cpp).
+std::optional<ResultRow> upgrade_schema2_row(const ResultRow& row, bool trial);
+
 }  // namespace fss
 
 namespace fss::campaign_journal {

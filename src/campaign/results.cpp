@@ -1,10 +1,13 @@
 #include "fss/campaign/results.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <utility>
 
 #include "campaign/campaign_text.h"
+#include "campaign/journal.h"
 #include "fss/core/error.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/metrics.h"
@@ -35,6 +38,9 @@ enum Column {
   kFullWell,
   kAdcBits,
   kAdcGain,
+  kRestoration,
+  kRegularization,
+  kPrior,
   kNoise,
   kRmseMargin,
   kSeed,
@@ -45,11 +51,16 @@ enum Column {
   kRmseCiMean,
   kRmseCiSd,
   kPsnrMean,
+  kSsimMean,
+  kSsimSd,
   kPredictedRmse,
   kPredictedNoiseFree,
   kPredictedSigma,
   kSnrLevel100,
   kPredictedExact,
+  kRegularizationApplied,
+  kPriorLevel,
+  kNoiseVariance,
   kInvertible,
   kStatus,
   kMessage,
@@ -75,6 +86,9 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"full_well", kNumber},
                                                     {"adc_bits", kNumber},
                                                     {"adc_gain", kNumber},
+                                                    {"restoration", kText},
+                                                    {"regularization", kText},
+                                                    {"prior", kText},
                                                     {"noise", kText},
                                                     {"rmse_margin", kNumber},
                                                     {"seed", kText},
@@ -85,11 +99,16 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"rmse_ci_mean", kNumber},
                                                     {"rmse_ci_sd", kNumber},
                                                     {"psnr_mean", kNumber},
+                                                    {"ssim_mean", kNumber},
+                                                    {"ssim_sd", kNumber},
                                                     {"predicted_rmse", kNumber},
                                                     {"predicted_rmse_noise_free", kNumber},
                                                     {"predicted_sigma", kNumber},
                                                     {"snr_level100", kNumber},
                                                     {"predicted_exact", kBoolean},
+                                                    {"regularization_applied", kNumber},
+                                                    {"prior_level", kNumber},
+                                                    {"noise_variance", kNumber},
                                                     {"invertible", kBoolean},
                                                     {"status", kText},
                                                     {"message", kText},
@@ -114,7 +133,8 @@ const std::vector<ResultColumn>& trial_columns() {
                        {"trial_seed", kText},
                        {"rmse", kNumber},
                        {"rmse_ci", kNumber},
-                       {"psnr", kNumber}});
+                       {"psnr", kNumber},
+                       {"ssim", kNumber}});
     return c;
   }();
   return columns;
@@ -142,6 +162,11 @@ const SimulationPlan& SimulationPlanCache::plan(const SimulationOptions& options
 
 namespace {
 
+// A number that may be missing: empty then.
+std::string optional_cell(const std::optional<double>& value) {
+  return value ? shortest(*value) : std::string();
+}
+
 // The trial rows of a setting that ran: its setting cells, then each trial's.
 std::vector<ResultRow> trial_rows_of(const ResultRow& row, const SimulationReport& r) {
   std::vector<ResultRow> rows;
@@ -150,7 +175,7 @@ std::vector<ResultRow> trial_rows_of(const ResultRow& row, const SimulationRepor
     ResultRow trial(row.begin(), row.begin() + kBlurLength);
     const Metrics& m = r.trial_metrics[t];
     trial.insert(trial.end(), {std::to_string(t), std::to_string(seed + t), shortest(m.rmse),
-                               shortest(m.rmse_ci), shortest(psnr(m.rmse))});
+                               shortest(m.rmse_ci), shortest(psnr(m.rmse)), optional_cell(m.ssim)});
     rows.push_back(std::move(trial));
   }
   return rows;
@@ -177,6 +202,14 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   if (o.sensor.full_well_electrons) row[kFullWell] = shortest(*o.sensor.full_well_electrons);
   row[kAdcBits] = std::to_string(o.sensor.adc_bits);
   if (o.sensor.adc_bits != 0) row[kAdcGain] = shortest(o.sensor.adc_gain_electrons_per_count);
+  // The restoration (docs/method.md §12): Tikhonov's lambda as asked ("optimal" or a number),
+  // Wiener's prior as parse_prior reads it.
+  const RestorationOptions& r = o.restoration;
+  row[kRestoration] = to_string(r.method);
+  if (r.method == RestorationMethod::kTikhonov) {
+    row[kRegularization] = r.regularization ? shortest(*r.regularization) : "optimal";
+  }
+  if (r.method == RestorationMethod::kWiener) row[kPrior] = prior_text(r);
   row[kNoise] = to_string(o.noise);
   row[kRmseMargin] = std::to_string(o.rmse_margin_columns);
   row[kSeed] = std::to_string(o.seed);
@@ -197,6 +230,54 @@ std::string row_setting_mismatch(const ResolvedCampaign& c, long long index, con
     if (row.size() <= at || row[at] != expected[at]) return columns[at].name;
   }
   return {};
+}
+
+namespace {
+
+// The columns results schema 3 added (the trial rows' ssim too): schema 2's are the others, in
+// the same order.
+constexpr std::string_view kAddedInSchema3[] = {
+    "restoration", "regularization", "prior", "ssim_mean", "ssim_sd", "regularization_applied",
+    "prior_level", "noise_variance", "ssim"};
+
+// The names of `columns` that schema 2 had.
+std::vector<std::string_view> schema2_names(const std::vector<ResultColumn>& columns) {
+  std::vector<std::string_view> names;
+  for (const ResultColumn& column : columns) {
+    if (std::find(std::begin(kAddedInSchema3), std::end(kAddedInSchema3), column.name) ==
+        std::end(kAddedInSchema3)) {
+      names.emplace_back(column.name);
+    }
+  }
+  return names;
+}
+
+// `old`, whose cells are those of `old_names`, in `columns`: the restoration of a schema 2 row is
+// the inverse filter, and the cells it has no column for are empty.
+ResultRow upgraded(const ResultRow& old, const std::vector<std::string_view>& old_names,
+                   const std::vector<ResultColumn>& columns) {
+  ResultRow row;
+  row.reserve(columns.size());
+  for (const ResultColumn& column : columns) {
+    const auto at = std::find(old_names.begin(), old_names.end(), column.name);
+    if (at != old_names.end()) {
+      row.push_back(old[static_cast<std::size_t>(at - old_names.begin())]);
+    } else {
+      row.emplace_back(std::string_view(column.name) == "restoration" ? "inverse" : "");
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
+std::optional<ResultRow> upgrade_schema2_row(const ResultRow& row, bool trial) {
+  static const std::vector<std::string_view> kRowNames = schema2_names(campaign_columns());
+  static const std::vector<std::string_view> kTrialNames = schema2_names(trial_columns());
+  const std::vector<ResultColumn>& columns = trial ? trial_columns() : campaign_columns();
+  const std::vector<std::string_view>& names = trial ? kTrialNames : kRowNames;
+  if (row.size() != names.size()) return std::nullopt;
+  return upgraded(row, names, columns);
 }
 
 namespace {
@@ -240,6 +321,32 @@ std::pair<std::string, std::string> refusal(const ResolvedCampaign& c, const Set
   return {};
 }
 
+// The result cells of a setting that ran; its status.
+const char* result_cells(const SimulationReport& r, ResultRow& row) {
+  const Prediction& p = r.prediction;
+  const bool inverse = r.options.restoration.method == RestorationMethod::kInverse;
+  row[kBlurLength] = std::to_string(r.geometry.blur_length);
+  row[kRmseMean] = shortest(r.trials.rmse_mean);
+  row[kRmseSd] = shortest(r.trials.rmse_sd);
+  row[kRmseCiMean] = shortest(r.trials.rmse_ci_mean);
+  row[kRmseCiSd] = shortest(r.trials.rmse_ci_sd);
+  row[kPsnrMean] = shortest(psnr(r.trials.rmse_mean));  // PSNR of the mean RMSE
+  row[kSsimMean] = optional_cell(r.trials.ssim_mean);
+  row[kSsimSd] = optional_cell(r.trials.ssim_sd);
+  row[kPredictedRmse] = shortest(p.rmse);
+  row[kPredictedNoiseFree] = shortest(p.rmse_noise_free);
+  row[kPredictedSigma] = shortest(p.sigma);
+  // The figure of merit of the inverse filter (docs/method.md §6): none for the others.
+  if (inverse) row[kSnrLevel100] = shortest(p.snr_level100);
+  row[kPredictedExact] = p.exact ? "true" : "false";
+  row[kRegularizationApplied] = optional_cell(r.restoration.regularization);
+  row[kPriorLevel] = optional_cell(r.restoration.prior_level);
+  row[kNoiseVariance] = optional_cell(r.restoration.noise_variance);
+  row[kInvertible] = r.kernel.invertible ? "true" : "false";
+  // Tikhonov and Wiener restore a code that is not invertible (they damp where K vanishes).
+  return r.kernel.invertible || !inverse ? kStatusOk : kStatusNotInvertible;
+}
+
 }  // namespace
 
 ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& image,
@@ -260,20 +367,7 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
       const SimulationReport r = plans != nullptr
                                      ? Simulate(plans->plan(o, image.width, code), o, image, code)
                                      : Simulate(o, image, code);
-      const Prediction& p = r.prediction;
-      row[kBlurLength] = std::to_string(r.geometry.blur_length);
-      row[kRmseMean] = shortest(r.trials.rmse_mean);
-      row[kRmseSd] = shortest(r.trials.rmse_sd);
-      row[kRmseCiMean] = shortest(r.trials.rmse_ci_mean);
-      row[kRmseCiSd] = shortest(r.trials.rmse_ci_sd);
-      row[kPsnrMean] = shortest(psnr(r.trials.rmse_mean));  // PSNR of the mean RMSE
-      row[kPredictedRmse] = shortest(p.rmse);
-      row[kPredictedNoiseFree] = shortest(p.rmse_noise_free);
-      row[kPredictedSigma] = shortest(p.sigma);
-      row[kSnrLevel100] = shortest(p.snr_level100);
-      row[kPredictedExact] = p.exact ? "true" : "false";
-      row[kInvertible] = r.kernel.invertible ? "true" : "false";
-      status = r.kernel.invertible ? kStatusOk : kStatusNotInvertible;
+      status = result_cells(r, row);
       if (trial_rows != nullptr) *trial_rows = trial_rows_of(row, r);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::kUsage) throw;

@@ -149,6 +149,149 @@ std::string sensor_error(const SensorModel& sensor) {
   return fixed.IsValid(&error) ? std::string() : "sensor: " + error;
 }
 
+// The items of lists given as strings that may each hold several, comma-separated.
+std::vector<std::string> split_items(const std::vector<std::string>& lists) {
+  std::vector<std::string> items;
+  for (const std::string& list : lists) {
+    std::size_t begin = 0;
+    while (begin <= list.size()) {
+      const std::size_t end = std::min(list.find(',', begin), list.size());
+      items.push_back(list.substr(begin, end - begin));
+      begin = end + 1;
+    }
+  }
+  return items;
+}
+
+// The methods of --restoration / "restoration", each once, in the order given; the inverse
+// filter when none is given.
+std::vector<RestorationMethod> restoration_methods(const std::vector<std::string>& names) {
+  const std::string field = field_name("--restoration", "restoration");
+  std::vector<RestorationMethod> methods;
+  for (const std::string& name : split_items(names)) {
+    const auto method = restoration_method_from_string(name);
+    if (!method) refuse_item(field, name, "expected inverse, tikhonov or wiener");
+    if (std::find(methods.begin(), methods.end(), *method) == methods.end()) {
+      methods.push_back(*method);
+    }
+  }
+  if (methods.empty()) methods.push_back(RestorationMethod::kInverse);
+  return methods;
+}
+
+// Tikhonov's lambdas: "optimal" (empty) or the values of value list items, each within the
+// library's range; optimal alone when none is given.
+std::vector<std::optional<double>> regularizations(const std::vector<std::string>& lists) {
+  const std::string field = field_name("--regularization", "regularization");
+  if (lists.empty()) return {std::nullopt};
+  std::vector<std::optional<double>> lambdas;
+  for (const std::string& item : split_items(lists)) {
+    if (item == "optimal") {
+      lambdas.emplace_back();
+      continue;
+    }
+    if (item.find(':') == std::string::npos && std::isnan(parse_finite_number(item))) {
+      refuse_item(field, item, "expected optimal, a number, start:stop:step or start:stop:xF");
+    }
+    for (const double lambda : parse_value_list(item, field).values) {
+      if (!(lambda >= kMinRegularization && lambda <= kMaxRegularization)) {
+        throw_usage_error(field + " = " + format_exact(lambda) + ": must lie in [" +
+                          format_exact(kMinRegularization) + ", " +
+                          format_exact(kMaxRegularization) + "] (or be optimal)");
+      }
+      lambdas.emplace_back(lambda);
+    }
+    if (lambdas.size() > static_cast<std::size_t>(kMaxCampaignValues)) {
+      refuse_item(field, item, "more than " + std::to_string(kMaxCampaignValues) + " values");
+    }
+  }
+  return lambdas;
+}
+
+// Why `item` is not a prior a campaign takes ("power-law", "power-law:GAMMA", "oracle"); "" when
+// it is one.
+std::string prior_rule(std::string_view item) {
+  constexpr std::string_view kPowerLaw = "power-law";
+  if (item == "oracle" || item == kPowerLaw) return {};
+  if (item.substr(0, kPowerLaw.size() + 1) != "power-law:") {
+    return "expected power-law, power-law:GAMMA or oracle";
+  }
+  const std::string_view gamma = item.substr(kPowerLaw.size() + 1);
+  if (gamma.find(':') != std::string_view::npos) {
+    return "gives a level; a simulation estimates it from a calibration observation (give "
+           "power-law, power-law:GAMMA or oracle)";
+  }
+  const double value = parse_finite_number(gamma);
+  if (!(value >= 0.0 && value <= kMaxPriorExponent)) {
+    return "GAMMA must be a number in [0, " + format_exact(kMaxPriorExponent) + "]";
+  }
+  return {};
+}
+
+// Wiener's priors, each a Wiener restoration; power-law:2 alone when none is given.
+std::vector<RestorationOptions> wiener_priors(const std::vector<std::string>& lists) {
+  const std::string field = field_name("--prior", "prior");
+  RestorationOptions wiener;
+  wiener.method = RestorationMethod::kWiener;
+  if (lists.empty()) return {wiener};
+  std::vector<RestorationOptions> priors;
+  for (const std::string& item : split_items(lists)) {
+    RestorationOptions r = wiener;
+    std::string error = prior_rule(item);
+    if (error.empty() && !parse_prior(item, &r, &error)) error = "not a prior";
+    if (!error.empty()) refuse_item(field, item, error);
+    priors.push_back(r);
+  }
+  return priors;
+}
+
+bool same_restoration(const RestorationOptions& a, const RestorationOptions& b) {
+  return a.method == b.method && a.regularization == b.regularization && a.prior == b.prior &&
+         (a.prior == PriorKind::kOracle || a.prior_exponent == b.prior_exponent) &&
+         a.prior_level == b.prior_level;
+}
+
+// The restoration variants of `spec`: for each method given, the inverse filter once, Tikhonov
+// at each lambda, Wiener with each prior; a variant given twice is kept at its first place. A
+// lambda or a prior without its method is refused: it would be accepted and ignored.
+std::vector<RestorationOptions> restoration_variants(const CampaignSpec& spec) {
+  const std::vector<RestorationMethod> methods = restoration_methods(spec.restorations);
+  const auto has = [&](RestorationMethod m) {
+    return std::find(methods.begin(), methods.end(), m) != methods.end();
+  };
+  const std::string restoration = field_name("--restoration", "restoration");
+  if (!spec.regularization.empty() && !has(RestorationMethod::kTikhonov)) {
+    throw_usage_error(field_name("--regularization", "regularization") +
+                      ": applies to the tikhonov restoration only, and " + restoration +
+                      " has no tikhonov");
+  }
+  if (!spec.priors.empty() && !has(RestorationMethod::kWiener)) {
+    throw_usage_error(field_name("--prior", "prior") +
+                      ": applies to the wiener restoration only, and " + restoration +
+                      " has no wiener");
+  }
+  std::vector<RestorationOptions> variants;
+  const auto add = [&variants](const RestorationOptions& r) {
+    const auto same = [&r](const RestorationOptions& v) { return same_restoration(v, r); };
+    if (std::none_of(variants.begin(), variants.end(), same)) variants.push_back(r);
+  };
+  for (const RestorationMethod method : methods) {
+    if (method == RestorationMethod::kInverse) add(RestorationOptions{});
+    if (method == RestorationMethod::kTikhonov) {
+      for (const std::optional<double>& lambda : regularizations(spec.regularization)) {
+        RestorationOptions r;
+        r.method = RestorationMethod::kTikhonov;
+        r.regularization = lambda;
+        add(r);
+      }
+    }
+    if (method == RestorationMethod::kWiener) {
+      for (const RestorationOptions& r : wiener_priors(spec.priors)) add(r);
+    }
+  }
+  return variants;
+}
+
 }  // namespace
 
 bool CampaignSpec::IsValid(std::string* error) const {
@@ -173,6 +316,7 @@ bool CampaignSpec::IsValid(std::string* error) const {
     parse_value_list(snr, field_name("--snr", "snr"));
     parse_value_list(dt, field_name("--dt", "dt"));
     parse_value_list(read_noise, field_name("--read-noise", "read_noise"));
+    restoration_variants(*this);
   } catch (const Error& e) {
     return fail(e.what());
   }
@@ -282,6 +426,39 @@ void sensor_from_json(const Json& j, ResolvedCampaign& c) {
   c.sensor.adc_gain_electrons_per_count = j.at("adc_gain").get<double>();
 }
 
+// One restoration variant in the canonical JSON: its method, and Tikhonov's lambda (a number,
+// or "optimal") or Wiener's prior (as parse_prior reads it).
+Json restoration_json(const RestorationOptions& r) {
+  Json j = {{"method", to_string(r.method)}};
+  if (r.method == RestorationMethod::kTikhonov) {
+    j["regularization"] = r.regularization ? Json(*r.regularization) : Json("optimal");
+  }
+  if (r.method == RestorationMethod::kWiener) j["prior"] = prior_text(r);
+  return j;
+}
+
+// A variant of restoration_json (std::invalid_argument or nlohmann exceptions if malformed).
+RestorationOptions restoration_from_json(const Json& j) {
+  const auto method = restoration_method_from_string(j.at("method").get<std::string>());
+  if (!method) throw std::invalid_argument("an unknown restoration");
+  RestorationOptions r;
+  r.method = *method;
+  if (r.method == RestorationMethod::kTikhonov) {
+    const Json& lambda = j.at("regularization");
+    if (!lambda.is_string()) {
+      r.regularization = lambda.get<double>();
+    } else if (lambda.get<std::string>() != "optimal") {
+      throw std::invalid_argument("a regularization that is neither a number nor optimal");
+    }
+  }
+  std::string error;
+  if (r.method == RestorationMethod::kWiener &&
+      !parse_prior(j.at("prior").get<std::string>(), &r, &error)) {
+    throw std::invalid_argument(error);
+  }
+  return r;
+}
+
 void seal(ResolvedCampaign& c) {
   Json images = Json::array(), codes = Json::array(), modes = Json::array(),
        restore = Json::array();
@@ -306,6 +483,12 @@ void seal(ResolvedCampaign& c) {
             {"rmse_margin", c.rmse_margin_columns}};
   if (c.per_trial) j["per_trial"] = true;  // absent when off: earlier campaigns keep their hash
   if (c.has_sensor()) j["sensor"] = sensor_json(c);
+  // Absent for the inverse filter alone: earlier campaigns keep their hash.
+  if (c.has_restorations()) {
+    Json restorations = Json::array();
+    for (const RestorationOptions& r : c.restorations) restorations.push_back(restoration_json(r));
+    j["restoration"] = restorations;
+  }
   c.canonical_json = j.dump();
   c.sha256 = sha256_hex(c.canonical_json);
 }
@@ -320,12 +503,16 @@ bool ResolvedCampaign::has_sensor() const {
   return fixed.enabled() || read_noises.values != std::vector<double>{0.0};
 }
 
+bool ResolvedCampaign::has_restorations() const {
+  return restorations.size() != 1 || restorations.front().method != RestorationMethod::kInverse;
+}
+
 long long ResolvedCampaign::setting_count() const {
   long long n = 1;
   for (const std::size_t size :
        {images.size(), codes.size(), modes.size(), velocities.values.size(),
-        restore_velocities.size(), snrs.values.size(), dts.values.size(),
-        read_noises.values.size()}) {
+        restore_velocities.size(), snrs.values.size(), dts.values.size(), read_noises.values.size(),
+        restorations.size()}) {
     n *= static_cast<long long>(size);
     if (n > kMaxCampaignSettings) return kMaxCampaignSettings + 1;
   }
@@ -370,6 +557,7 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   c.read_noises = parse_value_list(spec.read_noise, "read_noise");
   c.sensor = spec.sensor;
   c.sensor.read_noise_electrons = 0.0;
+  c.restorations = restoration_variants(spec);
   if (c.setting_count() > kMaxCampaignSettings) {
     throw_usage_error("the campaign has more than " + std::to_string(kMaxCampaignSettings) +
                       " settings");
@@ -380,13 +568,23 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
 
 namespace {
 
+// Why restoration variants read from a canonical JSON cannot be a campaign's; "" when they can.
+std::string restorations_error(const std::vector<RestorationOptions>& restorations) {
+  for (const RestorationOptions& r : restorations) {
+    std::string error;
+    if (!r.IsValid(&error)) return "restoration " + error;
+    if (r.prior_level) return "a restoration prior with a level";
+  }
+  return {};
+}
+
 // Why `c`, read from a canonical JSON, cannot be a campaign fssim resolved;
 // "" when it can.
 std::string canonical_error(const ResolvedCampaign& c) {
   for (const std::size_t size :
        {c.images.size(), c.codes.size(), c.modes.size(), c.velocities.values.size(),
         c.restore_velocities.size(), c.snrs.values.size(), c.dts.values.size(),
-        c.read_noises.values.size()}) {
+        c.read_noises.values.size(), c.restorations.size()}) {
     if (size == 0) return "a list of the product is empty";
   }
   if (c.setting_count() > kMaxCampaignSettings) {
@@ -415,6 +613,7 @@ std::string canonical_error(const ResolvedCampaign& c) {
   for (const auto& r : c.restore_velocities) {
     if (r && !std::isfinite(*r)) return "a value that is not finite";
   }
+  if (std::string why = restorations_error(c.restorations); !why.empty()) return why;
   return sensor_error(c.sensor);
 }
 
@@ -455,6 +654,10 @@ void read_canonical(const Json& j, ResolvedCampaign& c) {
   c.noise = *noise;
   c.per_trial = j.value("per_trial", false);
   if (j.contains("sensor")) sensor_from_json(j.at("sensor"), c);
+  if (j.contains("restoration")) {
+    c.restorations.clear();
+    for (const Json& r : j.at("restoration")) c.restorations.push_back(restoration_from_json(r));
+  }
 }
 
 }  // namespace
@@ -489,6 +692,7 @@ Setting setting_at(const ResolvedCampaign& c, long long index) {
     return value;
   };
   // The last list varies fastest.
+  s.restoration = take(c.restorations.size());
   s.read_noise = take(c.read_noises.values.size());
   s.dt = take(c.dts.values.size());
   s.snr = take(c.snrs.values.size());
@@ -538,6 +742,7 @@ SimulationOptions setting_options(const ResolvedCampaign& c, const Setting& s) {
   o.trials = c.trials;
   o.sensor = c.sensor;
   o.sensor.read_noise_electrons = c.read_noises.values[s.read_noise];
+  o.restoration = c.restorations[s.restoration];
   return o;
 }
 

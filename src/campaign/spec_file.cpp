@@ -52,6 +52,23 @@ class CampaignFileReader {
     return out;
   }
 
+  // A list of items that are strings or numbers ("optimal", 0.01, "1e-3:1e-1:x10"), numbers in
+  // shortest round-trip form; never empty.
+  std::vector<std::string> Items(const Json& value, const std::string& key) const {
+    std::vector<std::string> out;
+    for (const Json& item : value.is_array() ? value : Json::array({value})) {
+      if (item.is_number()) {
+        out.push_back(format_exact(item.get<double>()));
+      } else if (item.is_string()) {
+        out.push_back(item.get<std::string>());
+      } else {
+        Refuse("'" + key + "' takes strings or numbers, got " + describe_json(item));
+      }
+    }
+    if (out.empty()) Refuse("'" + key + "' is an empty list");
+    return out;
+  }
+
   std::vector<ShutterMode> Modes(const Json& value) const {
     std::vector<ShutterMode> modes;
     for (const std::string& name : Strings(value, "mode")) {
@@ -99,6 +116,12 @@ bool CampaignFileReader::List(const std::string& key, const Json& value, Campaig
     spec.dt = Values(value, key);
   } else if (key == "read_noise") {
     spec.read_noise = Values(value, key);
+  } else if (key == "restoration" || key == "prior") {
+    std::vector<std::string> items = Strings(value, key);
+    if (items.empty()) Refuse("'" + key + "' is an empty list");
+    (key == "restoration" ? spec.restorations : spec.priors) = std::move(items);
+  } else if (key == "regularization") {
+    spec.regularization = Items(value, key);
   } else {
     return false;
   }
@@ -171,7 +194,7 @@ CampaignSpec parse_campaign_file(std::string_view text, const std::string& name)
       reader.Refuse("unknown key '" + shorten_for_message(key) +
                     "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, seed, "
                     "noise, rmse_margin, per_trial, read_noise, dark_current, full_well, "
-                    "adc_bits, adc_gain)");
+                    "adc_bits, adc_gain, restoration, regularization, prior)");
     }
   }
   return spec;

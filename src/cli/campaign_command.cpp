@@ -149,6 +149,19 @@ void CampaignCommand::AddSpecOptions() {
   c.add_option("--adc-bits", adc_bits_, "ADC bits, 1 to 32 (default 0: no ADC)");
   c.add_option("--adc-gain", adc_gain_, "ADC gain, electrons per count (needs --adc-bits)")
       ->check(finite());
+  // The restorations (docs/method.md §12): an axis of restoration variants.
+  c.add_option("--restoration", restorations_,
+               "restorations: inverse, tikhonov, wiener, comma-separated, an axis (default "
+               "inverse)")
+      ->delimiter(',');
+  c.add_option("--regularization", regularization_,
+               "tikhonov's lambdas: values as --velocity, in [1e-8, 1e2], or optimal (default "
+               "optimal)")
+      ->delimiter(',');
+  c.add_option("--prior", priors_,
+               "wiener's priors: power-law, power-law:GAMMA, oracle, comma-separated (default "
+               "power-law:2)")
+      ->delimiter(',');
   c.add_option("--trials", trials_, "noise realizations per setting")
       ->check(at_least(1))
       ->capture_default_str();
@@ -203,6 +216,9 @@ fss::CampaignSpec CampaignCommand::Spec() const {
   if (use("--rmse-margin")) spec.rmse_margin_columns = rmse_margin_;
   if (use("--per-trial")) spec.per_trial = per_trial_;
   if (use("--read-noise")) spec.read_noise = read_noise_;
+  if (use("--restoration")) spec.restorations = restorations_;
+  if (use("--regularization")) spec.regularization = regularization_;
+  if (use("--prior")) spec.priors = priors_;
   ApplySensorOptions(spec.sensor);
   return spec;
 }

@@ -41,6 +41,7 @@ class CampaignCommand : public Command {
   int rmse_margin_ = -1;
   bool per_trial_ = false;
   std::string read_noise_ = "0";
+  std::vector<std::string> restorations_, regularization_, priors_;
   double dark_current_ = 0.0, full_well_ = 0.0, adc_gain_ = 1.0;
   int adc_bits_ = 0;
   int threads_ = 0;

@@ -42,6 +42,26 @@ void add_sensor_json(const fss::CodeAnalysis& a, nlohmann::json* j) {
   (*j)["analysis"]["effective_noise_figure"] = finite_or_null(a.effective_noise_figure);
 }
 
+// The restoration's part of the JSON, present only for a Wiener or Tikhonov
+// restoration (the inverse filter's JSON is unchanged): the criterion, its
+// prior (Tikhonov: the one that measures its bias) and lambda, and E.
+void add_restoration_json(const fss::CodeAnalysis& a, nlohmann::json* j) {
+  const fss::RestorationOptions& r = a.restoration;
+  if (r.method == fss::RestorationMethod::kInverse) return;
+  nlohmann::json restoration = {{"method", fss::to_string(r.method)},
+                                {"prior", "power-law"},
+                                {"gamma", r.prior_exponent},
+                                {"C", r.prior_level.value_or(fss::kDefaultPriorLevel)}};
+  if (r.method == fss::RestorationMethod::kTikhonov) {
+    restoration["lambda"] =
+        std::isfinite(a.restoration_error) ? nlohmann::json(a.regularization) : nlohmann::json();
+    restoration["lambda_optimal"] = !r.regularization.has_value();
+    (*j)["analysis"]["snapshot_regularization"] = a.snapshot_regularization;
+  }
+  (*j)["parameters"]["restoration"] = restoration;
+  (*j)["analysis"]["restoration_error"] = a.restoration_error;
+}
+
 nlohmann::json analysis_json(const fss::ShutterCode& code, const fss::CodeAnalysis& a) {
   nlohmann::json j;
   j["code"] = {{"name", code.name}, {"length", a.length}, {"gains", code.gains}};
@@ -66,6 +86,7 @@ nlohmann::json analysis_json(const fss::ShutterCode& code, const fss::CodeAnalys
                    {"ratio_to_snapshot", a.ratio_to_snapshot},
                    {"snr_level100_bound", finite_or_null(a.snr_level100_bound)}};
   add_sensor_json(a, &j);
+  add_restoration_json(a, &j);
   return j;
 }
 
@@ -109,10 +130,26 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
   }
   // Not a simulated image's predicted RMSE, which is the exact expectation (§6b).
   std::printf("Figure of merit (stationary approximation, image-independent):\n");
+  const fss::RestorationMethod method = a.restoration.method;
+  if (method != fss::RestorationMethod::kInverse) {
+    std::printf("Criterion: %s\n", fss::describe_design_criterion(a.restoration).c_str());
+  }
   std::printf("SNR at level 100: %s\n", decimal(a.snr_level100).c_str());
   std::printf("Snapshot SNR at level 100: %s\n", decimal(a.snapshot_snr_level100).c_str());
   std::printf("Ratio to the snapshot: %s\n", decimal(a.ratio_to_snapshot).c_str());
-  if (std::isfinite(a.snr_level100_bound)) {
+  if (method == fss::RestorationMethod::kTikhonov) {
+    // no lambda where E is infinite (a code of zero sum, level100_restoration_error)
+    const std::string lambda =
+        std::isfinite(a.restoration_error) ? format_number(a.regularization) : "none";
+    std::printf("Regularization: lambda %s (snapshot %s)\n", lambda.c_str(),
+                format_number(a.snapshot_regularization).c_str());
+  }
+  if (method != fss::RestorationMethod::kInverse) {
+    std::printf(
+        "Bound on the SNR at level 100: none for the %s restoration (the Cauchy-Schwarz "
+        "bound is the inverse filter's)\n",
+        fss::to_string(method).c_str());
+  } else if (std::isfinite(a.snr_level100_bound)) {
     std::printf("Bound on the SNR at level 100 (any code, any length): %s\n",
                 decimal(a.snr_level100_bound).c_str());
   } else {
@@ -173,6 +210,7 @@ CodeAnalyzeCommand::CodeAnalyzeCommand(CLI::App& code)
       ->check(integer_in(0, fss::kMaxAnalysisGridPoints))
       ->capture_default_str();
   sensor_.Add(&analyze);
+  restoration_.Add(&analyze);
   analyze.add_option("--json", json_,
                      "also write the analysis as JSON to this file (-: standard output, "
                      "instead of the text)");
@@ -183,7 +221,15 @@ int CodeAnalyzeCommand::Run() const {
   const fss::ShutterMode mode = *fss::shutter_mode_from_string(mode_);
   // The code is checked as the simulator checks it (fss::check_code_for_mode).
   const fss::SensorModel sensor = sensor_.Model("code analyze");
-  const fss::CodeAnalysis a = fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_, sensor);
+  const fss::RestorationOptions restoration = restoration_.Options();
+  if (grid_ != 0 && restoration.method != fss::RestorationMethod::kInverse) {
+    fss::throw_usage_error(
+        "--grid " + std::to_string(grid_) +
+        ": the DFT grid is the inverse filter's (the simulator's M); --restoration " +
+        fss::to_string(restoration.method) + " uses the midpoint rule");
+  }
+  const fss::CodeAnalysis a =
+      fss::analyze_code(code, velocity_, dt_, snr_, mode, grid_, sensor, restoration);
   warn_adc_range(a);
   if (!json_.empty()) write_output(json_, analysis_json(code, a).dump(2) + "\n", {code_});
   if (!is_stdout(json_)) print_analysis(code, a, mode_);  // else stdout is the JSON

@@ -5,7 +5,9 @@
 #include <utility>
 
 #include "cli_common.h"
+#include "core/number_text.h"
 #include "fss/core/error.h"
+#include "fss/model/restoration.h"
 
 namespace fssim {
 
@@ -55,6 +57,74 @@ fss::SensorModel SensorFlags::Model(const std::string& command) const {
   if (adc_gain_) sensor.adc_gain_electrons_per_count = *adc_gain_;
   check_sensor_options(sensor);
   return sensor;
+}
+
+void RestorationFlags::Add(CLI::App* app) {
+  const std::string default_prior = "power-law:2:" + format_exact(fss::kDefaultPriorLevel);
+  const std::string lambda_range = "[" + format_exact(fss::kMinRegularization) + ", " +
+                                   format_exact(fss::kMaxRegularization) + "]";
+  app->add_option("--restoration", method_,
+                  "the restoration the figure of merit assumes: inverse (the paper's inverse "
+                  "filter), wiener (with --prior) or tikhonov (with --regularization)")
+      ->check(CLI::IsMember({"inverse", "wiener", "tikhonov"}))
+      ->capture_default_str();
+  prior_option_ = app->add_option("--prior", prior_,
+                                  "wiener only: power-law[:GAMMA[:C]], the prior S(xi) = C "
+                                  "|xi|^-GAMMA of a landscape at mean level 100, GAMMA in [0, 8], "
+                                  "C in [1e-100, 1e100]")
+                      ->default_str(default_prior);
+  regularization_option_ =
+      app->add_option("--regularization", regularization_,
+                      "tikhonov only: lambda in " + lambda_range +
+                          " (mu = lambda (dt sum |alpha|)^2), or optimal: the lambda in that "
+                          "range minimising the figure")
+          ->capture_default_str();
+}
+
+fss::RestorationOptions RestorationFlags::Options() const {
+  fss::RestorationOptions r;
+  r.method = *fss::restoration_method_from_string(method_);
+  if (prior_option_->count() > 0) {
+    const std::string given = "--prior " + fss::shorten_for_message(prior_);
+    if (r.method != fss::RestorationMethod::kWiener) {
+      fss::throw_usage_error(
+          given + ": only --restoration wiener takes a prior (this is " + method_ +
+          (r.method == fss::RestorationMethod::kTikhonov ? ", whose bias uses the default prior)"
+                                                         : ")"));
+    }
+    if (prior_ == "oracle") {
+      fss::throw_usage_error(given +
+                             ": code design has no image, so no oracle spectrum; use "
+                             "power-law[:GAMMA[:C]]");
+    }
+    std::string error;
+    if (!fss::parse_prior(prior_, &r, &error)) {
+      // parse_prior's "prior '...': why (expected ...)", without the oracle in the expected forms
+      if (const std::size_t at = error.find(" (expected"); at != std::string::npos) {
+        error.erase(at);
+      }
+      fss::throw_usage_error("--" + error + " (expected power-law[:GAMMA[:C]])");
+    }
+  }
+  if (regularization_option_->count() > 0) {
+    const std::string given = "--regularization " + fss::shorten_for_message(regularization_);
+    if (r.method != fss::RestorationMethod::kTikhonov) {
+      fss::throw_usage_error(
+          given + ": only --restoration tikhonov takes a regularization (this is " + method_ + ")");
+    }
+    if (regularization_ != "optimal") {
+      const double lambda = fss::parse_finite_number(regularization_);
+      if (!(lambda >= fss::kMinRegularization && lambda <= fss::kMaxRegularization)) {
+        fss::throw_usage_error(given + ": must be a number in [" +
+                               format_exact(fss::kMinRegularization) + ", " +
+                               format_exact(fss::kMaxRegularization) + "] or optimal");
+      }
+      r.regularization = lambda;
+    }
+  }
+  std::string error;
+  if (!r.IsValid(&error)) fss::throw_usage_error(error);
+  return r;
 }
 
 void check_design_band(double velocity, double dt, const std::string& what) {

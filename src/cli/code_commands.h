@@ -34,6 +34,25 @@ class SensorFlags {
   std::optional<double> full_well_;
 };
 
+// The restoration options of `code analyze` and `code optimize` (docs/method.md
+// §12): --restoration, --prior (wiener only) and --regularization (tikhonov
+// only).
+class RestorationFlags {
+ public:
+  void Add(CLI::App* app);
+  // The restoration asked for; a usage error naming the option when --prior
+  // or --regularization is given for a method that does not take it, the
+  // prior is the oracle (code design has no image) or a value is out of range.
+  fss::RestorationOptions Options() const;
+
+ private:
+  std::string method_ = "inverse";
+  std::string prior_;
+  std::string regularization_ = "optimal";
+  CLI::Option* prior_option_ = nullptr;
+  CLI::Option* regularization_option_ = nullptr;
+};
+
 // `code generate FAMILY --length L ...`: writes a generated code.
 class CodeGenerateCommand : public Command {
  public:
@@ -68,6 +87,7 @@ class CodeAnalyzeCommand : public Command {
   std::string mode_ = "numerical";
   int grid_ = 0;
   SensorFlags sensor_;
+  RestorationFlags restoration_;
   std::string json_;
 };
 
@@ -83,6 +103,7 @@ class CodeOptimizeCommand : public Command {
   fss::OptimizeOptions options_;
   std::string mode_ = "numerical";
   SensorFlags sensor_;
+  RestorationFlags restoration_;
   std::string output_;
 };
 

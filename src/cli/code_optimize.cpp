@@ -67,8 +67,9 @@ void print_paper_comparison(const fss::OptimizeOptions& options, const std::stri
     }
     const fss::CodeAnalysis paper =
         fss::analyze_code(paper_code, options.velocity_px_per_slot, options.dt, options.snr,
-                          options.mode, 0, options.sensor);
-    if (paper.invertible) {
+                          options.mode, 0, options.sensor, options.restoration);
+    // A Wiener or Tikhonov restoration has a finite figure for every code.
+    if (paper.invertible || options.restoration.method != fss::RestorationMethod::kInverse) {
       std::printf("  %-13s SNR at level 100 %9.4f  (optimized / paper: %.4f)\n", name.c_str(),
                   paper.snr_level100, ours.snr_level100 / paper.snr_level100);
     } else {
@@ -123,6 +124,7 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code)
       ->check(seed_value())
       ->capture_default_str();
   sensor_.Add(&optimize);
+  restoration_.Add(&optimize);
   optimize.add_option("-o,--output", output_,
                       "code file to write the optimum to (-: standard output, without the "
                       "report)");
@@ -140,6 +142,9 @@ void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
   if (options.sensor.enabled()) {
     header << "# sensor: " << fss::describe_design_sensor(options.sensor) << "\n";
   }
+  if (options.restoration.method != fss::RestorationMethod::kInverse) {
+    header << "# criterion: " << fss::describe_design_criterion(options.restoration) << "\n";
+  }
   const fss::ShutterCode code{"optimized", result.gains};
   write_output(output_, header.str() + fss::format_code_txt(code));
 }
@@ -148,6 +153,7 @@ int CodeOptimizeCommand::Run() const {
   fss::OptimizeOptions options = options_;
   options.mode = *fss::shutter_mode_from_string(mode_);
   options.sensor = sensor_.Model("code optimize");
+  options.restoration = restoration_.Options();
   check_options(options);
   const fss::OptimizationResult result = fss::optimize_code(options);
   if (!output_.empty()) WriteCode(options, result);

@@ -45,28 +45,56 @@ void print_sensor(const fss::SensorModel& s) {
               adc.c_str());
 }
 
+// The restoration line, only for a restoration other than the inverse filter (docs/method.md §12).
+void print_restoration(const fss::RestorationSummary& r) {
+  if (r.options.method == fss::RestorationMethod::kInverse) return;
+  std::string text = fss::describe(r.options);
+  if (r.regularization && !r.options.regularization) {
+    text += ": lambda " + fss::format_number(*r.regularization) +
+            " minimises this run's expected error (an oracle: it knows the image)";
+  }
+  if (r.prior_level) {
+    text += ": level c " + fss::format_number(*r.prior_level) +
+            " gray levels^2 rad/px, fitted to a calibration observation";
+  }
+  if (r.noise_variance) text += ", noise variance " + fss::format_number(*r.noise_variance);
+  std::printf("Restoration: %s\n", text.c_str());
+}
+
 void print_results(const fss::SimulationReport& report, const fss::SimulationOptions& options,
                    const std::string& outdir) {
   print_metric("RMSE", report.metrics.rmse);
   print_metric("PSNR", report.metrics.psnr);
   print_metric("Contrast Invariant RMSE", report.metrics.rmse_ci);
   print_metric("Contrast Invariant PSNR", report.metrics.psnr_ci);
+  if (report.metrics.ssim) {
+    print_metric("SSIM", *report.metrics.ssim);
+  } else {
+    std::printf("SSIM: none (no pixel of the RMSE window has its 11x11 window in the output)\n");
+  }
+  print_restoration(report.restoration);
   const fss::Prediction& p = report.prediction;
   if (p.finite) {
     // The exact expectation (docs/method.md §6b), then the paper's stationary
     // approximation and the image-independent figure of merit (§6).
     std::printf("Predicted RMSE: %f (noise-free %f, noise %f)%s\n", p.rmse, p.rmse_noise_free,
                 p.noise, p.exact ? "" : ", approximate: the sensor clips readouts");
-    std::printf("Stationary approximation: RMSE %f (noise %f), SNR at level 100 %f\n",
-                p.rmse_stationary, p.sigma, p.snr_level100);
+    if (report.restoration.options.method == fss::RestorationMethod::kInverse) {
+      std::printf("Stationary approximation: RMSE %f (noise %f), SNR at level 100 %f\n",
+                  p.rmse_stationary, p.sigma, p.snr_level100);
+    } else {
+      std::printf("Stationary approximation: RMSE %f (noise %f)\n", p.rmse_stationary, p.sigma);
+    }
   } else {
     std::printf("Predicted RMSE: none (code not invertible, min |K| = %g at xi = %g)\n",
                 report.kernel.min_abs, report.kernel.min_abs_xi);
   }
   const fss::TrialStatistics& t = report.trials;
   if (t.n > 1) {
-    std::printf("Trials: %d, RMSE mean %f sd %f, RMSE_CI mean %f sd %f\n", t.n, t.rmse_mean,
+    std::printf("Trials: %d, RMSE mean %f sd %f, RMSE_CI mean %f sd %f", t.n, t.rmse_mean,
                 t.rmse_sd, t.rmse_ci_mean, t.rmse_ci_sd);
+    if (t.ssim_mean) std::printf(", SSIM mean %f sd %f", *t.ssim_mean, t.ssim_sd.value_or(0.0));
+    std::printf("\n");
   }
   if (options.restore_velocity_px_per_slot) {
     std::printf("Restore velocity: %g (true velocity %g)\n", *options.restore_velocity_px_per_slot,

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "cli_common.h"
+#include "core/number_text.h"
 #include "fss/core/error.h"
 #include "fss/pipeline/option_rules.h"
 
@@ -157,6 +158,57 @@ void SimulationFlags::AddSensor(CLI::App& app) {
           ->capture_default_str();
 }
 
+void SimulationFlags::AddRestoration(CLI::App& app) {
+  restoration_option_ = add_checked_option(
+      app, "--restoration", restoration_,
+      "inverse (the paper's inverse filter), tikhonov or wiener (docs/method.md §12)",
+      CLI::IsMember({"inverse", "tikhonov", "wiener"}));
+  regularization_option_ =
+      app.add_option("--regularization", regularization_,
+                     "tikhonov only: lambda in [1e-8, 1e2], or optimal (the lambda minimising "
+                     "this run's exact expected error: an oracle, it knows the image)")
+          ->capture_default_str();
+  prior_option_ = app.add_option("--prior", prior_,
+                                 "wiener only: power-law[:GAMMA] (S = c |xi|^-GAMMA, c and the "
+                                 "noise estimated from a calibration observation) or oracle (the "
+                                 "ground truth's own spectrum: it sees the image)")
+                      ->capture_default_str();
+}
+
+void SimulationFlags::read_restoration(fss::SimulationOptions& options) const {
+  fss::RestorationOptions& r = options.restoration;
+  r.method = *fss::restoration_method_from_string(restoration_);
+  const bool tikhonov = r.method == fss::RestorationMethod::kTikhonov;
+  const bool wiener = r.method == fss::RestorationMethod::kWiener;
+  if (regularization_option_->count() > 0 && !tikhonov) {
+    fss::throw_usage_error("--regularization: only --restoration tikhonov takes it (this run is " +
+                           restoration_ + ")");
+  }
+  if (prior_option_->count() > 0 && !wiener) {
+    fss::throw_usage_error("--prior: only --restoration wiener takes it (this run is " +
+                           restoration_ + ")");
+  }
+  if (tikhonov && regularization_ != "optimal") {
+    const double lambda = fss::parse_finite_number(regularization_);
+    if (std::isnan(lambda) || lambda < fss::kMinRegularization ||
+        lambda > fss::kMaxRegularization) {
+      fss::throw_usage_error("--regularization: value '" +
+                             fss::shorten_for_message(regularization_) +
+                             "' is not optimal or a number in [1e-8, 1e2]");
+    }
+    r.regularization = lambda;
+  }
+  std::string problem;
+  if (wiener && !fss::parse_prior(prior_, &r, &problem)) {
+    fss::throw_usage_error("--prior: " + problem);
+  }
+  if (r.prior_level) {
+    fss::throw_usage_error("--prior: value '" + fss::shorten_for_message(prior_) +
+                           "' gives a level; a simulation estimates it from a calibration "
+                           "observation (give power-law or power-law:GAMMA)");
+  }
+}
+
 void SimulationFlags::AddAll(CLI::App& app) {
   AddCode(app);
   AddMode(app);
@@ -171,6 +223,7 @@ void SimulationFlags::AddAll(CLI::App& app) {
   AddThreads(app);
   AddMaxMemory(app);
   AddSensor(app);
+  AddRestoration(app);
 }
 
 fss::SimulationOptions SimulationFlags::Options() const {
@@ -192,6 +245,7 @@ fss::SimulationOptions SimulationFlags::Options() const {
     fss::throw_usage_error("--noise: value " + noise_ + " " + noise_problem);
   }
   if (full_well_option_ != nullptr) check_sensor(options);
+  if (restoration_option_ != nullptr) read_restoration(options);
   return options;
 }
 

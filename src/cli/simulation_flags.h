@@ -29,6 +29,8 @@ class SimulationFlags {
   // --read-noise, --dark-current, --full-well, --adc-bits, --adc-gain
   // (docs/method.md §10); all off by default.
   void AddSensor(CLI::App& app);
+  // --restoration, --regularization, --prior (docs/method.md §12); default the inverse filter.
+  void AddRestoration(CLI::App& app);
 
   // All of the above, in this order.
   void AddAll(CLI::App& app);
@@ -46,6 +48,9 @@ class SimulationFlags {
   // With AddSensor: sets the full well and checks the sensor flags by the
   // library's rule, throwing a usage fss::Error naming the flag.
   void check_sensor(fss::SimulationOptions& options) const;
+  // With AddRestoration: the restoration flags into `options`, checked by the library's rules,
+  // throwing a usage fss::Error naming the flag.
+  void read_restoration(fss::SimulationOptions& options) const;
 
  private:
   fss::SimulationOptions options_;
@@ -60,6 +65,12 @@ class SimulationFlags {
   CLI::Option* full_well_option_ = nullptr;
   CLI::Option* adc_bits_option_ = nullptr;
   CLI::Option* adc_gain_option_ = nullptr;
+  std::string restoration_ = "inverse";
+  std::string regularization_ = "optimal";
+  std::string prior_ = "power-law:2";
+  CLI::Option* restoration_option_ = nullptr;
+  CLI::Option* regularization_option_ = nullptr;
+  CLI::Option* prior_option_ = nullptr;
 };
 
 }  // namespace fssim

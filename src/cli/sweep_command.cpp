@@ -26,6 +26,11 @@ namespace {
 const char kCsvHeader[] =
     "velocity,snr,blur_length,rmse_mean,rmse_sd,predicted_rmse,noise_free_rmse,snr_level100,"
     "invertible,status\n";
+// With a restoration other than the inverse filter, the header and each row end with these
+// columns (campaign results' columns of the same names); the inverse filter's CSV keeps its bytes.
+const char kRestorationColumns[] =
+    ",restoration,regularization,prior,regularization_applied,prior_level,noise_variance,"
+    "ssim_mean,ssim_sd";
 
 // CSV numbers: 10 significant digits for the swept values (so that 0.1 steps
 // read 0.3, not 0.30000000000000004), full precision for the results.
@@ -45,7 +50,8 @@ struct Curves {
 // lines; the curves get each row's point.
 class SweepRows {
  public:
-  SweepRows(bool by_velocity, std::FILE* console) : by_velocity_(by_velocity), console_(console) {}
+  SweepRows(bool by_velocity, bool restoration_columns, std::FILE* console)
+      : by_velocity_(by_velocity), restoration_columns_(restoration_columns), console_(console) {}
 
   // The CSV line of the setting (velocity, snr) from its campaign row.
   std::string Row(double velocity, double snr, const fss::ResultRow& row);
@@ -53,8 +59,11 @@ class SweepRows {
 
  private:
   std::string TooNarrowRow(double velocity, double snr, const fss::ResultRow& row);
+  // The line's end: the restoration's cells (with restoration_columns_) and the newline.
+  std::string LineEnd(const fss::ResultRow& row) const;
 
   bool by_velocity_;
+  bool restoration_columns_;
   std::FILE* console_;  // stdout, or stderr when the CSV goes to stdout
   Curves curves_;
 };
@@ -68,6 +77,22 @@ double number(const fss::ResultRow& row, const char* column) {
   return std::strtod(cell(row, column).c_str(), nullptr);
 }
 
+// A number cell in the CSV's form, empty where the row has none.
+std::string number_cell(const fss::ResultRow& row, const char* column) {
+  return cell(row, column).empty() ? std::string() : csv_number(number(row, column));
+}
+
+std::string SweepRows::LineEnd(const fss::ResultRow& row) const {
+  if (!restoration_columns_) return "\n";
+  std::string end;
+  for (const char* text : {"restoration", "regularization", "prior"}) end += "," + cell(row, text);
+  for (const char* column :
+       {"regularization_applied", "prior_level", "noise_variance", "ssim_mean", "ssim_sd"}) {
+    end += "," + number_cell(row, column);
+  }
+  return end + "\n";
+}
+
 std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::ResultRow& row) {
   fss::write_stderr("fssim: warning: velocity " + format_exact(velocity) + ": " +
                     cell(row, "message") + "; row marked too-narrow\n");
@@ -75,7 +100,7 @@ std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::Resu
   curves_.measured.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));
   std::fprintf(console_, "velocity %g, snr %g: too narrow\n", velocity, snr);
-  return cell(row, "blur_length") + ",,,,,,,too-narrow\n";
+  return cell(row, "blur_length") + ",,,,,,,too-narrow" + LineEnd(row);
 }
 
 std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& row) {
@@ -105,8 +130,8 @@ std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& ro
   }
   return setting + cell(row, "blur_length") + "," + csv_number(mean) + "," + csv_number(sd) + "," +
          csv_number(predicted) + "," + csv_number(number(row, "predicted_rmse_noise_free")) + "," +
-         csv_number(number(row, "snr_level100")) + "," + cell(row, "invertible") + "," + status +
-         "\n";
+         number_cell(row, "snr_level100") + "," + cell(row, "invertible") + "," + status +
+         LineEnd(row);
 }
 
 // Every value of --snr 'TEXT' as the simulator's rule has it (> 0, within
@@ -148,6 +173,7 @@ SweepCommand::SweepCommand(CLI::App& parent)
   flags_.AddThreads(sweep);
   flags_.AddMaxMemory(sweep);  // the simulator's memory guard, for the image and each row
   flags_.AddSensor(sweep);
+  flags_.AddRestoration(sweep);
   sweep.add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep.add_option("--plot", plot_,
                    "also draw measured and predicted RMSE against the swept parameter into "
@@ -213,6 +239,8 @@ fss::ResolvedCampaign SweepCommand::Campaign(const Grid& grid, const fss::Shutte
   // The sensor (--read-noise, --dark-current, ...): every setting's.
   c.read_noises.values = {options.sensor.read_noise_electrons};
   c.sensor = options.sensor;
+  // The restoration (--restoration, --regularization, --prior): every setting's.
+  c.restorations = {options.restoration};
   return c;
 }
 
@@ -231,8 +259,10 @@ int SweepCommand::Sweep() const {
   const fss::ResolvedCampaign campaign = Campaign(grid, code, options);
   const fss::SettingRunOptions run{options.threads, options.max_memory_bytes, "", options.seed};
   fss::SimulationPlanCache plans;
-  SweepRows rows(grid.by_velocity(), on_stdout ? stderr : stdout);
+  const bool restoration_columns = options.restoration.method != fss::RestorationMethod::kInverse;
+  SweepRows rows(grid.by_velocity(), restoration_columns, on_stdout ? stderr : stdout);
   std::string csv = kCsvHeader;
+  if (restoration_columns) csv.insert(csv.size() - 1, kRestorationColumns);
   const long long settings = campaign.setting_count();
   for (long long i = 0; i < settings; ++i) {
     const fss::Setting s = fss::setting_at(campaign, i);
@@ -248,7 +278,8 @@ int SweepCommand::Sweep() const {
         "RMSE of code " + code.name + " on " + std::filesystem::path(input_).filename().string() +
         ", " + fss::to_string(options.mode) +
         (grid.by_velocity() ? ", snr " + format_number(grid.snrs.front())
-                            : ", velocity " + format_number(grid.velocities.front()));
+                            : ", velocity " + format_number(grid.velocities.front())) +
+        (restoration_columns ? ", " + fss::describe(options.restoration) : "");
     const Curves& c = rows.curves();
     png = fss::plot_curves_png(c.x,
                                {{"measured (mean of " + trials + ")", c.measured, false, true},

@@ -87,6 +87,22 @@ void describe_sensor(std::span<const double> g, CodeAnalysis* a) {
   a->effective_noise_figure = a->effective_q * a->m;
 }
 
+// snr_level100 and the snapshot's under a Wiener or Tikhonov restoration: 100 / sqrt(E), E of the
+// code and of the snapshot (1, 0, ..., 0) of the same length (level100_restoration_error).
+void apply_restoration_figure(std::span<const double> g, CodeAnalysis* a) {
+  const RestorationError code =
+      level100_restoration_error(g, a->velocity, a->dt, a->snr, a->mode, a->restoration, a->sensor);
+  std::vector<double> snapshot(g.size(), 0.0);
+  snapshot[0] = 1.0;
+  const RestorationError reference = level100_restoration_error(
+      snapshot, a->velocity, a->dt, a->snr, a->mode, a->restoration, a->sensor);
+  a->restoration_error = code.error;
+  a->regularization = code.regularization;
+  a->snapshot_regularization = reference.regularization;
+  a->snr_level100 = 100.0 / std::sqrt(code.error);
+  a->snapshot_snr_level100 = 100.0 / std::sqrt(reference.error);
+}
+
 // Every figure of `a` finite (M, Q M and Q_eff M too when K has no zero),
 // else the setting left double precision: a usage error naming code, dt, snr
 // and the sensor's parts that are on.
@@ -101,6 +117,17 @@ void check_analysis_finite(const ShutterCode& code, const CodeAnalysis& a) {
     finite = finite && std::isfinite(a.m) && a.m > 0.0 && std::isfinite(a.noise_figure) &&
              a.noise_figure > 0.0 && std::isfinite(a.effective_noise_figure) &&
              a.snr_level100 > 0.0;
+  }
+  // A Wiener or Tikhonov E is finite for every code but one of zero sum, K(0) = 0, whose E is
+  // infinite (level100_restoration_error) and its SNR at level 100 then 0.
+  if (a.restoration.method != RestorationMethod::kInverse) {
+    const bool lost_mean = std::isinf(a.restoration_error) && a.restoration_error > 0.0 &&
+                           transfer_vanishes(std::abs(a.k0), transfer_scale(code.gains, a.dt));
+    finite = finite &&
+             (lost_mean || (std::isfinite(a.restoration_error) && a.restoration_error > 0.0 &&
+                            a.snr_level100 > 0.0)) &&
+             a.snapshot_snr_level100 > 0.0 && std::isfinite(a.regularization) &&
+             std::isfinite(a.snapshot_regularization);
   }
   if (!finite) {
     const std::string setting =
@@ -207,11 +234,22 @@ double noise_figure_lower_bound(double velocity, double dt) {
 // optimum; in the analog mode the one readout favours codes that let in more light. snr then
 // matters in absolute terms: the readout noise counts against lambda2 photo-electrons per gray
 // level. A full well is not linear and has no place in this figure of merit.
+// Under a Wiener or Tikhonov restoration (§12) the figure is 100 / sqrt(E) instead
+// (level100_restoration_error), for the code and for the snapshot, and the Cauchy-Schwarz bound,
+// the inverse filter's, is not given.
 CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
-                          ShutterMode mode, int grid, const SensorModel& sensor) {
+                          ShutterMode mode, int grid, const SensorModel& sensor,
+                          const RestorationOptions& restoration) {
   check_code_for_mode(code, mode);
   check_analysis_setting(velocity, dt, snr, grid);
   check_design_sensor(sensor);
+  check_design_restoration(restoration);
+  const bool inverse = restoration.method == RestorationMethod::kInverse;
+  if (grid != 0 && !inverse) {
+    throw_usage_error("grid " + std::to_string(grid) +
+                      ": the DFT grid is the inverse filter's; the " +
+                      to_string(restoration.method) + " figure uses the midpoint rule");
+  }
   const std::vector<double>& g = code.gains;
   CodeAnalysis a;
   a.length = static_cast<int>(g.size());
@@ -221,6 +259,7 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
   a.snr = snr;
   a.grid = grid;
   a.sensor = sensor;
+  a.restoration = restoration;
   describe_gains(g, &a);
 
   a.q = noise_gain(g, dt, mode);
@@ -237,6 +276,9 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
   const double snapshot_q = effective_noise_gain(snapshot, dt, mode, snr, sensor);
   a.snapshot_snr_level100 =
       snr_level100(snapshot_q, mean_inverse_on_grid(std::vector<double>{1.0}, a), snr);
+  a.restoration_error =
+      a.snr_level100 > 0.0 ? (100.0 / a.snr_level100) * (100.0 / a.snr_level100) : kInfinity;
+  if (!inverse) apply_restoration_figure(g, &a);
   a.ratio_to_snapshot =
       a.snapshot_snr_level100 > 0.0 ? a.snr_level100 / a.snapshot_snr_level100 : 0.0;
   // Numerical: Q_eff M = (1 + c / dt) Q M >= (1 + c / dt) B. Analog: Q_eff M >= Q M >= B.
@@ -245,7 +287,7 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
           ? 1.0 + readout_noise_slots(sensor, g.size(), dt, mode, snr) / dt
           : 1.0;
   const double bound = noise_figure_lower_bound(velocity, dt) * readout_factor;
-  a.snr_level100_bound = bound == 0.0 ? kInfinity : snr / std::sqrt(bound);
+  a.snr_level100_bound = bound == 0.0 || !inverse ? kInfinity : snr / std::sqrt(bound);
   check_analysis_finite(code, a);
   return a;
 }

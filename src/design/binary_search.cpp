@@ -2,6 +2,7 @@
 #include <utility>
 
 #include "design/local_search.h"
+#include "design/restoration_figure.h"
 
 namespace fss::design_detail {
 
@@ -21,7 +22,8 @@ class BinarySearch {
         min_ones_(min_ones),
         g_(static_cast<std::size_t>(grid)),
         re_(g_, 0.0),
-        im_(g_, 0.0) {
+        im_(g_, 0.0),
+        power_(cost.restoration != nullptr ? g_ : 0, 0.0) {
     make_band_basis(length, velocity, dt, grid, &basis_re_, &basis_im_);
   }
 
@@ -50,6 +52,8 @@ class BinarySearch {
   std::size_t g_;
   std::vector<double> basis_re_, basis_im_;
   std::vector<double> re_, im_;  // K of the current code on the grid
+  // |K|^2 of a candidate on the grid, under a restoration (ValueAfter is const but reuses it).
+  mutable std::vector<double> power_;
   std::vector<double> x_;
   int ones_ = 0;
   LocalResult result_;
@@ -66,7 +70,7 @@ void BinarySearch::AddRow(int k, double sign) {
 // Q_eff M after adding sign_a E_a + sign_b E_b to K (b = -1: no second row),
 // for a code of `count` ones: M = mean of 1 / |K|^2 and Q_eff = dt count
 // without readout noise; with it (dt + c) count (numerical) or dt count + c
-// (analog).
+// (analog). Under a restoration (cost_.restoration), its E instead.
 double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int count) const {
   if (count == 0 || count < min_ones_) return kInfinity;
   const double* ar = basis_re_.data() + a * g_;
@@ -74,6 +78,17 @@ double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int 
   const double* br = basis_re_.data() + (b < 0 ? a : b) * g_;
   const double* bi = basis_im_.data() + (b < 0 ? a : b) * g_;
   const double weight_b = b < 0 ? 0.0 : sign_b;
+  const double q =
+      cost_.numerical ? (dt_ + cost_.readout_slots) * count : dt_ * count + cost_.readout_slots;
+  if (cost_.restoration != nullptr) {
+    // E with V = (10^4 / snr^2) Q_eff and kappa = dt count; finite where K vanishes.
+    for (std::size_t j = 0; j < g_; ++j) {
+      const double r = re_[j] + sign_a * ar[j] + weight_b * br[j];
+      const double i = im_[j] + sign_a * ai[j] + weight_b * bi[j];
+      power_[j] = r * r + i * i;
+    }
+    return cost_.restoration->Evaluate(power_, cost_.noise_per_q * q, dt_ * count).error;
+  }
   double sum = 0.0;
   for (std::size_t j = 0; j < g_; ++j) {
     const double r = re_[j] + sign_a * ar[j] + weight_b * br[j];
@@ -82,8 +97,6 @@ double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int 
     if (!(power > 0.0)) return kInfinity;
     sum += 1.0 / power;
   }
-  const double q =
-      cost_.numerical ? (dt_ + cost_.readout_slots) * count : dt_ * count + cost_.readout_slots;
   return q * sum / grid_;
 }
 

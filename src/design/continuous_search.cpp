@@ -72,7 +72,7 @@ class LbfgsMemory {
 
 class ContinuousSearch {
  public:
-  ContinuousSearch(const NoiseFigure& objective, const Feasible& feasible, std::size_t n)
+  ContinuousSearch(const ContinuousObjective& objective, const Feasible& feasible, std::size_t n)
       : objective_(objective),
         feasible_(feasible),
         n_(n),
@@ -90,7 +90,7 @@ class ContinuousSearch {
   bool ChooseDirection(double* step);
   bool LineSearch(double step, double* trial_f);
 
-  const NoiseFigure& objective_;
+  const ContinuousObjective& objective_;
   const Feasible& feasible_;
   std::size_t n_;
   LocalResult result_;
@@ -100,11 +100,11 @@ class ContinuousSearch {
   LbfgsMemory memory_;
 };
 
-// f = log(Q M), gradient = grad(Q M) / (Q M); infinite where Q M is not a
-// finite positive number.
+// f = log(F), gradient = grad(F) / F, F the objective (Q M, or E); infinite
+// where F is not a finite positive number.
 double ContinuousSearch::Evaluate(const std::vector<double>& v, std::vector<double>& gradient) {
   ++result_.evaluations;
-  const double value = objective_.Evaluate(v, gradient);
+  const double value = objective_(v, gradient);
   if (!std::isfinite(value) || !(value > 0.0)) return kInfinity;
   for (double& d : gradient) d /= value;
   return std::log(value);
@@ -220,7 +220,7 @@ void Feasible::Project(std::vector<double>& y) const {
   for (double& v : y) v = std::clamp(v, lower, upper);
 }
 
-LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double> x,
+LocalResult minimize_continuous(const ContinuousObjective& objective, std::vector<double> x,
                                 const Feasible& feasible, int max_iterations) {
   ContinuousSearch search(objective, feasible, x.size());
   return search.Run(std::move(x), max_iterations);

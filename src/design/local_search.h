@@ -2,6 +2,8 @@
 // not part of the public interface.
 #pragma once
 
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "design/numerics.h"
@@ -11,7 +13,7 @@ namespace fss::design_detail {
 
 struct LocalResult {
   std::vector<double> gains;
-  double value = kInfinity;  // Q M
+  double value = kInfinity;  // Q_eff M, or E under a Wiener or Tikhonov restoration
   int iterations = 0;
   int evaluations = 0;
 };
@@ -35,6 +37,12 @@ struct Feasible {
   void Project(std::vector<double>& y) const;
 };
 
+// An objective of the continuous search: its value at `gains` (+infinity where it is not
+// defined) and, when `gradient` is not empty, its gradient there (NoiseFigure::Evaluate,
+// RestorationObjective::Evaluate).
+using ContinuousObjective =
+    std::function<double(std::span<const double> gains, std::span<double> gradient)>;
+
 // Projected L-BFGS on log(Q M) over a Feasible set, from `x`, for at most
 // `max_iterations` iterations. The quasi-Newton direction is computed with the
 // gradient restricted to the free variables (those not held at a bound of the
@@ -42,15 +50,20 @@ struct Feasible {
 // backtracking Armijo search along the projection arc; when that fails the
 // memory is dropped and the projected gradient is used, which always descends.
 // No gains (and an infinite value) when Q M is infinite at the projected start.
-LocalResult minimize_continuous(const NoiseFigure& objective, std::vector<double> x,
+LocalResult minimize_continuous(const ContinuousObjective& objective, std::vector<double> x,
                                 const Feasible& feasible, int max_iterations);
+
+class BandRestoration;  // design/restoration_figure.h
 
 // The readouts of a binary code: c (readout_noise_slots, design/analyze.h)
 // per unit of gain squared (numerical: every 1 is a read frame) or once
-// (analog).
+// (analog); and the criterion: Q_eff M without `restoration`, else its E
+// with V = noise_per_q Q_eff and kappa = dt (number of ones).
 struct BinaryCost {
   bool numerical = false;
   double readout_slots = 0.0;  // c; 0: photon noise only
+  const BandRestoration* restoration = nullptr;
+  double noise_per_q = 0.0;  // 10^4 / snr^2
 };
 
 // Steepest-descent local search on binary codes of at least `min_ones` ones,

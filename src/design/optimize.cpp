@@ -9,17 +9,21 @@
 
 #include "design/local_search.h"
 #include "design/option_checks.h"
+#include "design/restoration_figure.h"
 #include "fss/core/error.h"
 #include "fss/design/generate.h"
 #include "model/noise.h"
 
 namespace fss {
 
+using design_detail::BinaryCost;
 using design_detail::code_length_and_dt_are_valid;
+using design_detail::ContinuousObjective;
 using design_detail::Feasible;
 using design_detail::invalid;
 using design_detail::kInfinity;
 using design_detail::LocalResult;
+using design_detail::RestorationObjective;
 using design_detail::uniform01;
 
 namespace {
@@ -84,15 +88,74 @@ std::vector<double> random_start(const OptimizeOptions& options, const SearchSet
   return start;
 }
 
+// The objectives of the search, made once: the inverse filter's Q_eff M (NoiseFigure; continuous
+// gains) or a restoration's E (RestorationObjective), as the continuous search takes it, and the
+// binary search's cost. Not copyable: `cost` and `continuous` refer to the members.
+class SearchObjectives {
+ public:
+  explicit SearchObjectives(const OptimizeOptions& options) {
+    const double v = options.velocity_px_per_slot;
+    const double c = readout_noise_slots(options.sensor, static_cast<std::size_t>(options.length),
+                                         options.dt, options.mode, options.snr);
+    cost.numerical = options.mode == ShutterMode::kNumerical;
+    cost.readout_slots = c;
+    if (options.restoration.method != RestorationMethod::kInverse) {
+      restoration.emplace(options.length, v, options.dt, options.mode, options.snr,
+                          options.restoration, options.grid_points, c);
+      cost.restoration = &restoration->band();
+      cost.noise_per_q = restoration->noise_per_q();
+      continuous = [this](std::span<const double> gains, std::span<double> gradient) {
+        return restoration->Evaluate(gains, gradient);
+      };
+    } else if (!options.binary) {
+      noise_figure.emplace(options.length, v, options.dt, options.mode, options.grid_points, c);
+      continuous = [this](std::span<const double> gains, std::span<double> gradient) {
+        return noise_figure->Evaluate(gains, gradient);
+      };
+    }
+  }
+  SearchObjectives(const SearchObjectives&) = delete;
+  SearchObjectives& operator=(const SearchObjectives&) = delete;
+
+  std::optional<NoiseFigure> noise_figure;
+  std::optional<RestorationObjective> restoration;
+  BinaryCost cost;
+  ContinuousObjective continuous;
+};
+
+// The box code (1, ..., 1, 0, ..., 0) of n ones, n from the light budget to L, with the lowest E
+// under the restoration (the first such n on ties).
+std::vector<double> best_box_code(const OptimizeOptions& options, const SearchSetting& setting,
+                                  const RestorationObjective& objective) {
+  std::vector<double> best;
+  double best_error = kInfinity;
+  for (int n = std::max(setting.min_ones, 1); n <= options.length; ++n) {
+    std::vector<double> box(static_cast<std::size_t>(options.length), 0.0);
+    std::fill(box.begin(), box.begin() + n, 1.0);
+    const double error = objective.Evaluate(box);
+    if (error < best_error) {
+      best_error = error;
+      best = std::move(box);
+    }
+  }
+  return best;
+}
+
 // Starting codes: the snapshot first (admissible in every mode without a light
-// budget, so the result is never worse than it), the sinc code for numerical
-// gains, then seeded random codes.
+// budget, so the result is never worse than it), under a restoration the best
+// box code when it has more than one 1, the sinc code for numerical gains, then
+// seeded random codes.
 std::vector<std::vector<double>> starting_codes(const OptimizeOptions& options,
-                                                const SearchSetting& setting) {
+                                                const SearchSetting& setting,
+                                                const SearchObjectives& objectives) {
   std::vector<std::vector<double>> starts;
   std::mt19937_64 deterministic_rng(start_seed(options.seed, -1));
   starts.push_back(snapshot_code(options.length));
   make_feasible(options, setting, starts.back(), deterministic_rng);
+  if (objectives.restoration) {
+    std::vector<double> box = best_box_code(options, setting, *objectives.restoration);
+    if (gain_sum(box) > 1.0) starts.push_back(std::move(box));
+  }
   if (setting.numerical && options.length > 1) {
     starts.push_back(generate_sinc_code(options.length, options.velocity_px_per_slot, options.dt));
   }
@@ -102,23 +165,19 @@ std::vector<std::vector<double>> starting_codes(const OptimizeOptions& options,
 
 // The local search from every start; the best code in result->gains.
 void search_from_starts(const OptimizeOptions& options, const SearchSetting& setting,
+                        const SearchObjectives& objectives,
                         const std::vector<std::vector<double>>& starts,
                         OptimizationResult* result) {
   const double v = options.velocity_px_per_slot;
-  const double c = readout_noise_slots(options.sensor, static_cast<std::size_t>(options.length),
-                                       options.dt, options.mode, options.snr);
-  const design_detail::BinaryCost cost{options.mode == ShutterMode::kNumerical, c};
-  std::optional<NoiseFigure> objective;
-  if (!options.binary)
-    objective.emplace(options.length, v, options.dt, options.mode, options.grid_points, c);
   double best = kInfinity;
   for (std::size_t s = 0; s < starts.size(); ++s) {
     const LocalResult local =
-        options.binary ? design_detail::minimize_binary(options.length, v, options.dt,
-                                                        options.grid_points, setting.min_ones,
-                                                        starts[s], options.max_iterations, cost)
-                       : design_detail::minimize_continuous(*objective, starts[s], setting.feasible,
-                                                            options.max_iterations);
+        options.binary
+            ? design_detail::minimize_binary(options.length, v, options.dt, options.grid_points,
+                                             setting.min_ones, starts[s], options.max_iterations,
+                                             objectives.cost)
+            : design_detail::minimize_continuous(objectives.continuous, starts[s], setting.feasible,
+                                                 options.max_iterations);
     result->iterations += local.iterations;
     result->evaluations += local.evaluations;
     if (local.value < best) {
@@ -186,6 +245,13 @@ bool OptimizeOptions::IsValid(std::string* error) const {
     return fail("max_iterations = " + std::to_string(max_iterations) + ": must lie in [1, " +
                 std::to_string(kMaxIterations) + "]");
   }
+  std::string restoration_error;
+  if (!restoration.IsValid(&restoration_error)) return fail("restoration." + restoration_error);
+  if (restoration.method == RestorationMethod::kWiener && restoration.prior == PriorKind::kOracle) {
+    return fail(
+        "restoration.prior = oracle: code design has no image, so there is no oracle spectrum "
+        "(use a power-law prior)");
+  }
   if (grid_points < 16 || grid_points > kMaxObjectiveGridPoints) {
     return fail("grid_points = " + std::to_string(grid_points) + ": must lie in [16, " +
                 std::to_string(kMaxObjectiveGridPoints) + "]");
@@ -193,26 +259,28 @@ bool OptimizeOptions::IsValid(std::string* error) const {
   return true;
 }
 
-// From each start: continuous gains by projected L-BFGS on log(Q M) (continuous_search.cpp),
+// From each start: continuous gains by projected L-BFGS on log(Q M), or log E under a restoration
+// (continuous_search.cpp),
 // binary gains by a steepest-descent local search over single bit flips, and swaps of a 1 with
 // a 0 when no flip helps (binary_search.cpp).
 OptimizationResult optimize_code(const OptimizeOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);
   const SearchSetting setting(options);
-  const std::vector<std::vector<double>> starts = starting_codes(options, setting);
+  const SearchObjectives objectives(options);
+  const std::vector<std::vector<double>> starts = starting_codes(options, setting, objectives);
 
   OptimizationResult result;
   result.options = options;
   result.starts = static_cast<int>(starts.size());
-  search_from_starts(options, setting, starts, &result);
+  search_from_starts(options, setting, objectives, starts, &result);
   if (result.gains.empty()) result.gains = snapshot_code(options.length);  // every start failed
   normalize_result(options, setting.numerical, result.gains);
   // Binary gains are admissible in both modes; their Q is the same in both,
   // their readouts are not.
   result.analysis =
       analyze_code(ShutterCode{"optimized", result.gains}, options.velocity_px_per_slot, options.dt,
-                   options.snr, options.mode, 0, options.sensor);
+                   options.snr, options.mode, 0, options.sensor, options.restoration);
   return result;
 }
 
@@ -233,6 +301,9 @@ std::string OptimizationResult::FullReport() const {
         << format_number(options.snr) << " (" << format_number(options.snr * options.snr / 100.0)
         << " photo-electrons per gray level per slot)";
   }
+  if (options.restoration.method != RestorationMethod::kInverse) {
+    out << "\nCriterion: " << describe_design_criterion(options.restoration);
+  }
   std::snprintf(line, sizeof line,
                 "\nSearch: %d starts (seed %llu, best from start %d), %d iterations, %d "
                 "evaluations\n",
@@ -247,13 +318,19 @@ std::string OptimizationResult::FullReport() const {
                 analysis.snr_level100, analysis.snapshot_snr_level100, analysis.ratio_to_snapshot);
   out << line;
   // The bound is infinite where Q M >= 0 is all it says (|v| dt near 0).
-  if (std::isfinite(analysis.snr_level100_bound)) {
+  if (options.restoration.method != RestorationMethod::kInverse) {
+    std::snprintf(line, sizeof line, "the Cauchy-Schwarz bound is for the inverse filter only)\n");
+  } else if (std::isfinite(analysis.snr_level100_bound)) {
     std::snprintf(line, sizeof line, "Cauchy-Schwarz bound %.4f)\n", analysis.snr_level100_bound);
   } else {
     std::snprintf(line, sizeof line, "no finite Cauchy-Schwarz bound at |v| dt = %g)\n",
                   std::abs(options.velocity_px_per_slot) * options.dt);
   }
   out << line;
+  if (options.restoration.method == RestorationMethod::kTikhonov) {
+    out << "Regularization: lambda " << format_number(analysis.regularization) << " (snapshot "
+        << format_number(analysis.snapshot_regularization) << ")\n";
+  }
   return out.str();
 }
 

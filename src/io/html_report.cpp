@@ -162,8 +162,10 @@ void write_prediction_rows(Table& t, const SimulationReport& r) {
     t.row("noise part (exact)", metric(r.prediction.noise));
     t.row("stationary approximation: RMSE", metric(r.prediction.rmse_stationary));
     t.row("stationary approximation: noise σ", metric(r.prediction.sigma));
-    t.row("SNR at level 100 (stationary figure of merit)",
-          format("%.3f", r.prediction.snr_level100));
+    if (r.options.restoration.method == RestorationMethod::kInverse) {
+      t.row("SNR at level 100 (stationary figure of merit)",
+            format("%.3f", r.prediction.snr_level100));
+    }
   } else {
     t.row("predicted RMSE", "<span class=\"warning\">none: the code is not invertible</span>");
     t.row("noise-free RMSE", metric(r.prediction.rmse_noise_free));
@@ -182,11 +184,19 @@ void write_metrics(std::ostringstream& out, const SimulationReport& r) {
   t.row("PSNR", metric(r.metrics.psnr) + " dB");
   t.row("RMSE_CI (contrast invariant)", metric(r.metrics.rmse_ci));
   t.row("PSNR_CI", metric(r.metrics.psnr_ci) + " dB");
+  t.row("SSIM", r.metrics.ssim ? metric(*r.metrics.ssim) : "none (no pixel left)");
+  if (r.options.restoration.method != RestorationMethod::kInverse) {
+    t.row("restoration", html_escape(describe(r.restoration.options)));
+  }
   if (r.trials.n > 1) {
     t.row("RMSE over " + std::to_string(r.trials.n) + " trials",
           metric(r.trials.rmse_mean) + " ± " + metric(r.trials.rmse_sd) + " (mean ± sd)");
     t.row("RMSE_CI over " + std::to_string(r.trials.n) + " trials",
           metric(r.trials.rmse_ci_mean) + " ± " + metric(r.trials.rmse_ci_sd));
+  }
+  if (r.trials.n > 1 && r.trials.ssim_mean) {
+    t.row("SSIM over " + std::to_string(r.trials.n) + " trials",
+          metric(*r.trials.ssim_mean) + " ± " + metric(r.trials.ssim_sd.value_or(0.0)));
   }
   write_prediction_rows(t, r);
 }

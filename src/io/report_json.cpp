@@ -48,7 +48,9 @@ json prediction_json(const SimulationReport& r) {
             {"rmse", finite_or_null(r.prediction.rmse)},
             {"sigma", finite_or_null(r.prediction.sigma)},
             {"rmse_stationary", finite_or_null(r.prediction.rmse_stationary)},
-            {"snr_level100", finite_or_null(r.prediction.snr_level100)},
+            {"snr_level100", r.options.restoration.method == RestorationMethod::kInverse
+                                 ? finite_or_null(r.prediction.snr_level100)
+                                 : json(nullptr)},
             {"window_mean", r.prediction.window_mean},
             {"q", r.prediction.q},
             {"m", finite_or_null(r.prediction.m_amplification)}};
@@ -65,6 +67,28 @@ json sensor_json(const SensorModel& s) {
           {"full_well_electrons", s.full_well_electrons ? json(*s.full_well_electrons) : json()},
           {"adc_bits", s.adc_bits},
           {"adc_gain_electrons_per_count", s.adc_gain_electrons_per_count}};
+}
+
+json optional_json(const std::optional<double>& value) {
+  return value ? finite_or_null(*value) : json(nullptr);
+}
+
+// The restoration (docs/method.md §12), written only when it is not the inverse filter.
+json restoration_json(const RestorationSummary& r) {
+  json j = {{"method", to_string(r.options.method)}};
+  if (r.options.method == RestorationMethod::kTikhonov) {
+    j["regularization"] = optional_json(r.regularization);
+    j["regularization_optimal"] = !r.options.regularization.has_value();
+  }
+  if (r.options.method == RestorationMethod::kWiener) {
+    j["prior"] = r.options.prior == PriorKind::kOracle ? "oracle" : "power-law";
+    if (r.options.prior == PriorKind::kPowerLaw) {
+      j["prior_exponent"] = r.options.prior_exponent;
+      j["prior_level"] = optional_json(r.prior_level);
+    }
+    j["noise_variance"] = optional_json(r.noise_variance);
+  }
+  return j;
 }
 
 }  // namespace
@@ -90,19 +114,25 @@ json report_json(const SimulationReport& r, const std::string& input_path) {
   j["metrics"] = {{"rmse", finite_or_null(r.metrics.rmse)},
                   {"psnr", finite_or_null(r.metrics.psnr)},
                   {"rmse_ci", finite_or_null(r.metrics.rmse_ci)},
-                  {"psnr_ci", finite_or_null(r.metrics.psnr_ci)}};
+                  {"psnr_ci", finite_or_null(r.metrics.psnr_ci)},
+                  {"ssim", optional_json(r.metrics.ssim)}};
   j["kernel"] = {{"k0", r.kernel.k0},
                  {"min_abs", r.kernel.min_abs},
                  {"min_abs_xi", r.kernel.min_abs_xi},
                  {"invertible", r.kernel.invertible},
                  {"observed_divisor", r.observed_divisor},
                  {"zero_bins", r.zero_bins}};
+  if (r.options.restoration.method != RestorationMethod::kInverse) {
+    j["restoration"] = restoration_json(r.restoration);
+  }
   j["prediction"] = prediction_json(r);
   j["trials"] = {{"n", r.trials.n},
                  {"rmse_mean", finite_or_null(r.trials.rmse_mean)},
                  {"rmse_sd", finite_or_null(r.trials.rmse_sd)},
                  {"rmse_ci_mean", finite_or_null(r.trials.rmse_ci_mean)},
-                 {"rmse_ci_sd", finite_or_null(r.trials.rmse_ci_sd)}};
+                 {"rmse_ci_sd", finite_or_null(r.trials.rmse_ci_sd)},
+                 {"ssim_mean", optional_json(r.trials.ssim_mean)},
+                 {"ssim_sd", optional_json(r.trials.ssim_sd)}};
   j["warnings"] = r.warnings;
   return j;
 }

@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/golden_section.h"
 #include "fss/model/transfer.h"
 
 namespace fss {
@@ -13,28 +14,8 @@ namespace {
 // Golden-section search for the minimum of |K| on [a, b]; returns (xi, |K|).
 std::pair<double, double> refine_minimum(std::span<const double> gains, double velocity, double dt,
                                          double a, double b) {
-  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-  auto f = [&](double xi) { return std::abs(transfer_function(gains, velocity, dt, xi)); };
-  double x1 = b - ratio * (b - a);
-  double x2 = a + ratio * (b - a);
-  double f1 = f(x1);
-  double f2 = f(x2);
-  for (int iteration = 0; iteration < 80 && b - a > 1e-15; ++iteration) {
-    if (f1 <= f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - ratio * (b - a);
-      f1 = f(x1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + ratio * (b - a);
-      f2 = f(x2);
-    }
-  }
-  return f1 <= f2 ? std::make_pair(x1, f1) : std::make_pair(x2, f2);
+  const auto f = [&](double xi) { return std::abs(transfer_function(gains, velocity, dt, xi)); };
+  return golden_section_minimum(f, a, b, 80, 1e-15);
 }
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "fss/core/error.h"
+#include "pipeline/fitted_restoration.h"
 #include "pipeline/row_pipeline.h"
 #include "pipeline/run_checks.h"
 
@@ -63,7 +64,8 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           std::size_t extra_encoding_bytes_per_sample) {
   return working_bytes(width, height, channels, geometry, options.trials, observed_sink == nullptr,
                        extra_encoding_bytes_per_sample) +
-         RowPipeline::plan_bytes(width, height, channels, options, code_length);
+         RowPipeline::plan_bytes(width, height, channels, options, code_length) +
+         fitted_restoration_bytes(options, geometry.observed_width, height, channels);
 }
 
 std::size_t estimate_run_memory_bytes(const ImageShape& shape, const SimulationOptions& options,
@@ -73,7 +75,9 @@ std::size_t estimate_run_memory_bytes(const ImageShape& shape, const SimulationO
   const Geometry geometry = checked_geometry(options, shape.width, code);
   return working_bytes(shape.width, shape.height, shape.channels, geometry, options.trials,
                        !observed_to_sink, extra_encoding_bytes_per_sample) +
-         RowPipeline::plan_bytes(shape.width, shape.height, shape.channels, options, code.length());
+         RowPipeline::plan_bytes(shape.width, shape.height, shape.channels, options,
+                                 code.length()) +
+         fitted_restoration_bytes(options, geometry.observed_width, shape.height, shape.channels);
 }
 
 void check_run_memory(const ImageShape& shape, const SimulationOptions& options,

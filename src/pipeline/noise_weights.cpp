@@ -33,10 +33,22 @@ std::vector<double> noise_energy_weights(const Geometry& geometry, std::span<con
                                          double restore_velocity, double dt, int window_first,
                                          int window_end) {
   check_arguments(geometry, gains, window_first, window_end);
+  return noise_energy_weights(
+      geometry, inverse_filter_impulse_response(gains, restore_velocity, dt, geometry.mirror_width),
+      window_first, window_end);
+}
+
+std::vector<double> noise_energy_weights(const Geometry& geometry, std::vector<double> k,
+                                         int window_first, int window_end) {
+  const std::vector<double> one_gain{1.0};
+  check_arguments(geometry, one_gain, window_first, window_end);
   const int n = geometry.mirror_width;
   const int wa = geometry.observed_width;
+  if (k.size() != static_cast<std::size_t>(n)) {
+    throw_usage_error("noise weights need an impulse response of " + std::to_string(n) +
+                      " values, got " + std::to_string(k.size()));
+  }
   // The kernel twice over, so that (i mod n) is i for every i in [0, 2n).
-  std::vector<double> k = inverse_filter_impulse_response(gains, restore_velocity, dt, n);
   k.insert(k.end(), k.begin(), k.end());
   // Output column x is deconvolved column x' = x + 2h, in [0, n).
   const int x_first = window_first + 2 * geometry.half_blur;

@@ -40,4 +40,9 @@ std::vector<double> noise_energy_weights(const Geometry& geometry, std::span<con
                                          double restore_velocity, double dt, int window_first,
                                          int window_end);
 
+// The same for any restoration filter, from its impulse response k on the 2 Wa grid
+// (filter_impulse_response, restoration_filter.h), in place of the inverse filter's.
+std::vector<double> noise_energy_weights(const Geometry& geometry, std::vector<double> k,
+                                         int window_first, int window_end);
+
 }  // namespace fss

@@ -10,6 +10,7 @@
 #include "fss/core/error.h"
 #include "fss/model/transfer.h"
 #include "pipeline/noise_weights.h"
+#include "pipeline/restoration_filter.h"
 #include "pipeline/row_pipeline.h"
 #include "pipeline/run_checks.h"
 
@@ -24,11 +25,12 @@ PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCod
       dt_(options.dt),
       margin_(options.rmse_margin_columns),
       noisy_(options.noise != NoiseModel::kNone),
+      restoration_options_(options.restoration),
       geometry_(checked_geometry(options, width, code)),
       windows_(metric_windows(geometry_, margin_)),
-      observer_(width, code.gains, options.mode, observation_params(options, geometry_)),
-      restorer_(geometry_, code.gains, restore_velocity_, dt_) {
+      observer_(width, code.gains, options.mode, observation_params(options, geometry_)) {
   analyze(code);
+  plan_filter(code);
 }
 
 void PlanCore::analyze(const ShutterCode& code) {
@@ -36,12 +38,16 @@ void PlanCore::analyze(const ShutterCode& code) {
   // (docs/method.md §1), the divisor of the observed image, and their warnings.
   kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
   if (!kernel_.invertible) {
-    warnings_.push_back("code '" + escape_control_characters(code.name) +
-                        "' is not invertible at velocity " + format_exact(restore_velocity_) +
-                        ": min |K| = " + format_number(kernel_.min_abs) +
-                        " at xi = " + format_number(kernel_.min_abs_xi) +
-                        "; the restoration cannot recover the frequencies where K vanishes and "
-                        "amplifies the noise near them: no finite error prediction exists");
+    const bool inverse = restoration_options_.method == RestorationMethod::kInverse;
+    warnings_.push_back(
+        "code '" + escape_control_characters(code.name) + "' is not invertible at velocity " +
+        format_exact(restore_velocity_) + ": min |K| = " + format_number(kernel_.min_abs) +
+        " at xi = " + format_number(kernel_.min_abs_xi) +
+        (inverse ? "; the restoration cannot recover the frequencies where K vanishes and "
+                   "amplifies the noise near them: no finite error prediction exists"
+                 : "; the " + to_string(restoration_options_.method) +
+                       " restoration damps the frequencies where K vanishes: the restored image "
+                       "loses them"));
   }
   observed_divisor_ = kernel_.k0;
   if (transfer_vanishes(std::abs(kernel_.k0), transfer_scale(code.gains, dt_))) {
@@ -50,17 +56,52 @@ void PlanCore::analyze(const ShutterCode& code) {
                         "): observed.png is divided by dt * max |gain| = " +
                         format_number(observed_divisor_) + " instead");
   }
-  // The prediction's M and W(j) (docs/method.md §6, §6b).
+}
+
+// The restorer, M and W(j) (docs/method.md §6, §6b, §12) of a filter that
+// does not depend on the image: the inverse filter, or Tikhonov at a given
+// lambda.
+void PlanCore::plan_filter(const ShutterCode& code) {
+  restoration_.options = restoration_options_;
   m_amplification_ = std::numeric_limits<double>::infinity();
-  if (kernel_.invertible) {
-    m_amplification_ =
-        mean_inverse_power(code.gains, restore_velocity_, dt_, geometry_.mirror_width);
-    if (noisy_) {
-      noise_weights_ = noise_energy_weights(geometry_, code.gains, restore_velocity_, dt_,
-                                            windows_.rmse_first, windows_.rmse_end);
-    }
+  const int n = geometry_.mirror_width;
+  switch (restoration_options_.method) {
+    case RestorationMethod::kInverse:
+      restorer_.emplace(geometry_, code.gains, restore_velocity_, dt_);
+      if (!kernel_.invertible) return;
+      m_amplification_ = mean_inverse_power(code.gains, restore_velocity_, dt_, n);
+      if (noisy_) {
+        noise_weights_ = noise_energy_weights(geometry_, code.gains, restore_velocity_, dt_,
+                                              windows_.rmse_first, windows_.rmse_end);
+      }
+      return;
+    case RestorationMethod::kTikhonov:
+      if (!restoration_options_.regularization) return;  // the optimum depends on the image
+      {
+        const double lambda = *restoration_options_.regularization;
+        FilterBins filter = tikhonov_filter_bins(code.gains, restore_velocity_, dt_, n, lambda);
+        m_amplification_ = filter_mean_power(filter.h, n);
+        if (noisy_) {
+          noise_weights_ = noise_energy_weights(geometry_, filter_impulse_response(filter.h, n),
+                                                windows_.rmse_first, windows_.rmse_end);
+        }
+        restorer_.emplace(geometry_, std::move(filter));
+        restoration_.regularization = lambda;
+      }
+      return;
+    case RestorationMethod::kWiener:
+      return;  // its prior depends on the image
   }
 }
+
+namespace {
+
+bool same_restoration(const RestorationOptions& a, const RestorationOptions& b) {
+  return a.method == b.method && a.regularization == b.regularization && a.prior == b.prior &&
+         a.prior_exponent == b.prior_exponent && a.prior_level == b.prior_level;
+}
+
+}  // namespace
 
 bool PlanCore::fits(const SimulationOptions& options, int width, const ShutterCode& code) const {
   const double v = options.velocity_px_per_slot;
@@ -74,13 +115,15 @@ bool PlanCore::fits(const SimulationOptions& options, int width, const ShutterCo
          same(options.restore_velocity_px_per_slot.value_or(v), restore_velocity_) &&
          same(options.dt, dt_) && width == geometry_.width &&
          options.rmse_margin_columns == margin_ &&
+         same_restoration(options.restoration, restoration_options_) &&
          (options.noise == NoiseModel::kNone || noisy_ || !kernel_.invertible);
 }
 
 std::size_t PlanCore::bytes() const {
   const std::size_t bins = static_cast<std::size_t>(geometry_.width) / 2 + 1;
   const std::size_t filters = (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins;
-  return sizeof(*this) + sizeof(std::complex<double>) * filters + restorer_.bytes() +
+  return sizeof(*this) + sizeof(std::complex<double>) * filters +
+         (restorer_ ? restorer_->bytes() : 0) +
          sizeof(double) * (noise_weights_.size() + gains_.size());
 }
 

@@ -6,12 +6,14 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "fss/model/code.h"
 #include "fss/model/kernel.h"
 #include "fss/pipeline/geometry.h"
+#include "fss/pipeline/simulate.h"
 #include "fss/pipeline/simulation_options.h"
 #include "pipeline/observe.h"
 #include "pipeline/restore.h"
@@ -31,17 +33,23 @@ class PlanCore {
   double observed_divisor() const { return observed_divisor_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
   // The observer (at the snr of the options it was made with; the
-  // pipeline takes the run's snr) and the restorer of the row pipeline.
+  // pipeline takes the run's snr) and the restorer of the row pipeline: null
+  // when the restoration depends on the image (fitted_restoration.h).
   const RowObserver& observer() const { return observer_; }
-  const RowRestorer& restorer() const { return restorer_; }
-  // M (infinite when not invertible) and W(j) (empty without noise or when
-  // not invertible), for predict.
+  const RowRestorer* restorer() const { return restorer_ ? &*restorer_ : nullptr; }
+  // With a restorer: M (mean |H|^2; infinite for the inverse filter of a code
+  // that is not invertible) and W(j) (empty without noise or when M is
+  // infinite), for predict.
   double m_amplification() const { return m_amplification_; }
   const std::vector<double>& noise_weights() const { return noise_weights_; }
+  // The restoration's summary as far as the plan knows it (the lambda of a
+  // fixed Tikhonov filter).
+  const RestorationSummary& restoration() const { return restoration_; }
   std::size_t bytes() const;
 
  private:
   void analyze(const ShutterCode& code);
+  void plan_filter(const ShutterCode& code);
 
   std::string code_name_;
   std::vector<double> gains_;
@@ -51,13 +59,15 @@ class PlanCore {
   double dt_;
   int margin_;
   bool noisy_;
+  RestorationOptions restoration_options_;
   Geometry geometry_;
   MetricWindows windows_;
   KernelAnalysis kernel_;
   double observed_divisor_ = 1.0;
   std::vector<std::string> warnings_;
   RowObserver observer_;
-  RowRestorer restorer_;
+  std::optional<RowRestorer> restorer_;
+  RestorationSummary restoration_;
   double m_amplification_ = 0.0;
   std::vector<double> noise_weights_;
 };

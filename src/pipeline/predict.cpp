@@ -9,7 +9,6 @@
 #include "fss/model/kernel.h"
 #include "fss/pipeline/prediction.h"
 #include "pipeline/noise_weights.h"
-#include "pipeline/plan_core.h"
 
 namespace fss {
 
@@ -58,14 +57,18 @@ Prediction predict_with(const SimulationReport& report, const Image& input,
   const double r0 = noise_free.rmse;
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   Prediction p;
-  p.finite = report.kernel.invertible;
+  // A regularised filter is bounded: its error is finite for every code (docs/method.md §12).
+  const bool inverse = options.restoration.method == RestorationMethod::kInverse;
+  p.finite = report.kernel.invertible || !inverse;
   p.window_mean = window_mean(input, report.output_first_column() + report.rmse_first,
                               report.output_first_column() + report.rmse_end);
   p.q = noise_gain(report.gains, options.dt, options.mode);
   p.m_amplification = p.finite ? m_amplification() : kInfinity;
   p.rmse_noise_free = r0;
-  p.snr_level100 = snr_level100(report.gains, options.dt, options.mode, p.m_amplification,
-                                options.snr, options.sensor);
+  // The inverse filter's figure of merit; a regularised one's needs a prior (code analyze).
+  p.snr_level100 = inverse ? snr_level100(report.gains, options.dt, options.mode, p.m_amplification,
+                                          options.snr, options.sensor)
+                           : 0.0;
   // A clipping sensor breaks the linear model of the variance terms (docs/method.md §10).
   p.exact = noise_free.saturated_readouts == 0 && noise_free.near_zero_readouts == 0;
   if (!p.finite) {
@@ -100,10 +103,11 @@ Prediction predict(const SimulationReport& report, const Image& input,
 }
 
 Prediction predict(const SimulationReport& report, const Image& input,
-                   const NoiseFreeRun& noise_free, const PlanCore& plan) {
+                   const NoiseFreeRun& noise_free, double m_amplification,
+                   const std::vector<double>& noise_weights) {
   return predict_with(
-      report, input, noise_free, [&] { return plan.m_amplification(); },
-      [&]() -> const std::vector<double>& { return plan.noise_weights(); });
+      report, input, noise_free, [&] { return m_amplification; },
+      [&]() -> const std::vector<double>& { return noise_weights; });
 }
 
 }  // namespace fss

@@ -2,14 +2,14 @@
 // (docs/method.md §6, §6b).
 #pragma once
 
+#include <vector>
+
 #include "fss/core/image.h"
 #include "fss/pipeline/prediction.h"
 #include "fss/pipeline/simulate.h"
 #include "pipeline/noise_free_run.h"
 
 namespace fss {
-
-class PlanCore;  // plan_core.h
 
 // The prediction for the run `report` describes (its options, code, geometry,
 // RMSE window and kernel) on `input`, from its noise-free pass. The noise
@@ -19,8 +19,10 @@ class PlanCore;  // plan_core.h
 // column.
 Prediction predict(const SimulationReport& report, const Image& input,
                    const NoiseFreeRun& noise_free);
-// The same with M and W(j) from the plan the report was run with.
+// The same with M and W(j) of the filter the run restored with (its plan's or its fitted filter,
+// any restoration of docs/method.md §12; the overload above is the inverse filter's).
 Prediction predict(const SimulationReport& report, const Image& input,
-                   const NoiseFreeRun& noise_free, const PlanCore& plan);
+                   const NoiseFreeRun& noise_free, double m_amplification,
+                   const std::vector<double>& noise_weights);
 
 }  // namespace fss

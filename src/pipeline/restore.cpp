@@ -11,6 +11,7 @@
 #include "fss/core/error.h"
 #include "fss/model/kernel.h"
 #include "fss/model/transfer.h"
+#include "pipeline/restoration_filter.h"
 
 namespace fss {
 
@@ -42,16 +43,6 @@ void inverse_filter_row(const RowFFT& fft, const std::vector<Complex>& inverse,
   fft.inverse_filtered(workspace, inverse);
 }
 
-// h = IDFT_n(inverse), the impulse response of the filter `inverse` (half
-// spectrum), as inverse_filter_row applies it.
-std::vector<double> impulse_response(const std::vector<Complex>& inverse, int n) {
-  const RowFFT& fft = RowFFT::for_size(n);
-  RowFFT::Workspace workspace(n);
-  std::fill(workspace.spectrum().begin(), workspace.spectrum().end(), Complex(1.0));
-  fft.inverse_filtered(workspace, inverse);
-  return {workspace.real().begin(), workspace.real().end()};
-}
-
 // The folded convolution's filters. With x the observed crop (Wa values),
 // the mirror row is m[j] = x[j] (j < Wa), x[N - 1 - j] (j >= Wa), and the
 // restored column c is r[c + 2h] = sum_j m[j] k[(c + 2h - j) mod N], k the
@@ -69,7 +60,7 @@ std::pair<std::vector<Complex>, std::vector<Complex>> folded_filters(
     const std::vector<Complex>& inverse, const Geometry& g, int m) {
   const int n = g.mirror_width;
   const int wa = g.observed_width;
-  const std::vector<double> k = impulse_response(inverse, n);
+  const std::vector<double> k = filter_impulse_response(inverse, n);
   const int taps = wa + g.output_width - 1;
   const RowFFT& fft = RowFFT::for_size(m);
   RowFFT::Workspace workspace(m);
@@ -117,7 +108,8 @@ void apply_folded_filters(std::span<Complex> spectrum, std::span<const Complex> 
 // K the grid's bins keep the mirror row's exact cancellations instead.
 constexpr double kMaxFoldingConditioning = 1e6;
 
-// sup_i |1/K_i| |K(0)| over the grid's bins, infinity when K(0) = 0.
+// sup_i |H_i| / |H_0| over the grid's bins (sup |1/K| |K(0)| for the
+// inverse filter), infinity when H_0 = 0.
 double conditioning(const std::vector<Complex>& inverse) {
   if (inverse.empty() || inverse[0] == Complex(0.0)) return std::numeric_limits<double>::infinity();
   double largest = 0.0;
@@ -141,13 +133,17 @@ int restoration_transform_length(const Geometry& geometry) {
 std::vector<double> inverse_filter_impulse_response(std::span<const double> gains, double velocity,
                                                     double dt, int n) {
   int zero_bins = 0;
-  return impulse_response(inverse_transfer_bins(gains, velocity, dt, n, &zero_bins), n);
+  return filter_impulse_response(inverse_transfer_bins(gains, velocity, dt, n, &zero_bins), n);
 }
 
 RowRestorer::RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity,
                          double dt)
+    : RowRestorer(geometry, inverse_filter_bins(gains, velocity, dt, geometry.mirror_width)) {}
+
+RowRestorer::RowRestorer(const Geometry& geometry, FilterBins filter)
     : geometry_(geometry),
-      inverse_(inverse_transfer_bins(gains, velocity, dt, geometry.mirror_width, &zero_bins_)),
+      zero_bins_(filter.zero_bins),
+      inverse_(std::move(filter.h)),
       fft_(RowFFT::for_size(conditioning(inverse_) <= kMaxFoldingConditioning
                                 ? restoration_transform_length(geometry)
                                 : geometry.mirror_width)) {
@@ -165,8 +161,11 @@ std::size_t RowRestorer::bytes() const {
 }
 
 void RowRestorer::restore(const double* observation, Scratch& scratch, double* restored) const {
+  restore_crop(observation + geometry_.half_blur, scratch, restored);  // observed crop [h, h + Wa)
+}
+
+void RowRestorer::restore_crop(const double* crop, Scratch& scratch, double* restored) const {
   const int wa = geometry_.observed_width;
-  const double* crop = observation + geometry_.half_blur;  // observed crop [h, h + Wa)
   const std::span<double> buffer = scratch.workspace.real();
   std::copy(crop, crop + wa, buffer.begin());
   if (direct_filter_.empty()) {

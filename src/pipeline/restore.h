@@ -10,6 +10,7 @@
 #include "fss/core/image.h"
 #include "fss/model/transfer.h"
 #include "fss/pipeline/geometry.h"
+#include "pipeline/restoration_filter.h"
 
 namespace fss {
 
@@ -38,7 +39,10 @@ std::vector<Complex> inverse_transfer_bins(std::span<const double> gains, double
 
 class RowRestorer {
  public:
+  // The inverse filter 1 / K of the code at `velocity`.
   RowRestorer(const Geometry& geometry, std::span<const double> gains, double velocity, double dt);
+  // Any filter H on the N grid (restoration_filter.h) in place of 1 / K.
+  RowRestorer(const Geometry& geometry, FilterBins filter);
 
   // Buffers of one worker thread.
   class Scratch {
@@ -52,6 +56,8 @@ class RowRestorer {
 
   // restored[0 .. Wo) from observation[0 .. W).
   void restore(const double* observation, Scratch& scratch, double* restored) const;
+  // The same from the observed crop alone, crop[0 .. Wa) (observation column h + j).
+  void restore_crop(const double* crop, Scratch& scratch, double* restored) const;
   int zero_bins() const { return zero_bins_; }
   // M of the folded convolution, or N = 2 Wa.
   int transform_length() const { return fft_.size(); }
@@ -62,7 +68,7 @@ class RowRestorer {
   Geometry geometry_;
   // Declared before inverse_, whose initializer counts the zero bins into it.
   int zero_bins_ = 0;
-  std::vector<std::complex<double>> inverse_;  // 1 / K on the N grid, 0 where K vanishes
+  std::vector<std::complex<double>> inverse_;  // H (1 / K) on the N grid, 0 where K vanishes
   const RowFFT& fft_;                          // length M or N
   // The folded convolution's filters GA / M and GB' / M (empty on the grid).
   std::vector<std::complex<double>> direct_filter_;

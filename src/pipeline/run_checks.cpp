@@ -5,6 +5,7 @@
 
 #include "core/number_text.h"
 #include "fss/core/error.h"
+#include "fss/model/kernel.h"
 #include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
 
@@ -31,6 +32,21 @@ void check_dark_charge(const SimulationOptions& options, const ShutterCode& code
                     "current or dt");
 }
 
+// The power-law prior's noise is the model's at the level mean(observed) / K(0)
+// (docs/method.md §12): a code of zero sum, K(0) = 0, observes no mean level.
+void check_power_law_level(const SimulationOptions& options, const ShutterCode& code) {
+  const RestorationOptions& r = options.restoration;
+  if (r.method != RestorationMethod::kWiener || r.prior != PriorKind::kPowerLaw) return;
+  double sum = 0.0;
+  for (const double alpha : code.gains) sum += alpha;
+  if (!transfer_vanishes(std::abs(options.dt * sum), transfer_scale(code.gains, options.dt)))
+    return;
+  throw_usage_error("code '" + escape_control_characters(code.name) +
+                    "' has gains of zero sum, so K(0) = 0 and its observation has no mean level, "
+                    "from which the power-law prior estimates the noise: use the oracle prior or "
+                    "the tikhonov restoration");
+}
+
 }  // namespace
 
 void check_run_settings(const SimulationOptions& options, const ShutterCode& code) {
@@ -38,6 +54,7 @@ void check_run_settings(const SimulationOptions& options, const ShutterCode& cod
   if (!options.IsValid(&error)) throw_usage_error(error);
   check_code_for_mode(code, options.mode);
   check_dark_charge(options, code);
+  check_power_law_level(options, code);
 }
 
 void check_inputs(const SimulationOptions& options, const Image& input, const ShutterCode& code) {

@@ -15,10 +15,12 @@
 #include "fss/model/transfer.h"
 #include "fss/pipeline/memory_estimate.h"
 #include "fss/pipeline/metrics.h"
+#include "pipeline/fitted_restoration.h"
 #include "pipeline/plan_core.h"
 #include "pipeline/predict.h"
 #include "pipeline/row_pipeline.h"
 #include "pipeline/run_checks.h"
+#include "pipeline/ssim.h"
 
 namespace fss {
 
@@ -34,6 +36,8 @@ Metrics measure(const SimulationReport& report, const Image& input, const Image&
   m.rmse_ci = rmse_contrast_invariant(input, offset, restored, report.rmse_ci_first,
                                       report.rmse_ci_end, report.options.threads);
   m.psnr_ci = psnr(m.rmse_ci);
+  m.ssim = structural_similarity(input, offset, restored, report.rmse_first, report.rmse_end,
+                                 report.options.threads);
   return m;
 }
 
@@ -45,16 +49,27 @@ double sample_sd(double sum, double sum_sq, int n) {
 
 // Sums of the trials' metrics, for their means and sample deviations.
 struct TrialSums {
-  double rmse = 0.0, rmse_sq = 0.0, ci = 0.0, ci_sq = 0.0;
+  double rmse = 0.0, rmse_sq = 0.0, ci = 0.0, ci_sq = 0.0, ssim = 0.0, ssim_sq = 0.0;
+  bool has_ssim = true;
 
   void add(const Metrics& m) {
     rmse += m.rmse;
     rmse_sq += m.rmse * m.rmse;
     ci += m.rmse_ci;
     ci_sq += m.rmse_ci * m.rmse_ci;
+    has_ssim = has_ssim && m.ssim.has_value();
+    if (m.ssim) ssim += *m.ssim, ssim_sq += *m.ssim * *m.ssim;
   }
   TrialStatistics statistics(int n) const {
-    return {n, rmse / n, sample_sd(rmse, rmse_sq, n), ci / n, sample_sd(ci, ci_sq, n)};
+    TrialStatistics t{n,
+                      rmse / n,
+                      sample_sd(rmse, rmse_sq, n),
+                      ci / n,
+                      sample_sd(ci, ci_sq, n),
+                      std::nullopt,
+                      std::nullopt};
+    if (has_ssim) t.ssim_mean = ssim / n, t.ssim_sd = sample_sd(ssim, ssim_sq, n);
+    return t;
   }
 };
 
@@ -67,6 +82,8 @@ bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& option
       pipeline.restore_all(std::nullopt, report.restored, observed, &clipping);
   report.metrics = measure(report, input, report.restored);
   report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
+  if (report.metrics.ssim)
+    report.trials.ssim_mean = report.metrics.ssim, report.trials.ssim_sd = 0.0;
   report.trial_metrics.assign(static_cast<std::size_t>(options.trials), report.metrics);
   if (options.trial_callback) options.trial_callback(options.trials, options.trials);
   return observed_finite;
@@ -138,7 +155,10 @@ std::string scale_settings(const SimulationOptions& options, const ShutterCode& 
 // doubles: an error, never a silent NaN.
 void check_finite(const SimulationReport& report, const ShutterCode& code, bool observed_finite) {
   const auto finite = [](double value) { return std::isfinite(value); };
-  if (finite(report.metrics.rmse) && finite(report.metrics.rmse_ci) &&
+  const bool ssim_finite = finite(report.metrics.ssim.value_or(0.0)) &&
+                           finite(report.trials.ssim_mean.value_or(0.0)) &&
+                           finite(report.trials.ssim_sd.value_or(0.0));
+  if (ssim_finite && finite(report.metrics.rmse) && finite(report.metrics.rmse_ci) &&
       finite(report.trials.rmse_mean) && finite(report.trials.rmse_sd) &&
       finite(report.trials.rmse_ci_mean) && finite(report.trials.rmse_ci_sd) && observed_finite &&
       std::all_of(report.restored.data.begin(), report.restored.data.end(), finite)) {
@@ -237,8 +257,18 @@ SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& opti
                              ObservedRowSink* observed_sink) {
   SimulationReport report = planned_report(plan, options, input, code);
 
+  // The filter: the plan's, or fitted to this image (docs/method.md §12).
+  std::optional<FittedFilter> fitted;
+  const RowRestorer* restorer = plan.restorer();
+  report.restoration = plan.restoration();
+  if (restorer == nullptr) {
+    fitted.emplace(fit_restoration(plan, options, input, code));
+    restorer = &*fitted->restorer;
+    report.restoration = fitted->summary;
+  }
+
   // Row pipeline: observe -> noise -> restore, row by row.
-  const RowPipeline pipeline(input, plan.observer(), plan.restorer(), options, report.geometry,
+  const RowPipeline pipeline(input, plan.observer(), *restorer, options, report.geometry,
                              report.observed_divisor);
   if (pipeline.zero_bins() > 0) {
     report.zero_bins = pipeline.zero_bins();
@@ -247,8 +277,10 @@ SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& opti
         std::to_string(report.geometry.mirror_width / 2 + 1) +
         " frequencies of the deconvolution grid have K = 0 (|K| <= " +
         format_number(kZeroTolerance) +
-        " dt sum |gain|): the restoration cannot recover them; it takes 1 / K as 0 there, so "
-        "the restored image has nothing at those frequencies");
+        " dt sum |gain|): the restoration cannot recover them; it takes " +
+        (options.restoration.method == RestorationMethod::kInverse ? "1 / K" : "its filter") +
+        " as 0 there, so the restored image has nothing at those "
+        "frequencies");
   }
   const int wo = report.geometry.output_width;
   ImageRowSink kept_observed(report.observed);
@@ -272,10 +304,17 @@ SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& opti
     noise_free = run_trials(pipeline, options, input, report, observed_sink, observed_finite);
   }
   check_finite(report, code, observed_finite);
+  if (!report.metrics.ssim) {
+    report.warnings.push_back(
+        "SSIM is null: no pixel of the RMSE window has its 11 x 11 window inside the output (it "
+        "needs a margin of at least 5 columns and at least 11 rows, docs/method.md §5)");
+  }
 
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
   // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.
-  report.prediction = predict(report, input, noise_free, plan);
+  report.prediction =
+      fitted ? predict(report, input, noise_free, fitted->m_amplification, fitted->noise_weights)
+             : predict(report, input, noise_free, plan.m_amplification(), plan.noise_weights());
   check_prediction_finite(report, code);
   add_clipping_warnings(noise_free, report);
   return report;

@@ -54,6 +54,19 @@ bool SimulationOptions::IsValid(std::string* error) const {
     if (error) *error = "sensor." + sensor_error;
     return false;
   }
+  std::string restoration_error;
+  if (!restoration.IsValid(&restoration_error)) {
+    if (error) *error = "restoration." + restoration_error;
+    return false;
+  }
+  if (restoration.prior_level) {
+    if (error) {
+      *error = "restoration.prior_level = " + format_exact(*restoration.prior_level) +
+               ": a simulation estimates the power-law prior's level from a calibration "
+               "observation; give the prior without a level (power-law or power-law:GAMMA)";
+    }
+    return false;
+  }
   const std::string margin = std::to_string(rmse_margin_columns);
   return !(broken("noise", to_string(noise),
                   noise_rule(noise == NoiseModel::kAggregated, mode == ShutterMode::kAnalog)) ||

@@ -242,7 +242,7 @@ TEST(Campaign, PerTrialRowsAreTheTrialsOfEachSetting) {
   const auto results = csv_rows(tmp / "trials" / kCampaignResultsCsv);
   const auto trials = csv_rows(tmp / "trials" / kCampaignTrialsCsv);
   ASSERT_EQ(trials.front().size(), trial_columns().size());
-  EXPECT_EQ(trials.front().back(), "psnr");
+  EXPECT_EQ(trials.front().back(), "ssim");
   const auto column = [](const char* name) {
     for (std::size_t i = 0; i < trial_columns().size(); ++i) {
       if (std::string(trial_columns()[i].name) == name) return i;

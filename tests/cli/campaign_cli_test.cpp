@@ -127,7 +127,7 @@ TEST_F(CampaignCli, PerTrialRowsSurviveKillNineAndMergeToTheBytesOfOneRun) {
   // 2 codes x 10 velocities x 6 snr values; the rows that ran have 2 trials.
   const auto trials = test::lines_of(test::read_file(whole / "trials.csv"));
   EXPECT_EQ(trials.front().substr(trials.front().rfind(",trial,")),
-            ",trial,trial_seed,rmse,rmse_ci,psnr");
+            ",trial,trial_seed,rmse,rmse_ci,psnr,ssim");
   EXPECT_EQ((trials.size() - 1) % 2, 0u);
   EXPECT_GT(trials.size(), 1u);
   ASSERT_TRUE(kill_after(args + " -o " + quote(killed), killed, 30)) << "finished before the kill";

@@ -168,9 +168,10 @@ TEST_F(CliReference, PrintsTheFourMetricsFirst) {
 
 TEST_F(CliReference, PrintsThePredictionAndTheSeed) {
   const std::vector<std::string> lines = lines_of(result_->out);
-  ASSERT_GE(lines.size(), 7u) << result_->out;
-  EXPECT_THAT(lines[4], StartsWith("Predicted RMSE: "));
-  EXPECT_THAT(lines[5], StartsWith("Stationary approximation: RMSE "));
+  ASSERT_GE(lines.size(), 8u) << result_->out;
+  EXPECT_THAT(lines[4], StartsWith("SSIM: "));  // after the reference program's four
+  EXPECT_THAT(lines[5], StartsWith("Predicted RMSE: "));
+  EXPECT_THAT(lines[6], StartsWith("Stationary approximation: RMSE "));
   EXPECT_THAT(result_->out, HasSubstr("\nSeed: 0\n"));
 }
 

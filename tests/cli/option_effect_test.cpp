@@ -154,17 +154,22 @@ std::vector<OptionCase> sensor_cases() {
 // The options of one simulation, as the simulator and sweep take them, the
 // sensor's included.
 std::vector<OptionCase> simulation_cases() {
-  std::vector<OptionCase> cases = {{"--code", "--code snapshot", Effect::kChanges},
-                                   {"--mode", "--mode analog", Effect::kChanges},
-                                   {"--velocity", "--velocity 1.5", Effect::kChanges},
-                                   {"--dt", "--dt 0.5", Effect::kChanges},
-                                   {"--snr", "--snr 20", Effect::kChanges},
-                                   {"--seed", "--seed 7", Effect::kChanges},
-                                   {"--noise", "--noise aggregated", Effect::kChanges},
-                                   {"--rmse-margin", "--rmse-margin 100", Effect::kChanges},
-                                   {"--trials", "--trials 2", Effect::kChanges},
-                                   {"--threads", "--threads 1", Effect::kSame},
-                                   {"--max-memory", "--max-memory 2G", Effect::kSame}};
+  std::vector<OptionCase> cases = {
+      {"--code", "--code snapshot", Effect::kChanges},
+      {"--mode", "--mode analog", Effect::kChanges},
+      {"--velocity", "--velocity 1.5", Effect::kChanges},
+      {"--dt", "--dt 0.5", Effect::kChanges},
+      {"--snr", "--snr 20", Effect::kChanges},
+      {"--seed", "--seed 7", Effect::kChanges},
+      {"--noise", "--noise aggregated", Effect::kChanges},
+      {"--rmse-margin", "--rmse-margin 100", Effect::kChanges},
+      {"--trials", "--trials 2", Effect::kChanges},
+      {"--threads", "--threads 1", Effect::kSame},
+      {"--max-memory", "--max-memory 2G", Effect::kSame},
+      {"--restoration", "--restoration wiener", Effect::kChanges},
+      // A lambda for Tikhonov, a prior for Wiener: compared with their defaults.
+      {"--regularization", "--regularization 0.01", Effect::kChanges, "--restoration tikhonov"},
+      {"--prior", "--prior oracle", Effect::kChanges, "--restoration wiener"}};
   for (const OptionCase& s : sensor_cases()) cases.push_back(s);
   return cases;
 }
@@ -237,6 +242,11 @@ std::vector<OptionCase> design_cases() {
     cases.push_back(s);
     if (s.option == "--full-well") cases.back().effect = Effect::kRefused;
   }
+  // The figure of merit under a regularised restoration (docs/method.md §12).
+  cases.push_back({"--restoration", "--restoration wiener", Effect::kChanges});
+  cases.push_back(
+      {"--regularization", "--regularization 0.01", Effect::kChanges, "--restoration tikhonov"});
+  cases.push_back({"--prior", "--prior power-law:1", Effect::kChanges, "--restoration wiener"});
   return cases;
 }
 
@@ -268,24 +278,28 @@ TEST_F(OptionEffect, CodeOptimize) {
 
 TEST_F(OptionEffect, Campaign) {
   CommandCase c{"campaign", "-i {IN} -c raskar -o {W}/c", {}};
-  c.options = {{"--file", "", Effect::kPath},
-               {"--input", "", Effect::kPath},
-               {"--output", "", Effect::kPath},
-               {"--code", "--code snapshot", Effect::kChanges},
-               {"--mode", "--mode analog", Effect::kChanges},
-               {"--velocity", "--velocity 1.5", Effect::kChanges},
-               {"--restore-velocity", "--restore-velocity 1.1", Effect::kChanges},
-               {"--snr", "--snr 20", Effect::kChanges},
-               {"--dt", "--dt 0.5", Effect::kChanges},
-               {"--trials", "--trials 2", Effect::kChanges},
-               {"--seed", "--seed 7", Effect::kChanges},
-               {"--noise", "--noise aggregated", Effect::kChanges},
-               {"--rmse-margin", "--rmse-margin 100", Effect::kChanges},
-               {"--per-trial", "--per-trial", Effect::kChanges},
-               {"--threads", "--threads 1", Effect::kSame},
-               {"--shard", "--shard 1/2", Effect::kChanges, "--velocity 1,1.5"},
-               {"--figures", "--figures", Effect::kChanges, "--velocity 1,1.5"},
-               {"--no-progress", "--no-progress", Effect::kSame}};
+  c.options = {
+      {"--file", "", Effect::kPath},
+      {"--input", "", Effect::kPath},
+      {"--output", "", Effect::kPath},
+      {"--code", "--code snapshot", Effect::kChanges},
+      {"--mode", "--mode analog", Effect::kChanges},
+      {"--velocity", "--velocity 1.5", Effect::kChanges},
+      {"--restore-velocity", "--restore-velocity 1.1", Effect::kChanges},
+      {"--snr", "--snr 20", Effect::kChanges},
+      {"--dt", "--dt 0.5", Effect::kChanges},
+      {"--trials", "--trials 2", Effect::kChanges},
+      {"--seed", "--seed 7", Effect::kChanges},
+      {"--noise", "--noise aggregated", Effect::kChanges},
+      {"--rmse-margin", "--rmse-margin 100", Effect::kChanges},
+      {"--per-trial", "--per-trial", Effect::kChanges},
+      {"--threads", "--threads 1", Effect::kSame},
+      {"--shard", "--shard 1/2", Effect::kChanges, "--velocity 1,1.5"},
+      {"--figures", "--figures", Effect::kChanges, "--velocity 1,1.5"},
+      {"--no-progress", "--no-progress", Effect::kSame},
+      {"--restoration", "--restoration inverse,wiener", Effect::kChanges},
+      {"--regularization", "--regularization 0.01", Effect::kChanges, "--restoration tikhonov"},
+      {"--prior", "--prior oracle", Effect::kChanges, "--restoration wiener"}};
   for (const OptionCase& s : sensor_cases()) c.options.push_back(s);
   check(c);
 }

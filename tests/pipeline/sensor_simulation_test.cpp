@@ -45,6 +45,16 @@ std::string digest(const SimulationReport& r) {
   return hex;
 }
 
+// The run's warnings but SSIM's note that no pixel is left for it (these
+// strips are lower than its 11 x 11 window, or have no margin).
+std::vector<std::string> warnings_but_ssim(const SimulationReport& r) {
+  std::vector<std::string> kept;
+  for (const std::string& w : r.warnings) {
+    if (w.rfind("SSIM is null", 0) != 0) kept.push_back(w);
+  }
+  return kept;
+}
+
 // The digests of three runs computed with the photon-noise simulator before
 // the sensor model existed (the library of commit a55db8f): a default
 // SensorModel must reproduce them.
@@ -73,7 +83,7 @@ TEST(DefaultSensor, ReproducesThePhotonNoiseSimulatorsOutputs) {
 TEST(DefaultSensor, ReportHasNoWarningAndAnExactPrediction) {
   const SimulationReport r =
       Simulate(SimulationOptions(), test::make_test_image(480, 4, 1), *builtin_code("raskar"));
-  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_TRUE(warnings_but_ssim(r).empty());
   EXPECT_TRUE(r.prediction.exact);
   EXPECT_FALSE(r.options.sensor.enabled());
 }
@@ -177,7 +187,7 @@ TEST_P(SensorPrediction, IsTheMeanOfManyTrialsWithinThreeStandardErrors) {
   const SimulationReport r = Simulate(options, input, code);
   ASSERT_TRUE(r.prediction.finite);
   EXPECT_TRUE(r.prediction.exact) << c.name;
-  EXPECT_TRUE(r.warnings.empty()) << c.name << ": " << r.warnings.front();
+  EXPECT_TRUE(warnings_but_ssim(r).empty()) << c.name << ": " << warnings_but_ssim(r).front();
   EXPECT_LT(std::abs(z_score(r)), 3.0) << c.name;
   // The readouts are a visible part of the prediction: without them it is
   // more than 3 standard errors lower.
@@ -258,15 +268,16 @@ TEST(SensorClipping, SaturationIsWarnedAndThePredictionMarkedApproximate) {
   const SimulationReport r =
       Simulate(options, test::make_test_image(480, 8, 1), *builtin_code("raskar"));
   EXPECT_FALSE(r.prediction.exact);
-  ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_NE(r.warnings[0].find("readouts saturate"), std::string::npos) << r.warnings[0];
-  EXPECT_NE(r.warnings[0].find("approximate"), std::string::npos) << r.warnings[0];
+  const std::vector<std::string> warnings = warnings_but_ssim(r);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("readouts saturate"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("approximate"), std::string::npos) << warnings[0];
   // A full well out of reach clips nothing: exact, no warning.
   options.sensor.full_well_electrons = 1e6;
   const SimulationReport free =
       Simulate(options, test::make_test_image(480, 8, 1), *builtin_code("raskar"));
   EXPECT_TRUE(free.prediction.exact);
-  EXPECT_TRUE(free.warnings.empty());
+  EXPECT_TRUE(warnings_but_ssim(free).empty());
 }
 
 TEST(SensorClipping, SaturationIsWarnedWithoutNoiseToo) {
@@ -276,7 +287,7 @@ TEST(SensorClipping, SaturationIsWarnedWithoutNoiseToo) {
   const SimulationReport r =
       Simulate(options, test::make_test_image(480, 8, 1), *builtin_code("raskar"));
   EXPECT_FALSE(r.prediction.exact);
-  ASSERT_EQ(r.warnings.size(), 1u);
+  ASSERT_EQ(warnings_but_ssim(r).size(), 1u);
   // the expectation is clipped: no observed value above the well's level
   // (150 gray levels a slot, times the 26 open slots, over K(0) = 26)
   for (const double v : r.observed.data) EXPECT_LE(v, 150.0 + 1e-9);
@@ -290,8 +301,9 @@ TEST(SensorClipping, AdcNearZeroIsWarned) {
   Image dark(480, 4, 1, 0.0);
   const SimulationReport r = Simulate(options, dark, *builtin_code("raskar"));
   EXPECT_FALSE(r.prediction.exact);
-  ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_NE(r.warnings[0].find("within 3 standard deviations of 0"), std::string::npos);
+  const std::vector<std::string> warnings = warnings_but_ssim(r);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("within 3 standard deviations of 0"), std::string::npos);
 }
 
 // --- noise none, determinism --------------------------------------------------

@@ -11,8 +11,9 @@ namespace fss {
 
 struct CheckOptions {
   // Quantities to compare; empty: every result quantity EXPECTED has
-  // (rmse_mean, rmse_ci_mean, psnr_mean, predicted_*, snr_level100, status,
-  // invertible; the *_sd, seed and trials columns serve the k-SE rule only).
+  // (rmse_mean, rmse_ci_mean, psnr_mean, ssim_mean, predicted_*, snr_level100,
+  // regularization_applied, prior_level, noise_variance, status, invertible;
+  // the *_sd, seed and trials columns serve the k-SE rule only).
   std::vector<std::string> columns;
   // A value passes when |result - expected| is within ANY of these; each
   // 0 disables its rule (all three 0: exact equality).
@@ -40,7 +41,8 @@ struct CheckReport {
 
 // Compares the rows of EXPECTED (CSV text; columns named as results.csv's,
 // any subset) with RESULTS. Setting columns present in EXPECTED (image, code,
-// mode, velocity, restore_velocity, snr, dt, noise, rmse_margin) select the
+// mode, velocity, restore_velocity, snr, dt, noise, rmse_margin, the sensor's,
+// restoration, regularization, prior) select the
 // result row: numbers compare as numbers, and an image given as a bare file
 // name matches a result image of that file name. `*_name` arguments name the
 // files in messages. Throws a usage fss::Error for malformed CSV, a column

@@ -17,8 +17,10 @@
 
 namespace fss {
 
-// Version of the results schema: the columns below, their order and meaning.
-inline constexpr int kCampaignSchemaVersion = 2;
+// Version of the results schema: the columns below, their order and meaning. Version 3 added
+// the restoration (restoration, regularization, prior, regularization_applied, prior_level,
+// noise_variance) and SSIM (ssim_mean, ssim_sd; ssim in the trial rows).
+inline constexpr int kCampaignSchemaVersion = 3;
 
 enum class ColumnKind { kText, kNumber, kBoolean };
 
@@ -33,8 +35,8 @@ const std::vector<ResultColumn>& campaign_columns();
 int campaign_column_index(std::string_view name);
 
 // The columns of trials.csv and trials.jsonl (a campaign with per_trial): the setting columns of
-// results.csv (image to trials), then trial (0, 1, ...), trial_seed (seed + trial), rmse, rmse_ci
-// and psnr of that trial.
+// results.csv (image to trials), then trial (0, 1, ...), trial_seed (seed + trial), rmse, rmse_ci,
+// psnr and ssim of that trial.
 const std::vector<ResultColumn>& trial_columns();
 
 // One row: campaign_columns().size() cells; numbers in shortest round-trip form ("inf" where a

@@ -12,6 +12,7 @@
 
 #include "fss/core/image.h"
 #include "fss/model/code.h"
+#include "fss/model/restoration.h"
 #include "fss/pipeline/simulate.h"
 
 namespace fss {
@@ -54,6 +55,14 @@ struct CampaignSpec {
   // readout), the other parts are fixed; sensor.read_noise_electrons is not used.
   std::string read_noise = "0";
   SensorModel sensor;
+  // The restorations (docs/method.md §12), an axis of restoration variants, each list's strings
+  // holding one item or several, comma-separated: the methods (empty: the inverse filter only),
+  // Tikhonov's lambdas (value list items or the word "optimal"; empty: optimal) and Wiener's
+  // priors ("power-law", "power-law:GAMMA", "oracle"; empty: power-law:2). A lambda or a prior
+  // without its method in `restorations` is refused.
+  std::vector<std::string> restorations;
+  std::vector<std::string> regularization;
+  std::vector<std::string> priors;
 
   // False, with a message naming the field, its value and the rule, when a field is malformed on
   // its own (values a setting cannot run with, such as snr = 0, are rows with a status instead).
@@ -103,10 +112,16 @@ struct ResolvedCampaign {
   bool per_trial = false;
   ValueList read_noises = {{0.0}, false};  // the read noise axis
   SensorModel sensor;                      // the fixed parts; its read noise unused
+  // The restoration variants, an axis: the inverse filter once, Tikhonov at each lambda, Wiener
+  // with each prior, in the order the methods were given; each variant once.
+  std::vector<RestorationOptions> restorations = {RestorationOptions{}};
 
   // True when the campaign uses a sensor (a read noise other than {0} or a fixed part on): only
   // then do the canonical JSON and the settings' descriptions name the sensor.
   bool has_sensor() const;
+  // True when the restorations are other than the inverse filter alone: only then does the
+  // canonical JSON name them.
+  bool has_restorations() const;
 
   // Canonical JSON of everything above (one line, keys sorted, numbers in shortest round-trip
   // form) and its SHA-256: specifications that run the same settings have the same hash.
@@ -131,16 +146,18 @@ struct Setting {
   long long index = 0;  // position in the product's order
   int image = 0, code = 0, mode = 0, velocity = 0, restore_velocity = 0, snr = 0, dt = 0;
   int read_noise = 0;
+  int restoration = 0;
 };
 
 // The setting at position `index` of the product, in the order images,
-// codes, modes, velocities, restore velocities, snrs, dts, read noises
-// (the last varies fastest).
+// codes, modes, velocities, restore velocities, snrs, dts, read noises,
+// restorations (the last varies fastest).
 Setting setting_at(const ResolvedCampaign& campaign, long long index);
 
 // The setting's canonical description, one line of JSON: the digests of its image and code and
 // its values (with a sensor, its read noise and the fixed sensor parts); not the campaign's
-// trials, noise and margin, so that more trials extend a setting's seeds.
+// trials, noise and margin, so that more trials extend a setting's seeds, nor its restoration,
+// so that the restorations of one observation restore the same noisy images.
 std::string setting_description(const ResolvedCampaign& campaign, const Setting& setting);
 
 // The setting's seed: splitmix64 of the campaign seed plus the first 64 bits of

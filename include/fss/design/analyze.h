@@ -1,5 +1,6 @@
 // Analysing flutter shutter codes without simulating an image: a code's figure of merit, the SNR
-// at level 100 (docs/method.md §6, with a sensor §10), and the bound on it over every code (§11).
+// at level 100 (docs/method.md §6, with a sensor §10), and the bound on it over every code (§11);
+// under the inverse filter (the paper's) or a Wiener or Tikhonov restoration (§12).
 // Conventions: fss/fss.h.
 #pragma once
 
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "fss/model/code.h"
+#include "fss/model/restoration.h"
 #include "fss/model/sensor.h"
 
 namespace fss {
@@ -44,6 +46,43 @@ void check_design_sensor(const SensorModel& sensor);
 // "photon noise only" for a default sensor.
 std::string describe_design_sensor(const SensorModel& sensor);
 
+// Throws a usage fss::Error unless the restoration is valid (RestorationOptions::IsValid) and its
+// prior is not the oracle (code design has no image).
+void check_design_restoration(const RestorationOptions& restoration);
+
+// The criterion of the figure of merit in words: "wiener restoration, power-law prior gamma 2,
+// C 180 (stationary expected error at level 100)", "tikhonov restoration, lambda optimal in
+// [1e-08, 100], its bias measured under the default power-law prior gamma 2, C 180 (...)".
+std::string describe_design_criterion(const RestorationOptions& restoration);
+
+struct RestorationError {
+  double error = 0.0;           // E, gray levels^2
+  double regularization = 0.0;  // Tikhonov: the lambda of E (the optimal one if none is given)
+};
+
+// E, the stationary expected squared error of the restored image of a landscape at level 100
+// (docs/method.md §12), by the midpoint rule with kBandGridPoints nodes on [0, pi] (the
+// integrands are even in xi), V the variance of the level-100 observation
+// (level100_observation_variance, model/sensor.h: photon noise and readouts):
+//   inverse:  E = V M (M = band_mean_inverse_power); infinite for a code that is not
+//             invertible (analyze_kernel);
+//   wiener:   E = (1/2 pi) int_{-pi}^{pi} V S / (|K|^2 S + V) dxi, S(xi) = C |xi|^-gamma, the
+//             power-law prior (C = prior_level, kDefaultPriorLevel when empty);
+//   tikhonov: E = (1/2 pi) int [mu^2 S + |K|^2 V] / (|K|^2 + mu)^2 dxi, mu = lambda kappa^2,
+//             kappa = dt sum |alpha_k|, S the default power-law prior (gamma 2, C
+//             kDefaultPriorLevel), which measures the bias; without a regularization the lambda
+//             in [kMinRegularization, kMaxRegularization] minimising E (a grid of 4 nodes a
+//             decade in log lambda, then a golden-section search).
+// The SNR at level 100 is 100 / sqrt(E). Wiener and Tikhonov give a finite E for a code that is
+// not invertible; numerical codes scaled by s keep their E (V and |K|^2 scale by s^2). No mode
+// check of the gains (analyze_code makes it). Throws a usage fss::Error for a restoration
+// check_design_restoration refuses, a sensor check_design_sensor refuses, no gains, a
+// non-finite velocity, dt <= 0 or snr <= 0.
+RestorationError level100_restoration_error(std::span<const double> gains, double velocity,
+                                            double dt, double snr, ShutterMode mode,
+                                            const RestorationOptions& restoration = {},
+                                            const SensorModel& sensor = {});
+
 struct CodeAnalysis {
   int length = 0;
   ShutterMode mode = ShutterMode::kNumerical;
@@ -52,6 +91,8 @@ struct CodeAnalysis {
   double snr = 100.0;
   int grid = 0;        // 0: midpoint rule with kBandGridPoints nodes; N > 0: the N-point DFT grid
   SensorModel sensor;  // default: photon noise only (the paper)
+  // The criterion of snr_level100 (default: the inverse filter, the paper's).
+  RestorationOptions restoration;
 
   double sum = 0.0;            // sum alpha_k
   double square_sum = 0.0;     // sum alpha_k^2
@@ -70,19 +111,31 @@ struct CodeAnalysis {
   double readout_variance_electrons2 = 0.0;
   double effective_q = 0.0;
   double effective_noise_figure = 0.0;
-  double snr_level100 = 0.0;           // snr / sqrt(Q_eff M); 0 when not invertible
-  double snapshot_snr_level100 = 0.0;  // the snapshot (1, 0, ..., 0) of length L, same setting
+  // E under the restoration (level100_restoration_error), gray levels^2: the inverse filter's
+  // V M, infinite when not invertible.
+  double restoration_error = 0.0;
+  // Tikhonov: the lambda of the code's E and of the snapshot's (each its own optimal lambda when
+  // the restoration gives none); 0 otherwise.
+  double regularization = 0.0;
+  double snapshot_regularization = 0.0;
+  // 100 / sqrt(E): snr / sqrt(Q_eff M) for the inverse filter, 0 when not invertible.
+  double snr_level100 = 0.0;
+  double snapshot_snr_level100 = 0.0;  // the snapshot (1, 0, ..., 0) of length L, same criterion
   double ratio_to_snapshot = 0.0;      // snr_level100 / snapshot_snr_level100
   // Upper bound on snr_level100 over every code (§11), B = noise_figure_lower_bound(v, dt):
-  // snr / sqrt(B (1 + c / dt)) in the numerical mode, snr / sqrt(B) in the analog mode.
+  // snr / sqrt(B (1 + c / dt)) in the numerical mode, snr / sqrt(B) in the analog mode. The
+  // bound is the inverse filter's: infinite (none) under a Wiener or Tikhonov restoration.
   double snr_level100_bound = 0.0;
 };
 
 // Analyses `code` at the given velocity, slot, snr and mode; `grid` as in CodeAnalysis (the
-// simulator's mirror width 2 Wa gives exactly its M). Throws a usage fss::Error naming the code
-// when the mode cannot use it (check_code_for_mode), and for a non-finite velocity, dt <= 0,
-// snr <= 0, grid outside [0, kMaxAnalysisGridPoints] or a sensor check_design_sensor refuses.
+// simulator's mirror width 2 Wa gives exactly its M); the figure of merit under `restoration`.
+// Throws a usage fss::Error naming the code when the mode cannot use it (check_code_for_mode),
+// and for a non-finite velocity, dt <= 0, snr <= 0, grid outside [0, kMaxAnalysisGridPoints], a
+// DFT grid with a restoration other than the inverse filter (their figures use the midpoint
+// rule), a sensor check_design_sensor refuses or a restoration check_design_restoration refuses.
 CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
-                          ShutterMode mode, int grid = 0, const SensorModel& sensor = {});
+                          ShutterMode mode, int grid = 0, const SensorModel& sensor = {},
+                          const RestorationOptions& restoration = {});
 
 }  // namespace fss

@@ -1,5 +1,6 @@
 // Optimizing flutter shutter codes: the code of a given length that maximizes the SNR at level
-// 100 (design/analyze.h) at a velocity, under the constraints of the mode.
+// 100 (design/analyze.h) at a velocity, under the constraints of the mode, for the inverse filter
+// or a Wiener or Tikhonov restoration.
 // Conventions: fss/fss.h.
 #pragma once
 
@@ -59,13 +60,18 @@ struct OptimizeOptions {
   // Read noise, dark current and ADC of the figure of merit (design/analyze.h; default: photon
   // noise only). No full well (check_design_sensor).
   SensorModel sensor;
+  // The criterion (design/analyze.h, level100_restoration_error): the inverse filter's Q_eff M
+  // (the paper's, the default), or E under a Wiener restoration with a power-law prior or a
+  // Tikhonov one (a given lambda, or each code's optimal lambda). No oracle prior
+  // (check_design_restoration).
+  RestorationOptions restoration;
   // Gains in {0, 1} (Agrawal-Raskar's search space); then Q is the same in both modes.
   bool binary = false;
   // Light budget of analog or binary codes: sum alpha_k >= min_light_slots, in slots of full
   // light (the snapshot lets in 1, Agrawal-Raskar's code 26). 0: no constraint; at most length.
   double min_light_slots = 0.0;
-  // Random starting codes, seeded by `seed`, besides the snapshot and (numerical gains) the sinc
-  // code.
+  // Random starting codes, seeded by `seed`, besides the snapshot, (numerical gains) the sinc
+  // code and (Wiener, Tikhonov) the best box code.
   int restarts = 24;
   std::uint64_t seed = 0;
   // Per start: quasi-Newton iterations (continuous gains) or moves (binary).
@@ -92,10 +98,14 @@ struct OptimizationResult {
   std::string FullReport() const;
 };
 
-// Minimizes Q_eff M, i.e. maximizes SNR_100 with the sensor's readouts, under the constraints of
-// the mode: any real gains (numerical), gains in [0, 1] (analog), gains in {0, 1} (binary), and
-// sum alpha >= min_light_slots. Bounded by iterations, not time: the result depends only on the
-// options. Throws a usage fss::Error when the options are not valid.
+// Minimizes Q_eff M (the inverse filter) or E (a Wiener or Tikhonov restoration; for Tikhonov
+// without a lambda, E at each code's optimal lambda, whose gradient is the partial one at that
+// lambda), i.e. maximizes SNR_100 with the sensor's readouts, under the constraints of the mode:
+// any real gains (numerical), gains in [0, 1] (analog), gains in {0, 1} (binary), and sum alpha
+// >= min_light_slots. Under a Wiener or Tikhonov restoration the box code of n ones (n from the
+// light budget to L) with the lowest E is a start too, so the result is never worse than it.
+// Bounded by iterations, not time: the result depends only on the options. Throws a usage
+// fss::Error when the options are not valid.
 OptimizationResult optimize_code(const OptimizeOptions& options);
 
 }  // namespace fss

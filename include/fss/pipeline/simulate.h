@@ -26,6 +26,9 @@ struct Metrics {
   double psnr = 0.0;
   double rmse_ci = 0.0;
   double psnr_ci = 0.0;
+  // SSIM over the RMSE window less 5 rows and columns at each side (docs/method.md §5); empty
+  // when no pixel is left.
+  std::optional<double> ssim;
 };
 
 struct TrialStatistics {
@@ -34,6 +37,21 @@ struct TrialStatistics {
   double rmse_sd = 0.0;  // sample standard deviation, 0 for one trial
   double rmse_ci_mean = 0.0;
   double rmse_ci_sd = 0.0;
+  std::optional<double> ssim_mean;  // empty when Metrics::ssim is
+  std::optional<double> ssim_sd;
+};
+
+// The restoration a run applied (docs/method.md §12).
+struct RestorationSummary {
+  RestorationOptions options;  // as asked
+  // Tikhonov: the lambda applied (the one minimising the exact expected error when asked for
+  // "optimal").
+  std::optional<double> regularization;
+  // Wiener: the prior's level c in gray levels^2 per radian/pixel (power-law: estimated from the
+  // calibration observation) and the per-pixel noise variance the filter assumed (oracle: the
+  // model's exact mean over the observed crop; power-law: estimated).
+  std::optional<double> prior_level;
+  std::optional<double> noise_variance;
 };
 
 struct SimulationReport {
@@ -55,6 +73,7 @@ struct SimulationReport {
   KernelAnalysis kernel;
   double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) vanishes
   int zero_bins = 0;              // deconvolution bins where K vanishes, left at 0
+  RestorationSummary restoration;
 
   Metrics metrics;         // of the first trial
   TrialStatistics trials;  // over all trials

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "fss/model/code.h"
+#include "fss/model/restoration.h"
 #include "fss/model/sensor.h"
 
 namespace fss {
@@ -45,6 +46,9 @@ struct SimulationOptions {
   // Read noise, dark current, full well and ADC (docs/method.md §10); all off by default (the
   // paper's photon noise).
   SensorModel sensor;
+  // The restoration (docs/method.md §12); the default is the paper's inverse filter. A
+  // simulation estimates a power-law prior's level itself: prior_level stays empty.
+  RestorationOptions restoration;
   // Columns left out at each side of the output for the RMSE; -1 means 3 B.
   int rmse_margin_columns = -1;
   // Independent noise realizations, seeds seed, seed + 1, ...; the images and headline metrics

@@ -2,8 +2,10 @@
 # The paper's six codes on camera.png under each restoration (docs/restoration-study.md):
 # a campaign of 6 codes x 4 restorations (inverse; Tikhonov at its optimal lambda; Wiener with
 # the power-law prior and with the oracle prior) x snr 10 and 100, numerical mode, v = 1,
-# 10 trials each, then one Markdown table a snr: the mean RMSE over the trials and, in
-# brackets, the exact predicted RMSE. About a minute and a half on two cores.
+# 10 trials each, then one Markdown table a snr: the mean RMSE over the trials with its
+# standard error and, in brackets, the exact prediction sqrt(E[MSE]). Ten trials show the
+# sizes, not a test of the prediction (tests/pipeline/restoration_prediction_test.cpp is one).
+# About a minute and a half on two cores.
 #
 #   scripts/restoration_comparison.sh [OUTDIR]    (default out/restoration_comparison)
 #
@@ -30,7 +32,7 @@ codes = ["snapshot", "accumulation", "raskar", "random", "mip", "sinc"]
 variants = [("inverse", ""), ("tikhonov", ""), ("wiener", "power-law:2"), ("wiener", "oracle")]
 titles = ["inverse", "Tikhonov, optimal λ", "Wiener, power-law prior", "Wiener, oracle prior"]
 for snr in ["10", "100"]:
-    print(f"\nsnr {snr}: mean RMSE of 10 trials (exact prediction)\n")
+    print(f"\nsnr {snr}: mean RMSE of 10 trials ± its standard error (exact prediction)\n")
     print("| code | " + " | ".join(titles) + " |")
     print("|---|" + "---:|" * len(titles))
     for code in codes:
@@ -41,6 +43,7 @@ for snr in ["10", "100"]:
             predicted = row["predicted_rmse"]
             finite = predicted and math.isfinite(float(predicted))
             predicted = f"{float(predicted):.3f}" if finite else "none"
-            cells.append(f"{float(row['rmse_mean']):.3f} ({predicted})")
+            se = float(row["rmse_sd"]) / math.sqrt(float(row["trials"]))
+            cells.append(f"{float(row['rmse_mean']):.3f} ± {se:.3f} ({predicted})")
         print(f"| {code} | " + " | ".join(cells) + " |")
 PYTHON

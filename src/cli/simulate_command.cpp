@@ -70,7 +70,7 @@ void print_results(const fss::SimulationReport& report, const fss::SimulationOpt
   if (report.metrics.ssim) {
     print_metric("SSIM", *report.metrics.ssim);
   } else {
-    std::printf("SSIM: none (no pixel of the RMSE window has its 11x11 window in the output)\n");
+    std::printf("SSIM: none (it needs an RMSE margin of at least 5 and at least 11 rows)\n");
   }
   print_restoration(report.restoration);
   const fss::Prediction& p = report.prediction;

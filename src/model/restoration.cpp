@@ -104,7 +104,8 @@ bool parse_prior(std::string_view text, RestorationOptions* options, std::string
   const auto fail = [&](const std::string& why) {
     if (error) {
       *error = "prior '" + shorten_for_message(text) + "': " + why +
-               " (expected oracle, power-law, power-law:GAMMA or power-law:GAMMA:C)";
+               " (expected oracle, power-law or power-law:GAMMA; code design also takes "
+               "power-law:GAMMA:C)";
     }
     return false;
   };

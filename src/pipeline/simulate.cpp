@@ -306,8 +306,9 @@ SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& opti
   check_finite(report, code, observed_finite);
   if (!report.metrics.ssim) {
     report.warnings.push_back(
-        "SSIM is null: no pixel of the RMSE window has its 11 x 11 window inside the output (it "
-        "needs a margin of at least 5 columns and at least 11 rows, docs/method.md §5)");
+        "SSIM is null: it is taken over the RMSE window, which must start at least 5 columns "
+        "inside the output (a margin of 5 or more) on an image of at least 11 rows, so that each "
+        "pixel's 11 x 11 window lies inside it (docs/method.md §5)");
   }
 
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,

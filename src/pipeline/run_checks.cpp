@@ -5,6 +5,7 @@
 
 #include "core/number_text.h"
 #include "fss/core/error.h"
+#include "fss/model/code.h"
 #include "fss/model/kernel.h"
 #include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
@@ -37,10 +38,8 @@ void check_dark_charge(const SimulationOptions& options, const ShutterCode& code
 void check_power_law_level(const SimulationOptions& options, const ShutterCode& code) {
   const RestorationOptions& r = options.restoration;
   if (r.method != RestorationMethod::kWiener || r.prior != PriorKind::kPowerLaw) return;
-  double sum = 0.0;
-  for (const double alpha : code.gains) sum += alpha;
-  if (!transfer_vanishes(std::abs(options.dt * sum), transfer_scale(code.gains, options.dt)))
-    return;
+  const double k0 = options.dt * gain_sum(code.gains);
+  if (!transfer_vanishes(std::abs(k0), transfer_scale(code.gains, options.dt))) return;
   throw_usage_error("code '" + escape_control_characters(code.name) +
                     "' has gains of zero sum, so K(0) = 0 and its observation has no mean level, "
                     "from which the power-law prior estimates the noise: use the oracle prior or "

@@ -81,9 +81,9 @@ bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& option
   const bool observed_finite =
       pipeline.restore_all(std::nullopt, report.restored, observed, &clipping);
   report.metrics = measure(report, input, report.restored);
-  report.trials = {options.trials, report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0};
-  if (report.metrics.ssim)
-    report.trials.ssim_mean = report.metrics.ssim, report.trials.ssim_sd = 0.0;
+  report.trials = {options.trials,      report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0,
+                   report.metrics.ssim, std::nullopt};
+  if (report.metrics.ssim) report.trials.ssim_sd = 0.0;
   report.trial_metrics.assign(static_cast<std::size_t>(options.trials), report.metrics);
   if (options.trial_callback) options.trial_callback(options.trials, options.trials);
   return observed_finite;

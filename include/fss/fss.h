@@ -40,6 +40,7 @@
 #include "fss/model/restoration.h"
 #include "fss/model/sensor.h"
 #include "fss/model/transfer.h"
+#include "fss/model/velocity_distribution.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/memory_estimate.h"
 #include "fss/pipeline/metrics.h"

@@ -2,6 +2,7 @@
 // formulas, with its figure of merit (the SNR at level 100), and the Prediction a run reports.
 #pragma once
 
+#include <optional>
 #include <span>
 
 #include "fss/model/code.h"
@@ -46,6 +47,16 @@ struct Prediction {
   // False when a sensor's full well or ADC clips some readout of the observed crop
   // (docs/method.md §10): rmse and rmse_stationary are then approximations.
   bool exact = true;
+  // Under a velocity distribution (docs/method.md §13): E[MSE] averaged over the distribution
+  // (infinite when the code is not invertible over a part of the support of positive
+  // probability), rmse = sqrt(mse), and the adaptive quadrature's error estimate and
+  // evaluations (expected_over_velocity, model/velocity_distribution.h). The other fields are
+  // then averaged alike: m_amplification = E[M], rmse_noise_free = sqrt(E[RMSE_0^2]), noise =
+  // sqrt(E[noise^2]), sigma and rmse_stationary from E[M], snr_level100 = snr / sqrt(Q E[M]).
+  // Empty without a distribution.
+  std::optional<double> mse;
+  double mse_error_estimate = 0.0;
+  int mse_evaluations = 0;
 };
 
 }  // namespace fss

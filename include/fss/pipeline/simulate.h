@@ -39,6 +39,10 @@ struct TrialStatistics {
   double rmse_ci_sd = 0.0;
   std::optional<double> ssim_mean;  // empty when Metrics::ssim is
   std::optional<double> ssim_sd;
+  // Under a velocity distribution: the mean and sample deviation of the trials' MSE (RMSE^2), to
+  // compare with Prediction::mse; empty otherwise.
+  std::optional<double> mse_mean;
+  std::optional<double> mse_sd;
 };
 
 // The restoration a run applied (docs/method.md §12).
@@ -80,6 +84,8 @@ struct SimulationReport {
   // Each trial's metrics, trial t (seed + t) at index t; without noise every
   // trial is the one noise-free run.
   std::vector<Metrics> trial_metrics;
+  // Under a velocity distribution: each trial's velocity, trial t at index t; empty otherwise.
+  std::vector<double> trial_velocities;
   Prediction prediction;
   std::vector<std::string> warnings;
 

@@ -13,6 +13,7 @@
 #include "fss/model/code.h"
 #include "fss/model/restoration.h"
 #include "fss/model/sensor.h"
+#include "fss/model/velocity_distribution.h"
 
 namespace fss {
 
@@ -36,6 +37,10 @@ class ObservedRowSink {
 struct SimulationOptions {
   ShutterMode mode = ShutterMode::kNumerical;
   double velocity_px_per_slot = 1.0;  // any real; the sign is the direction along rows
+  // A distribution of velocities (docs/method.md §13): trial t observes at trial_velocity(
+  // distribution, seed, t) instead of velocity_px_per_slot, which must then stay at its default 1
+  // (IsValid); the geometry is that of the support's largest |v|, the same for every trial.
+  std::optional<VelocityDistribution> velocity_distribution;
   // Velocity assumed by the restoration (to measure the cost of a wrong estimate); empty means
   // the true velocity. B covers both, so the true velocity given here is exactly a normal run.
   std::optional<double> restore_velocity_px_per_slot;

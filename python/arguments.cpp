@@ -11,6 +11,7 @@
 #include "fss/design/analyze.h"
 #include "fss/io/png_io.h"
 #include "fss/model/transfer.h"
+#include "fss/model/velocity_distribution.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/memory_estimate.h"
 #include "fss/pipeline/option_rules.h"
@@ -36,6 +37,12 @@ std::string quote_text(std::string_view text) {
 }
 
 }  // namespace
+
+void refuse_velocity_with_distribution(bool velocity_given, double velocity) {
+  if (!velocity_given) return;
+  throw_usage_error("velocity_distribution: refused with velocity = " + format_exact(velocity) +
+                    " (a velocity or a distribution of velocities, not both; give one)");
+}
 
 std::string rename_field(const std::string& message, FieldNames names) {
   const std::string_view text(message);
@@ -144,6 +151,11 @@ SimulationOptions simulation_options(const SimulateArguments& a) {
   options.mode = mode_argument(a.mode);
   options.noise = noise_argument(a.noise);
   options.velocity_px_per_slot = a.velocity;
+  if (a.velocity_distribution) {
+    refuse_velocity_with_distribution(a.velocity_given, a.velocity);
+    options.velocity_distribution =
+        load_velocity_distribution(*a.velocity_distribution, "velocity_distribution");
+  }
   options.restore_velocity_px_per_slot = a.restore_velocity;
   options.snr = a.snr;
   options.dt = a.dt;
@@ -413,6 +425,12 @@ void check_analysis_arguments(double velocity, double dt, double snr) {
   check_scale("snr", snr);
 }
 
+VelocityDistribution design_distribution(const std::string& spec, bool velocity_given,
+                                         double velocity) {
+  refuse_velocity_with_distribution(velocity_given, velocity);
+  return load_velocity_distribution(spec, "velocity_distribution");
+}
+
 GenerateOptions generate_options(std::string_view family, long long length, double velocity,
                                  double dt, std::uint64_t seed, bool analog) {
   GenerateOptions options;
@@ -438,10 +456,17 @@ GenerateOptions generate_options(std::string_view family, long long length, doub
 OptimizeOptions optimize_options(const OptimizeArguments& a) {
   OptimizeOptions options;
   options.length = int_argument("length", a.length, 1, kMaxOptimizedCodeLength);
-  check_velocity("velocity", a.velocity);
+  if (a.velocity_distribution) {
+    options.velocity_distribution =
+        design_distribution(*a.velocity_distribution, a.velocity_given, a.velocity);
+  } else if (!a.velocity_given) {
+    throw_usage_error("velocity: give a velocity or a velocity_distribution");
+  } else {
+    check_velocity("velocity", a.velocity);
+    options.velocity_px_per_slot = a.velocity;
+  }
   check_scale("dt", a.dt);
   check_scale("snr", a.snr);
-  options.velocity_px_per_slot = a.velocity;
   options.dt = a.dt;
   options.snr = a.snr;
   options.mode = mode_argument(a.mode);

@@ -38,6 +38,10 @@ using FieldNames = std::span<const std::pair<std::string_view, std::string_view>
 // message that begins with no field of `names` is returned as it is.
 std::string rename_field(const std::string& message, FieldNames names);
 
+// The refusal of a velocity distribution given with a velocity ("velocity_distribution: refused
+// with velocity = 1 (...)"); nothing when the velocity was not given.
+void refuse_velocity_with_distribution(bool velocity_given, double velocity);
+
 // A path or a code name: a usage error "<argument>: '<text>' contains a NUL
 // byte (...)" when it holds one (the operating system would read the text
 // before it as the whole name).
@@ -63,6 +67,11 @@ fss::ShutterMode mode_argument(std::string_view text);  // "numerical" or "analo
 struct SimulateArguments {
   std::string mode = "numerical";
   double velocity = 1.0;
+  bool velocity_given = true;  // false: velocity=None, the default 1
+  // A distribution of velocities (docs/method.md §13): "uniform:LO:HI", "normal:MEAN:SD",
+  // "normal:MEAN:SD:LO:HI" or the path of a file of "velocity weight" lines
+  // (load_velocity_distribution); refused with a velocity given.
+  std::optional<std::string> velocity_distribution;
   double snr = 100.0;
   double dt = 1.0;
   std::uint64_t seed = 0;
@@ -89,7 +98,10 @@ struct SimulateArguments {
 // (SimulationOptions::IsValid), named as the keywords; adc_gain without
 // adc_bits is refused as fssim refuses --adc-gain without --adc-bits, and a
 // regularization or a prior for a restoration that does not take it as fssim
-// refuses them.
+// refuses them. A velocity distribution is read (a usage error naming "velocity_distribution"
+// for a spec that does not parse or a file that does not exist, a runtime one for a file that
+// cannot be read or parsed) and refused with a velocity given, as fssim refuses
+// --velocity-distribution with --velocity.
 fss::SimulationOptions simulation_options(const SimulateArguments& arguments);
 
 // ---------------------------------------------------------------------------
@@ -175,6 +187,14 @@ void transfer_values(const fss::ShutterCode& code, std::span<const double> xi, d
 // fss.analyze_code's setting, checked as `fssim code analyze` checks it.
 void check_analysis_arguments(double velocity, double dt, double snr);
 
+// A velocity distribution of the design functions (docs/method.md §13): read
+// (load_velocity_distribution, named "velocity_distribution") and refused with a velocity given
+// (`velocity_given`), as `fssim code analyze | optimize` refuses --velocity-distribution with
+// --velocity; the design's rule on its support is the library's (analyze_code,
+// OptimizeOptions::IsValid).
+fss::VelocityDistribution design_distribution(const std::string& spec, bool velocity_given,
+                                              double velocity);
+
 // fss.generate_code's options, checked (GenerateOptions::IsValid) and named
 // as its keywords.
 fss::GenerateOptions generate_options(std::string_view family, long long length, double velocity,
@@ -183,6 +203,8 @@ fss::GenerateOptions generate_options(std::string_view family, long long length,
 struct OptimizeArguments {
   long long length = 0;
   double velocity = 1.0;
+  bool velocity_given = true;  // false: velocity=None (a distribution gives the velocities)
+  std::optional<std::string> velocity_distribution;  // as SimulateArguments's
   double dt = 1.0;
   double snr = 100.0;
   std::string mode = "numerical";
@@ -195,7 +217,7 @@ struct OptimizeArguments {
 };
 
 // fss.optimize_code's options, checked (OptimizeOptions::IsValid) and named
-// as its keywords.
+// as its keywords; a velocity or a velocity distribution, never both, nor neither.
 fss::OptimizeOptions optimize_options(const OptimizeArguments& arguments);
 
 }  // namespace fss::python

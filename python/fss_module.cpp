@@ -254,6 +254,7 @@ struct SimulationResult {
   py::object observed, restored, groundtruth;
   py::dict report;  // report.json as a dict
   py::object metrics, prediction, geometry, trials, parameters, code, kernel, warnings;
+  py::object trial_velocities;  // float64 array, empty without a velocity distribution
 };
 
 SimulationResult make_result(const fss::SimulationReport& report, const fss::Image& input) {
@@ -277,6 +278,7 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
   result.code = result.report["code"];
   result.kernel = result.report["kernel"];
   result.warnings = result.report["warnings"];
+  result.trial_velocities = array_from_vector(report.trial_velocities);
   return result;
 }
 
@@ -284,13 +286,18 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
 struct SimulateCall {
   py::object image, code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
       rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain, restoration,
-      regularization, prior;
+      regularization, prior, velocity_distribution;
 };
 
 args::SimulateArguments simulate_arguments(const SimulateCall& c) {
   args::SimulateArguments a;
   a.mode = string_argument(c.mode, "mode");
-  a.velocity = float_argument(c.velocity, "velocity");
+  a.velocity_given = !c.velocity.is_none();
+  if (a.velocity_given) a.velocity = float_argument(c.velocity, "velocity");
+  // A spec or a path (str, bytes or os.PathLike): load_velocity_distribution tells them apart.
+  if (!c.velocity_distribution.is_none()) {
+    a.velocity_distribution = path_argument(c.velocity_distribution, "velocity_distribution");
+  }
   a.snr = float_argument(c.snr, "snr");
   a.dt = float_argument(c.dt, "dt");
   a.seed = uint64_argument(c.seed, "seed");
@@ -408,6 +415,50 @@ py::object simulate_to_folder(const SimulateCall& call, const FolderCall& folder
 // ---------------------------------------------------------------------------
 // Codes
 
+// Under a velocity distribution (docs/method.md §13), the names `fssim code analyze --json` gives
+// them: the distribution (its parameters.velocity_distribution) in place of the velocity (None),
+// and the analysis's kernel_velocity, restoration_error, worst velocity and quadrature.
+void add_distribution(const fss::CodeAnalysis& a, py::dict& d) {
+  if (!a.velocity_distribution) return;
+  const fss::VelocityDistribution& v = *a.velocity_distribution;
+  py::dict distribution;
+  distribution["spec"] = v.text();
+  distribution["description"] = v.describe();
+  distribution["low"] = v.low;
+  distribution["high"] = v.high;
+  if (v.kind == fss::VelocityDistributionKind::kNormal) {
+    distribution["mean"] = v.mean;
+    distribution["sd"] = v.sd;
+  }
+  const bool exact = v.kind == fss::VelocityDistributionKind::kDiscrete || v.is_point();
+  if (v.kind == fss::VelocityDistributionKind::kDiscrete) {
+    py::list points;
+    for (const fss::VelocityPoint& p : v.points) {
+      py::list point;  // [velocity, weight], as in the JSON
+      point.append(p.velocity);
+      point.append(p.weight);
+      points.append(point);
+    }
+    distribution["points"] = points;
+  }
+  py::dict quadrature;
+  quadrature["rule"] = exact ? "exact sum" : "adaptive gauss-kronrod 7/15";
+  quadrature["relative_tolerance"] = fss::kVelocityQuadratureTolerance;
+  quadrature["evaluations"] = a.quadrature_evaluations;
+  quadrature["intervals"] = a.quadrature_intervals;
+  quadrature["error_estimate"] = a.quadrature_error_estimate;
+  quadrature["converged"] = a.quadrature_converged;
+  d["velocity"] = py::none();
+  d["velocity_distribution"] = distribution;
+  d["kernel_velocity"] = a.velocity;
+  d["restoration_error"] = std::isfinite(a.restoration_error)
+                               ? py::object(py::float_(a.restoration_error))
+                               : py::object(py::none());
+  d["worst_velocity"] = a.worst_velocity;
+  d["worst_snr_level100"] = a.worst_snr_level100;
+  d["quadrature"] = quadrature;
+}
+
 // A CodeAnalysis as a dict: the names of `fssim code analyze --json`'s
 // "analysis" section, and the setting it was made for.
 py::dict analysis_dict(const fss::CodeAnalysis& a) {
@@ -435,24 +486,33 @@ py::dict analysis_dict(const fss::CodeAnalysis& a) {
   d["snapshot_snr_level100"] = a.snapshot_snr_level100;
   d["ratio_to_snapshot"] = a.ratio_to_snapshot;
   d["snr_level100_bound"] = finite_or_none(a.snr_level100_bound);
+  add_distribution(a, d);
   return d;
 }
 
 py::dict analyze(const py::object& code_object, const py::object& velocity_object,
                  const py::object& dt_object, const py::object& snr_object,
-                 const py::object& mode_object, const py::object& grid_object) {
-  const double velocity = float_argument(velocity_object, "velocity");
+                 const py::object& mode_object, const py::object& grid_object,
+                 const py::object& distribution_object) {
+  const bool velocity_given = !velocity_object.is_none();
+  const double velocity = velocity_given ? float_argument(velocity_object, "velocity") : 1.0;
   const double dt = float_argument(dt_object, "dt");
   const double snr = float_argument(snr_object, "snr");
   const fss::ShutterMode mode = args::mode_argument(string_argument(mode_object, "mode"));
   const int grid =
       args::int_argument("grid", int_argument(grid_object, "grid"), 0, fss::kMaxAnalysisGridPoints);
   args::check_analysis_arguments(velocity, dt, snr);
+  std::optional<fss::VelocityDistribution> distribution;
+  if (!distribution_object.is_none()) {
+    distribution = args::design_distribution(
+        path_argument(distribution_object, "velocity_distribution"), velocity_given, velocity);
+  }
   const fss::ShutterCode code = code_from_object(code_object);
   fss::CodeAnalysis analysis;
   {
     py::gil_scoped_release release;
-    analysis = fss::analyze_code(code, velocity, dt, snr, mode, grid);
+    analysis = distribution ? fss::analyze_code(code, *distribution, dt, snr, mode, grid)
+                            : fss::analyze_code(code, velocity, dt, snr, mode, grid);
   }
   return analysis_dict(analysis);
 }
@@ -475,13 +535,17 @@ py::array_t<double> generate(const py::object& family, const py::object& length,
 // The keywords of fss.optimize_code, as Python objects.
 struct OptimizeCall {
   py::object length, velocity, dt, snr, mode, binary, min_light, restarts, iterations, seed,
-      grid_points;
+      grid_points, velocity_distribution;
 };
 
 py::dict optimize(const OptimizeCall& c) {
   args::OptimizeArguments a;
   a.length = int_argument(c.length, "length");
-  a.velocity = float_argument(c.velocity, "velocity");
+  a.velocity_given = !c.velocity.is_none();
+  if (a.velocity_given) a.velocity = float_argument(c.velocity, "velocity");
+  if (!c.velocity_distribution.is_none()) {
+    a.velocity_distribution = path_argument(c.velocity_distribution, "velocity_distribution");
+  }
   a.dt = float_argument(c.dt, "dt");
   a.snr = float_argument(c.snr, "snr");
   a.mode = string_argument(c.mode, "mode");
@@ -594,10 +658,129 @@ void define_result(py::module_& m) {
       .def_readonly("code", &SimulationResult::code, "report.json's code")
       .def_readonly("kernel", &SimulationResult::kernel, "report.json's kernel")
       .def_readonly("warnings", &SimulationResult::warnings, "report.json's warnings")
+      .def_readonly("trial_velocities", &SimulationResult::trial_velocities,
+                    "each trial's velocity under a velocity distribution (float64 array; empty "
+                    "without one)")
       .def("__repr__", [](const SimulationResult& r) {
         return "<fss.SimulationResult rmse=" + py::repr(r.metrics["rmse"]).cast<std::string>() +
                " restored shape " + py::repr(r.restored.attr("shape")).cast<std::string>() + ">";
       });
+}
+
+// The numpydoc Parameters entries the simulations share (fss.simulate, fss.simulate_to_folder).
+constexpr const char* kSimulationParameters =
+    R"(code : str, path or sequence of float, default "raskar"
+    A built-in code name, a code file, or the gains.
+mode : {"numerical", "analog"}, default "numerical"
+velocity : float, optional
+    The velocity in pixels per time slot (any sign); None is 1. Refused together with
+    `velocity_distribution`.
+snr : float, default 100
+dt : float, default 1
+    The time slot length.
+seed : int, default 0
+    Trial t draws its noise (and, under a distribution, its velocity) from seed + t.
+trials : int, default 1
+noise : {"poisson", "aggregated", "none"}, default "poisson"
+restore_velocity : float, optional
+    The velocity the restoration assumes; None: the true one (each trial's under a
+    distribution).
+threads : int, default 0
+    0: all hardware threads; never changes a result.
+rmse_margin : int, optional
+    Columns left out at each side for the RMSE; None: 3 B.
+max_memory : int, default 0
+    Bytes; refuses, before allocating, a run estimated to need more (0: no limit).
+read_noise, dark_current : float, default 0
+    The sensor (docs/method.md §10): electrons RMS per readout, electrons per slot.
+full_well : float, optional
+    Electrons; None: none.
+adc_bits : int, default 0
+    0: no ADC.
+adc_gain : float, optional
+    Electrons per count (default 1); only with `adc_bits`.
+restoration : {"inverse", "tikhonov", "wiener"}, default "inverse"
+    docs/method.md §12; ``report["restoration"]`` says what was applied.
+regularization : float or "optimal", optional
+    Tikhonov's lambda in [1e-8, 1e2]; None or "optimal": the lambda minimising the run's exact
+    expected error. `restoration` "tikhonov" only.
+prior : str, optional
+    Wiener's prior: "power-law", "power-law:GAMMA" or "oracle" (None: "power-law:2").
+    `restoration` "wiener" only.
+velocity_distribution : str or path, optional
+    A distribution of velocities (docs/method.md §13), as ``fssim --velocity-distribution``:
+    "uniform:LO:HI", "normal:MEAN:SD" (truncated at MEAN +/- 4 SD and renormalised),
+    "normal:MEAN:SD:LO:HI" (truncated), or the path of a file of "velocity weight" lines (a
+    discrete distribution, weights normalised). Each trial draws its velocity from it, from
+    `seed` and its index only (never from `threads`); the restoration uses the drawn velocity
+    unless `restore_velocity` is given; the geometry is that of the support's largest
+    |velocity|, the same for every trial. The restorations a distribution allows are the
+    library's (SimulationOptions::IsValid): a refused one is a ValueError. Refused with
+    `velocity`.
+)";
+
+constexpr const char* kSimulationRaises = R"(
+Raises
+------
+ValueError
+    A usage error of the library (an option out of range, a code the mode cannot use, an
+    image too narrow, a velocity distribution that does not parse or is given with
+    `velocity`), one line naming the keyword.
+TypeError
+    An argument of the wrong type.
+RuntimeError
+    A file that cannot be read (a velocity file that does not parse included), the memory
+    limit.
+MemoryError
+    A failed allocation.
+)";
+
+std::string simulate_doc() {
+  return std::string(R"(Simulate a flutter shutter run on `image`, as ``fssim --input`` does.
+
+Every number is checked as fssim checks its option (a ValueError naming the keyword).
+
+Parameters
+----------
+image : array_like
+    H x W (gray) or H x W x 3 (RGB), any real dtype; every value is a gray level on the
+    0..255 scale, as it is.
+)") + kSimulationParameters +
+         R"(
+Returns
+-------
+SimulationResult
+    The observed, restored and ground truth crops (float64) and the sections of report.json
+    as dicts. Under a velocity distribution, ``trial_velocities`` holds each trial's velocity,
+    ``trials["mse_mean"]`` and ``trials["mse_sd"]`` the trials' mean and sample sd of MSE,
+    and ``prediction["mse"]`` the exact E[MSE] over the distribution, which ``mse_mean``
+    estimates (``prediction["rmse"]`` is its square root, above the mean RMSE).
+)" + kSimulationRaises;
+}
+
+std::string simulate_to_folder_doc() {
+  return std::string(R"(Run ``fssim --input INPUT --outdir OUTDIR`` from Python.
+
+Reads the image file, simulates and writes the same files, byte for byte, all of them or
+none. `max_memory` refuses a run from the PNG header, before decoding.
+
+Parameters
+----------
+input : str or path
+    A PNG or TIFF file.
+outdir : str or path
+    The output folder.
+)") + kSimulationParameters +
+         R"(plots, sheet, report, save_float : bool
+    As --no-plots (negated), --sheet, --report and --save-float.
+png_depth : {"8", "16", "auto"}, default "8"
+
+Returns
+-------
+dict
+    report.json (under a velocity distribution with the distribution, each trial's velocity,
+    ``trials["mse_mean"]``, ``trials["mse_sd"]`` and ``prediction["mse"]``).
+)" + kSimulationRaises;
 }
 
 void define_simulate(py::module_& m) {
@@ -610,33 +793,29 @@ void define_simulate(py::module_& m) {
          const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
          const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
          const py::object& adc_gain, const py::object& restoration,
-         const py::object& regularization, const py::object& prior) {
-        return simulate({image,     code,        mode,       velocity,    snr,
-                         dt,        seed,        trials,     noise,       restore_velocity,
-                         threads,   rmse_margin, max_memory, read_noise,  dark_current,
-                         full_well, adc_bits,    adc_gain,   restoration, regularization,
-                         prior});
+         const py::object& regularization, const py::object& prior,
+         const py::object& velocity_distribution) {
+        return simulate({image,        code,
+                         mode,         velocity,
+                         snr,          dt,
+                         seed,         trials,
+                         noise,        restore_velocity,
+                         threads,      rmse_margin,
+                         max_memory,   read_noise,
+                         dark_current, full_well,
+                         adc_bits,     adc_gain,
+                         restoration,  regularization,
+                         prior,        velocity_distribution});
       },
       py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
-      py::arg("velocity") = 1.0, py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
-      py::arg("trials") = 1, py::arg("noise") = "poisson", py::arg("restore_velocity") = py::none(),
-      py::arg("threads") = 0, py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
-      py::arg("read_noise") = 0.0, py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(),
-      py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
+      py::arg("velocity") = py::none(), py::arg("snr") = 100.0, py::arg("dt") = 1.0,
+      py::arg("seed") = 0, py::arg("trials") = 1, py::arg("noise") = "poisson",
+      py::arg("restore_velocity") = py::none(), py::arg("threads") = 0,
+      py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0, py::arg("read_noise") = 0.0,
+      py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(), py::arg("adc_bits") = 0,
+      py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
       py::arg("regularization") = py::none(), py::arg("prior") = py::none(),
-      "Simulates a flutter shutter run on `image` (H x W or H x W x 3, gray levels on the "
-      "0..255 scale) as `fssim --input` does; returns a SimulationResult. Every number is "
-      "checked as fssim checks its option (a ValueError naming the keyword). max_memory "
-      "(bytes, 0: no limit) refuses, from the image's shape alone, a run estimated to need "
-      "more. The sensor (docs/method.md §10): read_noise (electrons RMS per readout), "
-      "dark_current (electrons per slot), full_well (electrons, None: none), adc_bits (0: no "
-      "ADC) and adc_gain (electrons per count, default 1; only with adc_bits); all off by "
-      "default. With a sensor, result.report['sensor'] holds them and "
-      "result.prediction['exact'] says whether the prediction is exact. The restoration "
-      "(docs/method.md §12): restoration 'inverse' (the paper's), 'tikhonov' (regularization: "
-      "lambda in [1e-8, 1e2], or None / 'optimal' for the lambda minimising the run's exact "
-      "expected error) or 'wiener' (prior: 'power-law', 'power-law:GAMMA' or 'oracle'); "
-      "result.report['restoration'] says what was applied.");
+      py::arg("velocity_distribution") = py::none(), simulate_doc().c_str());
 }
 
 void define_simulate_to_folder(py::module_& m) {
@@ -649,38 +828,122 @@ void define_simulate_to_folder(py::module_& m) {
          const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
          const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
          const py::object& adc_gain, const py::object& restoration,
-         const py::object& regularization, const py::object& prior, const py::object& plots,
-         const py::object& sheet, const py::object& report, const py::object& save_float,
-         const py::object& png_depth) {
-        return simulate_to_folder(
-            {input,       code,           mode,         velocity,         snr,      dt,
-             seed,        trials,         noise,        restore_velocity, threads,  rmse_margin,
-             max_memory,  read_noise,     dark_current, full_well,        adc_bits, adc_gain,
-             restoration, regularization, prior},
-            {outdir, plots, sheet, report, save_float, png_depth});
+         const py::object& regularization, const py::object& prior,
+         const py::object& velocity_distribution, const py::object& plots, const py::object& sheet,
+         const py::object& report, const py::object& save_float, const py::object& png_depth) {
+        return simulate_to_folder({input,        code,
+                                   mode,         velocity,
+                                   snr,          dt,
+                                   seed,         trials,
+                                   noise,        restore_velocity,
+                                   threads,      rmse_margin,
+                                   max_memory,   read_noise,
+                                   dark_current, full_well,
+                                   adc_bits,     adc_gain,
+                                   restoration,  regularization,
+                                   prior,        velocity_distribution},
+                                  {outdir, plots, sheet, report, save_float, png_depth});
       },
       py::arg("input"), py::arg("outdir"), py::kw_only(), py::arg("code") = "raskar",
-      py::arg("mode") = "numerical", py::arg("velocity") = 1.0, py::arg("snr") = 100.0,
+      py::arg("mode") = "numerical", py::arg("velocity") = py::none(), py::arg("snr") = 100.0,
       py::arg("dt") = 1.0, py::arg("seed") = 0, py::arg("trials") = 1, py::arg("noise") = "poisson",
       py::arg("restore_velocity") = py::none(), py::arg("threads") = 0,
       py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0, py::arg("read_noise") = 0.0,
       py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(), py::arg("adc_bits") = 0,
       py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
       py::arg("regularization") = py::none(), py::arg("prior") = py::none(),
-      py::arg("plots") = true, py::arg("sheet") = false, py::arg("report") = false,
-      py::arg("save_float") = false, py::arg("png_depth") = "8",
-      "Runs `fssim --input INPUT --outdir OUTDIR` from Python: reads the image file, simulates "
-      "and writes the same files, byte for byte, all of them or none (the options of "
-      "fss.simulate; plots, sheet, report, save_float and png_depth as --no-plots, --sheet, "
-      "--report, --save-float and --png-depth). max_memory refuses a run from the PNG header, "
-      "before decoding. Returns report.json as a dict.");
+      py::arg("velocity_distribution") = py::none(), py::arg("plots") = true,
+      py::arg("sheet") = false, py::arg("report") = false, py::arg("save_float") = false,
+      py::arg("png_depth") = "8", simulate_to_folder_doc().c_str());
 }
 
+constexpr const char* kAnalyzeDoc =
+    R"(Figures of merit of a code without an image, as ``fssim code analyze``.
+
+Parameters
+----------
+code : str, path or sequence of float
+    A built-in code name, a code file, or the gains.
+velocity : float, optional
+    Pixels per time slot; None is 1. Refused together with `velocity_distribution`.
+dt : float, default 1
+snr : float, default 100
+mode : {"numerical", "analog"}, default "numerical"
+grid : int, default 0
+    Frequencies of M's midpoint rule (0: fssim's default).
+velocity_distribution : str or path, optional
+    A distribution of velocities (docs/method.md §13), as ``fssim code analyze
+    --velocity-distribution``: "uniform:LO:HI", "normal:MEAN:SD" (truncated at MEAN +/- 4 SD
+    and renormalised), "normal:MEAN:SD:LO:HI", or the path of a file of "velocity weight"
+    lines. The figure of merit is then the expected error over it, each velocity restored at
+    itself (adaptive Gauss-Kronrod quadrature to 1e-4 relative; a discrete distribution's exact
+    sum), with the worst velocity of the support. Code design needs |v| dt < 2 over the
+    support (a ValueError otherwise). Refused with `velocity`.
+
+Returns
+-------
+dict
+    The names of ``fssim code analyze --json``'s "analysis" section, plus the setting (length,
+    mode, velocity, dt, snr, grid). Under a distribution, velocity is None and the dict also
+    holds velocity_distribution (spec, description, low, high; mean and sd, or points),
+    kernel_velocity (the support's largest |v|, where min_abs and invertible are measured),
+    restoration_error (the averaged error), worst_velocity, worst_snr_level100 and quadrature.
+
+Raises
+------
+ValueError
+    An argument out of range, a distribution that does not parse or is given with `velocity`,
+    a support beyond |v| dt < 2; one line naming the keyword.
+TypeError
+    An argument of the wrong type.
+RuntimeError
+    A code or velocity file that cannot be read.
+)";
+
+constexpr const char* kOptimizeDoc =
+    R"(The code maximizing the SNR at level 100, as ``fssim code optimize``.
+
+Parameters
+----------
+length : int
+velocity : float, optional
+    Pixels per time slot, 0 < |velocity| dt < 2. Give it or `velocity_distribution`.
+dt : float, default 1
+snr : float, default 100
+mode : {"numerical", "analog"}, default "numerical"
+binary : bool, default False
+min_light : float, default 0
+    The light budget, sum of gains (analog or binary codes).
+restarts, iterations, seed, grid_points : int
+    The search's restarts, iterations per start, seed and frequency grid.
+velocity_distribution : str or path, optional
+    A distribution of velocities (docs/method.md §13), as ``fssim code optimize
+    --velocity-distribution``: the search maximizes the SNR of the expected error over it,
+    averaged with a fixed composite Gauss-Legendre rule (8 panels of 4 nodes over the support;
+    a discrete distribution's own velocities), and the result's analysis is
+    ``analyze_code(gains, velocity_distribution=...)``. Refused with `velocity`.
+
+Returns
+-------
+dict
+    gains (float64 array), analysis (as analyze_code), starts, best_start, iterations,
+    evaluations.
+
+Raises
+------
+ValueError
+    An argument out of range, neither or both of `velocity` and `velocity_distribution`, a
+    distribution that does not parse; one line naming the keyword.
+TypeError
+    An argument of the wrong type.
+RuntimeError
+    A velocity file that cannot be read.
+)";
+
 void define_codes(py::module_& m) {
-  m.def("analyze_code", &analyze, py::arg("code"), py::kw_only(), py::arg("velocity") = 1.0,
+  m.def("analyze_code", &analyze, py::arg("code"), py::kw_only(), py::arg("velocity") = py::none(),
         py::arg("dt") = 1.0, py::arg("snr") = 100.0, py::arg("mode") = "numerical",
-        py::arg("grid") = 0,
-        "Figures of merit of a code without an image, as `fssim code analyze` (dict).");
+        py::arg("grid") = 0, py::arg("velocity_distribution") = py::none(), kAnalyzeDoc);
   m.def("generate_code", &generate, py::arg("family"), py::kw_only(), py::arg("length"),
         py::arg("velocity") = 1.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
         py::arg("analog") = false,
@@ -690,15 +953,16 @@ void define_codes(py::module_& m) {
       [](const py::object& length, const py::object& velocity, const py::object& dt,
          const py::object& snr, const py::object& mode, const py::object& binary,
          const py::object& min_light, const py::object& restarts, const py::object& iterations,
-         const py::object& seed, const py::object& grid_points) {
+         const py::object& seed, const py::object& grid_points,
+         const py::object& velocity_distribution) {
         return optimize({length, velocity, dt, snr, mode, binary, min_light, restarts, iterations,
-                         seed, grid_points});
+                         seed, grid_points, velocity_distribution});
       },
-      py::kw_only(), py::arg("length"), py::arg("velocity"), py::arg("dt") = 1.0,
+      py::kw_only(), py::arg("length"), py::arg("velocity") = py::none(), py::arg("dt") = 1.0,
       py::arg("snr") = 100.0, py::arg("mode") = "numerical", py::arg("binary") = false,
       py::arg("min_light") = 0.0, py::arg("restarts") = 24, py::arg("iterations") = 300,
       py::arg("seed") = 0, py::arg("grid_points") = 2048,
-      "The code maximizing the SNR at level 100, as `fssim code optimize` (dict).");
+      py::arg("velocity_distribution") = py::none(), kOptimizeDoc);
   m.def("transfer_function", &transfer, py::arg("code"), py::arg("xi"), py::kw_only(),
         py::arg("velocity") = 1.0, py::arg("dt") = 1.0,
         "K(xi) of a code (complex), xi in radians per pixel: a number or an array.");

@@ -50,18 +50,20 @@ HOSTILE_ARRAYS = [
 # function -> (call taking the keywords, the valid keywords it is given)
 FUNCTIONS = {
     "simulate": (lambda **k: fss.simulate(**k), {
-        "image": IMAGE, "code": GAINS, "mode": "numerical", "velocity": 1.0, "snr": 100.0,
+        "image": IMAGE, "code": GAINS, "mode": "numerical", "velocity": None, "snr": 100.0,
         "dt": 1.0, "seed": 0, "trials": 1, "noise": "poisson", "restore_velocity": None,
         "threads": 1, "rmse_margin": None, "max_memory": 0, "read_noise": 0.0,
-        "dark_current": 0.0, "full_well": None, "adc_bits": 0, "adc_gain": None}),
+        "dark_current": 0.0, "full_well": None, "adc_bits": 0, "adc_gain": None,
+        "velocity_distribution": None}),
     "analyze_code": (lambda **k: fss.analyze_code(**k), {
-        "code": GAINS, "velocity": 1.0, "dt": 1.0, "snr": 100.0, "mode": "numerical", "grid": 0}),
+        "code": GAINS, "velocity": None, "dt": 1.0, "snr": 100.0, "mode": "numerical", "grid": 0,
+        "velocity_distribution": None}),
     "generate_code": (lambda **k: fss.generate_code(**k), {
         "family": "sinc", "length": 8, "velocity": 1.0, "dt": 1.0, "seed": 0, "analog": False}),
     "optimize_code": (lambda **k: fss.optimize_code(**k), {
         "length": 4, "velocity": 1.0, "dt": 1.0, "snr": 100.0, "mode": "numerical",
         "binary": False, "min_light": 0.0, "restarts": 0, "iterations": 3, "seed": 0,
-        "grid_points": 16}),
+        "grid_points": 16, "velocity_distribution": None}),
     "transfer_function": (lambda **k: fss.transfer_function(**k), {
         "code": GAINS, "xi": [0.0, 1.0], "velocity": 1.0, "dt": 1.0}),
     "read_code": (lambda **k: fss.read_code(**k), {"code": "raskar"}),
@@ -71,7 +73,9 @@ FUNCTIONS = {
 # Arguments that name files, and the limit: a RuntimeError is their proper end.
 RUNTIME_ARGUMENTS = {("simulate", "code"), ("analyze_code", "code"),
                      ("transfer_function", "code"), ("read_code", "code"), ("read_png", "path"),
-                     ("simulate", "max_memory")}
+                     ("simulate", "max_memory"), ("simulate", "velocity_distribution"),
+                     ("analyze_code", "velocity_distribution"),
+                     ("optimize_code", "velocity_distribution")}
 # Slow with some valid values (a huge grid, many iterations): not given those.
 SKIPPED = {("analyze_code", "grid"), ("optimize_code", "restarts"),
            ("optimize_code", "iterations"), ("optimize_code", "grid_points"),

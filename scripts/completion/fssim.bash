@@ -13,29 +13,31 @@ _fssim_options() {
             --dt --snr --seed --noise --rmse-margin --trials --threads --max-memory -o --outdir
             --no-plots --sheet --report --save-float --png-depth
             --read-noise --dark-current --full-well --adc-bits --adc-gain
-            --restoration --regularization --prior" ;;
+            --restoration --regularization --prior --velocity-distribution" ;;
     spectra) echo "-h --help -o --output -v --velocity --dt --linear --width --height --title" ;;
     code) echo "-h --help" ;;
     generate) echo "-h --help -L --length -v --velocity --dt --seed --analog -o --output" ;;
     analyze)
       echo "-h --help -v --velocity --dt --snr -m --mode --grid --read-noise --dark-current
-            --adc-bits --adc-gain --full-well --json --restoration --regularization --prior" ;;
+            --adc-bits --adc-gain --full-well --json --restoration --regularization --prior
+            --velocity-distribution" ;;
     optimize)
       echo "-h --help -L --length -v --velocity --dt --snr -m --mode --binary --min-light
             --restarts --iterations --seed --read-noise --dark-current --adc-bits --adc-gain
-            --full-well -o --output --restoration --regularization --prior" ;;
+            --full-well -o --output --restoration --regularization --prior
+            --velocity-distribution" ;;
     sweep)
       echo "-h --help -i --input -c --code -m --mode -v --velocity --snr --dt --trials --seed
             --noise --rmse-margin --threads --max-memory -o --output --plot
             --read-noise --dark-current --full-well --adc-bits --adc-gain
-            --restoration --regularization --prior" ;;
+            --restoration --regularization --prior --velocity-distribution" ;;
     campaign)
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
             --snr --dt --trials --seed --noise --rmse-margin --per-trial --threads -o --output
             --shard --figures --no-progress --read-noise --dark-current --full-well --adc-bits
-            --adc-gain --restoration --regularization --prior" ;;
+            --adc-gain --restoration --regularization --prior --velocity-distribution" ;;
     merge) echo "-h --help -o --output --figures" ;;
-    check) echo "-h --help --columns --abs --rel --k-se --junit" ;;
+    check) echo "-h --help --columns --abs --rel --k-se --junit --predicted" ;;
   esac
 }
 
@@ -44,7 +46,7 @@ _fssim_options() {
 _fssim_takes_value() {
   case $1 in
     -h | --help | --version | --no-plots | --sheet | --report | --save-float | --linear | --analog | --binary) return 1 ;;
-    --figures | --no-progress | --per-trial) return 1 ;;
+    --figures | --no-progress | --per-trial | --predicted) return 1 ;;
     -*=*) return 1 ;;
     -*) return 0 ;;
   esac

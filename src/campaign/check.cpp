@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -116,10 +117,11 @@ const char* const kSettingColumns[] = {"image",
                                        "adc_gain",
                                        "restoration",
                                        "regularization",
-                                       "prior"};
-const char* const kNotCompared[] = {"image_sha256", "code_sha256",  "seed",    "trials",
-                                    "rmse_sd",      "rmse_ci_sd",   "ssim_sd", "blur_length",
-                                    "message",      "fssim_version"};
+                                       "prior",
+                                       "velocity_distribution"};
+const char* const kNotCompared[] = {"image_sha256", "code_sha256", "seed",         "trials",
+                                    "rmse_sd",      "rmse_ci_sd",  "ssim_sd",      "mse_sd",
+                                    "blur_length",  "message",     "fssim_version"};
 
 bool is_setting(const std::string& c) {
   for (const char* s : kSettingColumns) {
@@ -345,6 +347,103 @@ CheckReport CheckCampaignResultFiles(const std::string& results_path,
   const std::string expected =
       campaign_input::read_text_file(expected_path, kMaxCheckFileBytes, "expectations file");
   return CheckCampaignResults(results, results_path, expected, expected_path, options);
+}
+
+namespace {
+
+// "line 3: code=raskar snr=200": the row's line and its setting columns whose values differ
+// between rows of `t` (those that tell the rows apart).
+std::string row_label(const Table& t, std::size_t row) {
+  std::string label = "line " + std::to_string(row + 1) + ":";
+  for (const char* key : kSettingColumns) {
+    const auto it = t.column.find(key);
+    if (it == t.column.end()) continue;
+    const bool varies = std::any_of(t.rows.begin() + 1, t.rows.end(), [&](const auto& r) {
+      return r[it->second] != t.rows[1][it->second];
+    });
+    if (varies) label += std::string(" ") + key + "=" + cell_text(t.rows[row][it->second]);
+  }
+  return label;
+}
+
+// Row `r`'s mean `measured` against its prediction `predicted`, the standard error from `sd` and
+// the trials; nullopt when the row has none to compare (not ok, < 2 trials, no finite prediction).
+std::optional<CheckCase> prediction_case(const Table& t, std::size_t r, const char* measured,
+                                         const char* predicted, const char* sd,
+                                         const CheckOptions& options) {
+  const double n = number(*t.cell(r, "trials")), p = number(*t.cell(r, predicted));
+  if (*t.cell(r, "status") != "ok" || !(n >= 2) || !std::isfinite(p)) return std::nullopt;
+  const std::string& got = *t.cell(r, measured);
+  const double m = number(got), se = number(*t.cell(r, sd)) / std::sqrt(n);
+  if (std::isnan(m)) {  // no measured mean to compare: a deviation, without a difference
+    return CheckCase{row_label(t, r), measured, false,
+                     row_label(t, r) + " " + measured + " " +
+                         (got.empty() ? "missing" : "'" + cell_text(got) + "'") + ", " + predicted +
+                         " " + cell_text(*t.cell(r, predicted))};
+  }
+  const double d = m - p;
+  const double k = options.k_standard_errors * se;
+  const double tolerance =
+      std::max({options.abs_tolerance, options.rel_tolerance * std::abs(p), std::isnan(k) ? 0 : k});
+  CheckCase c{row_label(t, r), measured, std::abs(d) <= tolerance, ""};
+  const std::string z = se > 0.0 ? ", z = " + format_number(d / se) : std::string();
+  c.message = c.setting + " " + measured + " " + cell_text(*t.cell(r, measured)) + ", " +
+              predicted + " " + cell_text(*t.cell(r, predicted)) + " (difference " +
+              format_number(d) + z + "; tolerance " + format_number(tolerance) + ": abs " +
+              format_exact(options.abs_tolerance) + ", rel " + format_exact(options.rel_tolerance) +
+              ", " + format_exact(options.k_standard_errors) + " SE = " + format_number(k) + ")";
+  return c;
+}
+
+}  // namespace
+
+CheckReport CheckCampaignPredictions(const std::string& results_csv,
+                                     const std::string& results_name, const CheckOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  if (!options.columns.empty()) {
+    throw_usage_error(
+        "--columns chooses the columns of EXPECTED.csv; the check against the "
+        "predictions compares mse_mean or rmse_mean");
+  }
+  const Table t(results_csv, results_name);
+  for (const char* c : {"status", "trials", "rmse_mean", "rmse_sd", "predicted_rmse"}) {
+    if (t.column.count(c) == 0) {
+      throw_usage_error(shown(results_name) + " has no column '" + c +
+                        "': not the results.csv of a campaign");
+    }
+  }
+  const bool distributions = t.column.count("velocity_distribution") != 0;
+  for (const char* c : {"mse_mean", "mse_sd", "predicted_mse"}) {
+    if (distributions && t.column.count(c) == 0) {
+      throw_usage_error(shown(results_name) + " has velocity_distribution but no column '" + c +
+                        "': not the results.csv of a campaign");
+    }
+  }
+  CheckReport report;
+  for (std::size_t r = 1; r < t.rows.size(); ++r) {
+    // Under a distribution, sqrt(E[MSE]) is above the mean RMSE (Jensen): MSE is compared.
+    const bool mse = distributions && !t.cell(r, "velocity_distribution")->empty();
+    const std::optional<CheckCase> c =
+        mse ? prediction_case(t, r, "mse_mean", "predicted_mse", "mse_sd", options)
+            : prediction_case(t, r, "rmse_mean", "predicted_rmse", "rmse_sd", options);
+    if (c) report.cases.push_back(*c);
+  }
+  if (report.cases.empty()) {
+    throw_usage_error(shown(results_name) +
+                      " has no row to compare with its prediction (status ok, 2 trials or more, "
+                      "a finite prediction): the check would check nothing");
+  }
+  return report;
+}
+
+CheckReport CheckCampaignPredictionFile(const std::string& results_path,
+                                        const CheckOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw_usage_error(error);
+  const std::string results =
+      campaign_input::read_text_file(results_path, kMaxCheckFileBytes, "results file");
+  return CheckCampaignPredictions(results, results_path, options);
 }
 
 namespace {

@@ -55,7 +55,11 @@ std::string fixed_settings(const ResolvedCampaign& c, const Setting& s, const Ax
   const auto add = [&](const char* name, const char* label, const std::string& value) {
     if (std::string(axis.name) != name) text += std::string(", ") + label + " " + value;
   };
-  add("velocity", "v", shortest(c.velocities.values[s.velocity]));
+  if (s.velocity_distribution >= 0) {
+    text += ", v ~ " + c.velocity_distributions[s.velocity_distribution].name;
+  } else {
+    add("velocity", "v", shortest(c.velocities.values[s.velocity]));
+  }
   if (const auto& r = c.restore_velocities[s.restore_velocity])
     add("restore_velocity", "v_r", shortest(*r));
   add("snr", "snr", shortest(c.snrs.values[s.snr]));
@@ -82,7 +86,20 @@ struct FigureData {
   std::vector<ErrorBarSeries> series;
   bool log_x = false;
   std::string x_label;
+  std::string y_label;
 };
+
+// The quantity a figure plots: the mean RMSE of the trials, or, in a campaign with velocity
+// distributions, sqrt(mean MSE) of the trials, the estimate of sqrt(E[MSE]) that the prediction
+// gives (docs/method.md §13; the mean RMSE is below it, Jensen), with the same error bars.
+const char* y_quantity(const ResolvedCampaign& c) {
+  return c.has_velocity_distributions() ? "sqrt(mean MSE)" : "RMSE";
+}
+
+std::string y_label(const ResolvedCampaign& c) {
+  return c.has_velocity_distributions() ? "sqrt(mean MSE) (gray levels), ± sd of the RMSE"
+                                        : "RMSE (gray levels), mean ± sd";
+}
 
 double cell_number(const ResultRow& row, const char* column) {
   const std::string& text = row[campaign_column_index(column)];
@@ -100,8 +117,9 @@ namespace {
 std::string figure_title(const ResolvedCampaign& c, const Setting& s, const Axis& axis) {
   const std::string margin =
       c.rmse_margin_columns < 0 ? std::string("3B") : std::to_string(c.rmse_margin_columns);
-  return "RMSE vs " + std::string(axis.name) + ": " + fixed_settings(c, s, axis) + "; " +
-         std::to_string(c.trials) + (c.trials == 1 ? " trial" : " trials") + ", margin " + margin;
+  return std::string(y_quantity(c)) + " vs " + axis.name + ": " + fixed_settings(c, s, axis) +
+         "; " + std::to_string(c.trials) + (c.trials == 1 ? " trial" : " trials") + ", margin " +
+         margin;
 }
 
 // The figures of one axis, keyed by the other settings (and the block of
@@ -122,10 +140,11 @@ std::map<std::vector<int>, FigureData> axis_figures(const ResolvedCampaign& c,
     const double x = axis.values[s.*axis.field];
     s.*axis.field = 0;
     const int curve = s.code * variants + s.restoration;
-    const std::vector<int> key = {s.image, s.mode, s.velocity,   s.restore_velocity,
-                                  s.snr,   s.dt,   s.read_noise, curve / kMaxCurvesPerFigure};
+    const std::vector<int> key = {
+        s.image, s.mode, s.velocity,   s.velocity_distribution,    s.restore_velocity,
+        s.snr,   s.dt,   s.read_noise, curve / kMaxCurvesPerFigure};
     FigureData& f = groups[key];
-    if (f.x.empty()) f = {figure_title(c, s, axis), xs, {}, axis.log, axis.label};
+    if (f.x.empty()) f = {figure_title(c, s, axis), xs, {}, axis.log, axis.label, y_label(c)};
     auto [it, added] = curve_series[key].try_emplace(curve, f.series.size());
     if (added) {
       f.series.push_back({curve_name(c, s), std::vector<double>(xs.size(), std::nan("")),
@@ -133,7 +152,9 @@ std::map<std::vector<int>, FigureData> axis_figures(const ResolvedCampaign& c,
     }
     const auto j = static_cast<std::size_t>(std::lower_bound(xs.begin(), xs.end(), x) - xs.begin());
     if (rows[i][status] == kStatusOk) {
-      f.series[it->second].y[j] = cell_number(rows[i], "rmse_mean");
+      f.series[it->second].y[j] = c.has_velocity_distributions()
+                                      ? std::sqrt(cell_number(rows[i], "mse_mean"))
+                                      : cell_number(rows[i], "rmse_mean");
       f.series[it->second].error[j] = cell_number(rows[i], "rmse_sd");
     }
   }
@@ -159,8 +180,7 @@ std::vector<CampaignFigure> campaign_figures(const ResolvedCampaign& c,
       options.title = f.title;
       figures.push_back(
           {"rmse_vs_" + std::string(axis.name) + "_" + std::to_string(++n),
-           plot_error_bar_curves_png(f.x, f.series, f.x_label, "RMSE (gray levels), mean ± sd",
-                                     f.log_x, options),
+           plot_error_bar_curves_png(f.x, f.series, f.x_label, f.y_label, f.log_x, options),
            figure_svg(f)});
     }
   }
@@ -268,11 +288,10 @@ void svg_axes(std::string& svg, const FigureData& f, const SvgFrame& frame) {
                  "<text y=\"458\" x=\"", x, "\" text-anchor=\"middle\">",
                  campaign_text::shortest(value), "</text>\n"});
   }
-  constexpr std::string_view kYLabel =
-      "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">"
-      "RMSE (gray levels), mean ± sd</text>\n";
   append(svg, {"<text x=\"430\" y=\"485\" text-anchor=\"middle\">", svg_escape(f.x_label),
-               f.log_x ? " (log scale)" : "", "</text>\n", kYLabel});
+               f.log_x ? " (log scale)" : "", "</text>\n",
+               "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">",
+               svg_escape(f.y_label), "</text>\n"});
 }
 
 // One code: error bars and markers, the polyline through its runs of

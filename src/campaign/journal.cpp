@@ -115,7 +115,11 @@ void parse_row(const std::string& path, std::string_view line, int number, Conte
     ResultRow row = j.at("row").get<ResultRow>();
     // A row an earlier fssim journalled (results schema 2) resumes in the present columns.
     if (auto present = upgrade_schema2_row(row, false)) row = std::move(*present);
-    if (index < 0 || index >= c.settings || !row_fits(row, campaign_columns())) {
+    // A row of schema 3, or of schema 4 (a campaign with velocity distributions); which one the
+    // campaign has is checked against it (row_setting_mismatch).
+    const bool fits_row =
+        row_fits(row, campaign_columns()) || row_fits(row, campaign_columns(true));
+    if (index < 0 || index >= c.settings || !fits_row) {
       fail(path, where + " does not fit the campaign");
     }
     if (index % c.shard.count != c.shard.index - 1) {
@@ -127,7 +131,7 @@ void parse_row(const std::string& path, std::string_view line, int number, Conte
       std::vector<ResultRow> rows = trials->get<std::vector<ResultRow>>();
       for (ResultRow& trial : rows) {
         if (auto present = upgrade_schema2_row(trial, true)) trial = std::move(*present);
-        if (!row_fits(trial, trial_columns())) {
+        if (!row_fits(trial, trial_columns()) && !row_fits(trial, trial_columns(true))) {
           fail(path, where + " has a trial row that does not fit");
         }
       }

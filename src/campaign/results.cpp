@@ -9,6 +9,7 @@
 #include "campaign/campaign_text.h"
 #include "campaign/journal.h"
 #include "fss/core/error.h"
+#include "fss/model/kernel.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/metrics.h"
 
@@ -65,12 +66,17 @@ enum Column {
   kStatus,
   kMessage,
   kFssimVersion,
+  // Results schema 4: a campaign with velocity distributions (docs/method.md §13) has these
+  // after the others; a campaign without has none of them.
+  kVelocityDistribution,
+  kMseMean,
+  kMseSd,
+  kPredictedMse,
   kColumnCount
 };
 
-}  // namespace
-
-const std::vector<ResultColumn>& campaign_columns() {
+// Every column, those of schema 4 included.
+const std::vector<ResultColumn>& all_columns() {
   static const std::vector<ResultColumn> columns = {{"image", kText},
                                                     {"image_sha256", kText},
                                                     {"code", kText},
@@ -112,12 +118,28 @@ const std::vector<ResultColumn>& campaign_columns() {
                                                     {"invertible", kBoolean},
                                                     {"status", kText},
                                                     {"message", kText},
-                                                    {"fssim_version", kText}};
+                                                    {"fssim_version", kText},
+                                                    {"velocity_distribution", kText},
+                                                    {"mse_mean", kNumber},
+                                                    {"mse_sd", kNumber},
+                                                    {"predicted_mse", kNumber}};
   return columns;
 }
 
+}  // namespace
+
+const std::vector<ResultColumn>& campaign_columns() {
+  static const std::vector<ResultColumn> columns(all_columns().begin(),
+                                                 all_columns().begin() + kVelocityDistribution);
+  return columns;
+}
+
+const std::vector<ResultColumn>& campaign_columns(bool with_distributions) {
+  return with_distributions ? all_columns() : campaign_columns();
+}
+
 int campaign_column_index(std::string_view name) {
-  const auto& columns = campaign_columns();
+  const auto& columns = all_columns();
   for (std::size_t i = 0; i < columns.size(); ++i) {
     if (name == columns[i].name) return static_cast<int>(i);
   }
@@ -138,6 +160,15 @@ const std::vector<ResultColumn>& trial_columns() {
     return c;
   }();
   return columns;
+}
+
+const std::vector<ResultColumn>& trial_columns(bool with_distributions) {
+  static const std::vector<ResultColumn> wide = [] {
+    std::vector<ResultColumn> c = trial_columns();
+    c.insert(c.end(), {{"velocity_distribution", kText}, {"trial_velocity", kNumber}});
+    return c;
+  }();
+  return with_distributions ? wide : trial_columns();
 }
 
 // Settings are image-, code-, mode- and velocity-major, so a kept plan serves every snr value,
@@ -167,15 +198,21 @@ std::string optional_cell(const std::optional<double>& value) {
   return value ? shortest(*value) : std::string();
 }
 
-// The trial rows of a setting that ran: its setting cells, then each trial's.
+// The trial rows of a setting that ran: its setting cells, then each trial's; under a velocity
+// distribution, then the distribution and the trial's velocity.
 std::vector<ResultRow> trial_rows_of(const ResultRow& row, const SimulationReport& r) {
   std::vector<ResultRow> rows;
   const std::uint64_t seed = r.options.seed;
+  const bool distribution = row.size() > static_cast<std::size_t>(kVelocityDistribution);
   for (std::size_t t = 0; t < r.trial_metrics.size(); ++t) {
     ResultRow trial(row.begin(), row.begin() + kBlurLength);
     const Metrics& m = r.trial_metrics[t];
     trial.insert(trial.end(), {std::to_string(t), std::to_string(seed + t), shortest(m.rmse),
                                shortest(m.rmse_ci), shortest(psnr(m.rmse)), optional_cell(m.ssim)});
+    if (distribution) {
+      trial.push_back(row[kVelocityDistribution]);
+      trial.push_back(t < r.trial_velocities.size() ? shortest(r.trial_velocities[t]) : "");
+    }
     rows.push_back(std::move(trial));
   }
   return rows;
@@ -191,8 +228,18 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   row[kCodeSha256] = c.codes[s.code].sha256;
   row[kCodeNormalizedL1] = shortest(normalized_l1(c.codes[s.code].code.gains));
   row[kMode] = to_string(o.mode);
-  row[kVelocity] = shortest(o.velocity_px_per_slot);
-  row[kRestoreVelocity] = shortest(o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot));
+  if (s.velocity_distribution >= 0) {
+    // Under a distribution the velocity is each trial's: the velocity cell is empty, the
+    // restore velocity's too unless given, and the distribution is named.
+    if (o.restore_velocity_px_per_slot) {
+      row[kRestoreVelocity] = shortest(*o.restore_velocity_px_per_slot);
+    }
+    row[kVelocityDistribution] = c.velocity_distributions[s.velocity_distribution].name;
+  } else {
+    row[kVelocity] = shortest(o.velocity_px_per_slot);
+    row[kRestoreVelocity] =
+        shortest(o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot));
+  }
   row[kSnr] = shortest(o.snr);
   row[kDt] = shortest(o.dt);
   // The sensor (docs/method.md §10): full_well empty for none, adc_gain
@@ -223,11 +270,16 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
 std::string row_setting_mismatch(const ResolvedCampaign& c, long long index, const ResultRow& row) {
   const Setting s = setting_at(c, index);
   const ResultRow expected = setting_cells(c, s, setting_options(c, s), SettingRunOptions{});
-  const std::vector<ResultColumn>& columns = campaign_columns();
+  const std::vector<ResultColumn>& columns = all_columns();
   for (int i = 0; i < kBlurLength; ++i) {
     if (i == kFssimVersion) continue;
     const auto at = static_cast<std::size_t>(i);
     if (row.size() <= at || row[at] != expected[at]) return columns[at].name;
+  }
+  const bool distributions = c.has_velocity_distributions();
+  if (row.size() != campaign_columns(distributions).size() ||
+      (distributions && row[kVelocityDistribution] != expected[kVelocityDistribution])) {
+    return "velocity_distribution";
   }
   return {};
 }
@@ -293,7 +345,8 @@ std::string campaign_field_names(std::string message) {
       {"sensor.adc_bits", "--adc-bits / \"adc_bits\""},
       {"restore_velocity_px_per_slot", "--restore-velocity / \"restore_velocity\""},
       {"velocity_px_per_slot", "--velocity / \"velocity\""},
-      {"rmse_margin_columns", "--rmse-margin / \"rmse_margin\""}};
+      {"rmse_margin_columns", "--rmse-margin / \"rmse_margin\""},
+      {"velocity_distribution", "--velocity-distribution / \"velocity_distribution\""}};
   for (const auto& [field, shown] : kNames) {
     const std::size_t at = message.find(field);
     if (at != std::string::npos) message.replace(at, std::strlen(field), shown);
@@ -313,12 +366,31 @@ std::pair<std::string, std::string> refusal(const ResolvedCampaign& c, const Set
   } catch (const Error& e) {
     return {kStatusCodeRefused, e.what()};
   }
-  const double v = std::max(std::abs(o.velocity_px_per_slot),
-                            std::abs(o.restore_velocity_px_per_slot.value_or(0.0)));
+  // Under a distribution the geometry is that of the support's largest |v| (docs/method.md §13).
+  const double true_v = o.velocity_distribution ? o.velocity_distribution->max_abs_velocity()
+                                                : std::abs(o.velocity_px_per_slot);
+  const double v = std::max(true_v, std::abs(o.restore_velocity_px_per_slot.value_or(0.0)));
   message = too_narrow_reason(image.width, c.codes[s.code].code.length(), v, o.dt,
                               o.rmse_margin_columns, blur_length);
   if (!message.empty()) return {kStatusTooNarrow, message};
   return {};
+}
+
+// Whether the kernel the run inverts is invertible. Under a velocity distribution, at every
+// velocity the trials may draw: at the support's largest |v| (docs/method.md §13: the bands of
+// smaller |v| are inside its band), at each velocity of a discrete one; or at the restore
+// velocity when given. Otherwise the run's kernel.
+bool run_invertible(const SimulationReport& r) {
+  const SimulationOptions& o = r.options;
+  if (!o.velocity_distribution) return r.kernel.invertible;
+  const auto invertible_at = [&](double v) { return analyze_kernel(r.gains, v, o.dt).invertible; };
+  if (o.restore_velocity_px_per_slot) return invertible_at(*o.restore_velocity_px_per_slot);
+  const VelocityDistribution& d = *o.velocity_distribution;
+  if (d.kind == VelocityDistributionKind::kDiscrete) {
+    return std::all_of(d.points.begin(), d.points.end(),
+                       [&](const VelocityPoint& p) { return invertible_at(p.velocity); });
+  }
+  return invertible_at(std::abs(d.low) > std::abs(d.high) ? d.low : d.high);
 }
 
 // The result cells of a setting that ran; its status.
@@ -342,9 +414,16 @@ const char* result_cells(const SimulationReport& r, ResultRow& row) {
   row[kRegularizationApplied] = optional_cell(r.restoration.regularization);
   row[kPriorLevel] = optional_cell(r.restoration.prior_level);
   row[kNoiseVariance] = optional_cell(r.restoration.noise_variance);
-  row[kInvertible] = r.kernel.invertible ? "true" : "false";
+  const bool invertible = run_invertible(r);
+  row[kInvertible] = invertible ? "true" : "false";
+  if (row.size() > static_cast<std::size_t>(kVelocityDistribution)) {
+    // Under a distribution: the trials' mean and sd of MSE and E[MSE] (docs/method.md §13).
+    row[kMseMean] = optional_cell(r.trials.mse_mean);
+    row[kMseSd] = optional_cell(r.trials.mse_sd);
+    row[kPredictedMse] = optional_cell(p.mse);
+  }
   // Tikhonov and Wiener restore a code that is not invertible (they damp where K vanishes).
-  return r.kernel.invertible || !inverse ? kStatusOk : kStatusNotInvertible;
+  return invertible || !inverse ? kStatusOk : kStatusNotInvertible;
 }
 
 }  // namespace
@@ -358,6 +437,7 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
   if (options.seed) o.seed = *options.seed;  // fssim sweep: one seed keeps its curves smooth
   if (trial_rows != nullptr) trial_rows->clear();
   ResultRow row = setting_cells(c, s, o, options);
+  row.resize(campaign_columns(c.has_velocity_distributions()).size());
   int blur_length = -1;
   auto [status, message] = refusal(c, s, o, image, &blur_length);
   if (blur_length > 0) row[kBlurLength] = std::to_string(blur_length);
@@ -422,20 +502,20 @@ std::string table_jsonl(const std::vector<ResultColumn>& columns,
 
 }  // namespace
 
-std::string results_csv(const std::vector<ResultRow>& rows) {
-  return table_csv(campaign_columns(), rows);
+std::string results_csv(const std::vector<ResultRow>& rows, bool with_distributions) {
+  return table_csv(campaign_columns(with_distributions), rows);
 }
 
-std::string results_jsonl(const std::vector<ResultRow>& rows) {
-  return table_jsonl(campaign_columns(), rows);
+std::string results_jsonl(const std::vector<ResultRow>& rows, bool with_distributions) {
+  return table_jsonl(campaign_columns(with_distributions), rows);
 }
 
-std::string trials_csv(const std::vector<ResultRow>& rows) {
-  return table_csv(trial_columns(), rows);
+std::string trials_csv(const std::vector<ResultRow>& rows, bool with_distributions) {
+  return table_csv(trial_columns(with_distributions), rows);
 }
 
-std::string trials_jsonl(const std::vector<ResultRow>& rows) {
-  return table_jsonl(trial_columns(), rows);
+std::string trials_jsonl(const std::vector<ResultRow>& rows, bool with_distributions) {
+  return table_jsonl(trial_columns(with_distributions), rows);
 }
 
 }  // namespace fss

@@ -109,7 +109,9 @@ namespace {
 constexpr const char* kLockName = ".campaign.lock";
 
 std::string manifest(const ResolvedCampaign& campaign, const CampaignShard& shard) {
-  const nlohmann::json j = {{"schema_version", kCampaignSchemaVersion},
+  const int schema = campaign.has_velocity_distributions() ? kCampaignDistributionSchemaVersion
+                                                           : kCampaignSchemaVersion;
+  const nlohmann::json j = {{"schema_version", schema},
                             {"campaign_sha256", campaign.sha256},
                             {"settings", campaign.setting_count()},
                             {"shard", journal::shard_text(shard)},
@@ -130,13 +132,15 @@ void write_results(const std::string& dir, const ResolvedCampaign& campaign,
     if (trials == contents.trial_rows.end()) continue;
     trial_rows.insert(trial_rows.end(), trials->second.begin(), trials->second.end());
   }
+  const bool wide = campaign.has_velocity_distributions();
+  const auto path = [&dir](const char* name) { return (fs::path(dir) / name).string(); };
   if (campaign.per_trial) {
-    write_file_durably((fs::path(dir) / kCampaignTrialsCsv).string(), trials_csv(trial_rows));
-    write_file_durably((fs::path(dir) / kCampaignTrialsJsonl).string(), trials_jsonl(trial_rows));
+    write_file_durably(path(kCampaignTrialsCsv), trials_csv(trial_rows, wide));
+    write_file_durably(path(kCampaignTrialsJsonl), trials_jsonl(trial_rows, wide));
   }
-  write_file_durably((fs::path(dir) / kCampaignResultsCsv).string(), results_csv(rows));
-  write_file_durably((fs::path(dir) / kCampaignResultsJsonl).string(), results_jsonl(rows));
-  write_file_durably((fs::path(dir) / kCampaignManifest).string(), manifest(campaign, shard));
+  write_file_durably(path(kCampaignResultsCsv), results_csv(rows, wide));
+  write_file_durably(path(kCampaignResultsJsonl), results_jsonl(rows, wide));
+  write_file_durably(path(kCampaignManifest), manifest(campaign, shard));
   if (rows_out != nullptr) *rows_out = std::move(rows);
 }
 
@@ -159,6 +163,17 @@ void check_rows_are_their_settings(const ResolvedCampaign& campaign,
       throw_runtime_error("campaign journal " + shown_path(path) + ": the row of setting " +
                           std::to_string(index) + " is not that setting's (its " + column +
                           " differs)");
+    }
+  }
+  // Trial rows of the other schema (with or without velocity distributions) are not its.
+  const std::size_t width = trial_columns(campaign.has_velocity_distributions()).size();
+  for (const auto& [index, trials] : contents.trial_rows) {
+    for (const ResultRow& trial : trials) {
+      if (trial.size() != width) {
+        throw_runtime_error("campaign journal " + shown_path(path) + ": a trial row of setting " +
+                            std::to_string(index) + " is not that setting's (its " +
+                            "velocity_distribution differs)");
+      }
     }
   }
 }
@@ -255,13 +270,16 @@ void refuse_outputs_over_inputs(const std::string& dir, const std::vector<std::s
   }
 }
 
-// The files a campaign reads: its images, its code files, and `others`.
+// The files a campaign reads: its images, its code files, its velocity files, and `others`.
 std::vector<std::string> campaign_inputs(const ResolvedCampaign& campaign,
                                          const std::vector<std::string>& others) {
   std::vector<std::string> inputs = others;
   for (const CampaignImage& image : campaign.images) inputs.push_back(image.path);
   for (const CampaignCode& code : campaign.codes) {
     if (!builtin_code(code.name)) inputs.push_back(code.name);
+  }
+  for (const CampaignDistribution& d : campaign.velocity_distributions) {
+    if (d.distribution.kind == VelocityDistributionKind::kDiscrete) inputs.push_back(d.name);
   }
   return inputs;
 }

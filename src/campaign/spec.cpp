@@ -14,6 +14,7 @@
 #include "campaign/campaign_text.h"
 #include "campaign/sha256.h"
 #include "campaign/user_input.h"
+#include "campaign/velocity_axis.h"
 #include "core/number_text.h"
 #include "fss/core/error.h"
 #include "fss/pipeline/option_rules.h"
@@ -328,6 +329,9 @@ bool CampaignSpec::IsValid(std::string* error) const {
                 std::to_string(rmse_margin_columns) + ": " + rule);
   }
   if (const std::string message = sensor_error(sensor); !message.empty()) return fail(message);
+  if (const std::string message = velocity_distributions_error(*this); !message.empty()) {
+    return fail(message);
+  }
   return true;
 }
 
@@ -489,6 +493,14 @@ void seal(ResolvedCampaign& c) {
     for (const RestorationOptions& r : c.restorations) restorations.push_back(restoration_json(r));
     j["restoration"] = restorations;
   }
+  // Absent without distributions: earlier campaigns keep their hash.
+  if (c.has_velocity_distributions()) {
+    Json distributions = Json::array();
+    for (const CampaignDistribution& d : c.velocity_distributions) {
+      distributions.push_back(velocity_distribution_json(d));
+    }
+    j["velocity_distribution"] = distributions;
+  }
   c.canonical_json = j.dump();
   c.sha256 = sha256_hex(c.canonical_json);
 }
@@ -511,8 +523,8 @@ long long ResolvedCampaign::setting_count() const {
   long long n = 1;
   for (const std::size_t size :
        {images.size(), codes.size(), modes.size(), velocities.values.size(),
-        restore_velocities.size(), snrs.values.size(), dts.values.size(), read_noises.values.size(),
-        restorations.size()}) {
+        std::max<std::size_t>(velocity_distributions.size(), 1), restore_velocities.size(),
+        snrs.values.size(), dts.values.size(), read_noises.values.size(), restorations.size()}) {
     n *= static_cast<long long>(size);
     if (n > kMaxCampaignSettings) return kMaxCampaignSettings + 1;
   }
@@ -558,6 +570,8 @@ ResolvedCampaign resolve_campaign(const CampaignSpec& spec) {
   c.sensor = spec.sensor;
   c.sensor.read_noise_electrons = 0.0;
   c.restorations = restoration_variants(spec);
+  c.velocity_distributions = load_velocity_distributions(spec.velocity_distributions);
+  check_velocity_distribution_options(c);
   if (c.setting_count() > kMaxCampaignSettings) {
     throw_usage_error("the campaign has more than " + std::to_string(kMaxCampaignSettings) +
                       " settings");
@@ -614,6 +628,12 @@ std::string canonical_error(const ResolvedCampaign& c) {
     if (r && !std::isfinite(*r)) return "a value that is not finite";
   }
   if (std::string why = restorations_error(c.restorations); !why.empty()) return why;
+  if (c.has_velocity_distributions() && c.velocities.values != std::vector<double>{1.0}) {
+    return "velocities with velocity distributions";
+  }
+  if (c.velocity_distributions.size() > static_cast<std::size_t>(kMaxCampaignValues)) {
+    return "more than " + std::to_string(kMaxCampaignValues) + " velocity distributions";
+  }
   return sensor_error(c.sensor);
 }
 
@@ -658,6 +678,12 @@ void read_canonical(const Json& j, ResolvedCampaign& c) {
     c.restorations.clear();
     for (const Json& r : j.at("restoration")) c.restorations.push_back(restoration_from_json(r));
   }
+  if (j.contains("velocity_distribution")) {
+    for (const Json& d : j.at("velocity_distribution")) {
+      c.velocity_distributions.push_back(velocity_distribution_from_json(d));
+    }
+    if (c.velocity_distributions.empty()) throw std::invalid_argument("no velocity distribution");
+  }
 }
 
 }  // namespace
@@ -697,6 +723,9 @@ Setting setting_at(const ResolvedCampaign& c, long long index) {
   s.dt = take(c.dts.values.size());
   s.snr = take(c.snrs.values.size());
   s.restore_velocity = take(c.restore_velocities.size());
+  if (c.has_velocity_distributions()) {
+    s.velocity_distribution = take(c.velocity_distributions.size());
+  }
   s.velocity = take(c.velocities.values.size());
   s.mode = take(c.modes.size());
   s.code = take(c.codes.size());
@@ -717,6 +746,10 @@ std::string setting_description(const ResolvedCampaign& c, const Setting& s) {
     j["sensor"] = sensor_json(c);
     j["sensor"].erase("read_noise");
     j["read_noise"] = c.read_noises.values[s.read_noise];
+  }
+  if (c.has_velocity_distributions()) {
+    j.erase("velocity");
+    j["velocity_distribution_sha256"] = c.velocity_distributions[s.velocity_distribution].sha256;
   }
   return j.dump();
 }
@@ -743,6 +776,9 @@ SimulationOptions setting_options(const ResolvedCampaign& c, const Setting& s) {
   o.sensor = c.sensor;
   o.sensor.read_noise_electrons = c.read_noises.values[s.read_noise];
   o.restoration = c.restorations[s.restoration];
+  if (c.has_velocity_distributions()) {
+    o.velocity_distribution = c.velocity_distributions[s.velocity_distribution].distribution;
+  }
   return o;
 }
 

@@ -8,6 +8,7 @@
 #include "campaign/user_input.h"
 #include "fss/campaign/spec.h"
 #include "fss/core/error.h"
+#include "fss/model/velocity_distribution.h"
 #include "model/noise.h"
 
 namespace fss {
@@ -91,6 +92,23 @@ class CampaignFileReader {
     return static_cast<int>(*n);
   }
 
+  // Distributions of velocities (docs/method.md §13): each item a spec or a file's path, read
+  // here (load_velocity_distribution) so that a bad one is refused naming this file, the key and
+  // the item; never empty.
+  std::vector<std::string> Distributions(const Json& value, const std::string& key) const {
+    std::vector<std::string> items = Strings(value, key);
+    if (items.empty()) Refuse("'" + key + "' is an empty list");
+    for (const std::string& item : items) {
+      try {
+        static_cast<void>(load_velocity_distribution(item, "\"" + key + "\""));
+      } catch (const Error& e) {
+        if (e.kind() == ErrorKind::kUsage) Refuse(e.what());
+        throw_runtime_error(where_ + "\"" + key + "\": " + e.what());
+      }
+    }
+    return items;
+  }
+
   bool List(const std::string& key, const Json& value, CampaignSpec& spec) const;
   bool Scalar(const std::string& key, const Json& value, CampaignSpec& spec) const;
   bool Sensor(const std::string& key, const Json& value, CampaignSpec& spec) const;
@@ -122,6 +140,8 @@ bool CampaignFileReader::List(const std::string& key, const Json& value, Campaig
     (key == "restoration" ? spec.restorations : spec.priors) = std::move(items);
   } else if (key == "regularization") {
     spec.regularization = Items(value, key);
+  } else if (key == "velocity_distribution") {
+    spec.velocity_distributions = Distributions(value, key);
   } else {
     return false;
   }
@@ -188,13 +208,19 @@ CampaignSpec parse_campaign_file(std::string_view text, const std::string& name)
   if (!parsed) reader.Refuse(error);
   const Json& j = *parsed;
   if (!j.is_object()) reader.Refuse("expected an object");
+  if (j.contains("velocity") && j.contains("velocity_distribution")) {
+    reader.Refuse(
+        "'velocity' and 'velocity_distribution': a setting has a velocity or a "
+        "distribution of velocities, not both; give one");
+  }
   CampaignSpec spec;
   for (const auto& [key, value] : j.items()) {
     if (!reader.List(key, value, spec) && !reader.Scalar(key, value, spec)) {
       reader.Refuse("unknown key '" + shorten_for_message(key) +
                     "' (input, code, mode, velocity, restore_velocity, snr, dt, trials, seed, "
                     "noise, rmse_margin, per_trial, read_noise, dark_current, full_well, "
-                    "adc_bits, adc_gain, restoration, regularization, prior)");
+                    "adc_bits, adc_gain, restoration, regularization, prior, "
+                    "velocity_distribution)");
     }
   }
   return spec;

@@ -39,8 +39,8 @@ void refuse_output_over_inputs(const std::string& what, const std::string& outpu
   }
 }
 
-// The files a campaign reads: the campaign file (if any), its images and its
-// code files.
+// The files a campaign reads: the campaign file (if any), its images, its
+// code files and its velocity files.
 std::vector<std::string> campaign_inputs(const std::string& file,
                                          const fss::ResolvedCampaign& campaign) {
   std::vector<std::string> inputs;
@@ -48,6 +48,9 @@ std::vector<std::string> campaign_inputs(const std::string& file,
   for (const fss::CampaignImage& image : campaign.images) inputs.push_back(image.path);
   for (const fss::CampaignCode& code : campaign.codes) {
     if (!fss::builtin_code(code.name)) inputs.push_back(code.name);
+  }
+  for (const fss::CampaignDistribution& d : campaign.velocity_distributions) {
+    if (d.distribution.kind == fss::VelocityDistributionKind::kDiscrete) inputs.push_back(d.name);
   }
   return inputs;
 }
@@ -110,10 +113,16 @@ CampaignCommand::CampaignCommand(CLI::App& parent)
   merge_->add_option("parts", parts_, "the shards' directories")->required();
   merge_->add_flag("--figures", merge_figures_, "also draw the figures into DIR/figures");
   check_ = app().add_subcommand(
-      "check", "compare RESULTS.csv with EXPECTED.csv; exit 1 on a deviation or a missing row");
+      "check",
+      "compare RESULTS.csv with EXPECTED.csv (or with its own predictions: --predicted); exit 1 "
+      "on a deviation or a missing row");
   check_->add_option("results", results_, "results.csv of a campaign")->required();
-  check_->add_option("expected", expected_, "expected values, columns named as results.csv's")
-      ->required();
+  check_->add_option("expected", expected_,
+                     "expected values, columns named as results.csv's (not with --predicted)");
+  check_->add_flag("--predicted", predicted_,
+                   "compare each row's mean with its own prediction within --k-se K standard "
+                   "errors: mse_mean with predicted_mse under a velocity distribution, else "
+                   "rmse_mean with predicted_rmse");
   check_
       ->add_option("--columns", check_columns_, "quantities to compare (default: all EXPECTED has)")
       ->delimiter(',');
@@ -135,6 +144,10 @@ void CampaignCommand::AddSpecOptions() {
   c.add_option("-v,--velocity", velocity_,
                "velocities: V, a,b,c, start:stop:step or start:stop:xFACTOR")
       ->capture_default_str();
+  // Distributions of velocities (docs/method.md §13): an axis in place of the velocities.
+  c.add_option("--velocity-distribution", velocity_distributions_,
+               "distributions of velocities, an axis in place of --velocity: uniform:LO:HI, "
+               "normal:MEAN:SD, normal:MEAN:SD:LO:HI or files of 'velocity weight' lines");
   c.add_option("--restore-velocity", restore_velocity_,
                "velocities assumed by the restoration (default: the true one), as --velocity");
   c.add_option("--snr", snr_, "snr values, as --velocity")->capture_default_str();
@@ -174,7 +187,7 @@ void CampaignCommand::AddSpecOptions() {
       ->capture_default_str();
   c.add_flag("--per-trial", per_trial_,
              "also write one row per trial (trials.csv, trials.jsonl): its seed, RMSE, RMSE_CI "
-             "and PSNR");
+             "and PSNR (and its velocity, under a velocity distribution)");
   c.add_option("--threads", threads_, "threads of each simulation (0: all)")->check(at_least(0));
   c.add_option("-o,--output", output_, "campaign directory (created; rerun to resume)")
       ->check(not_empty());
@@ -206,7 +219,20 @@ fss::CampaignSpec CampaignCommand::Spec() const {
   if (use("--input")) spec.inputs = inputs_;
   if (use("--code")) spec.codes = codes_;
   if (use("--mode") && !modes_.empty()) spec.modes = parse_modes(modes_);
+  // The velocity axis is velocities or distributions: either given here replaces the file's.
+  const bool velocity_given = app().count("--velocity") > 0;
+  const bool distribution_given = app().count("--velocity-distribution") > 0;
+  if (velocity_given && distribution_given) {
+    fss::throw_usage_error(
+        "--velocity and --velocity-distribution: a setting has a velocity or a distribution of "
+        "velocities, not both; give one");
+  }
   if (use("--velocity")) spec.velocity = velocity_;
+  if (velocity_given) spec.velocity_distributions.clear();
+  if (distribution_given) {
+    spec.velocity_distributions = velocity_distributions_;
+    spec.velocity = "1";
+  }
   if (use("--restore-velocity")) spec.restore_velocity = restore_velocity_;
   if (use("--snr")) spec.snr = snr_;
   if (use("--dt")) spec.dt = dt_;
@@ -308,14 +334,28 @@ int CampaignCommand::Check() const {
   options.abs_tolerance = abs_tolerance_;
   options.rel_tolerance = rel_tolerance_;
   options.k_standard_errors = k_se_;
-  if (!junit_.empty()) refuse_output_over_inputs("--junit", junit_, {results_, expected_});
-  const fss::CheckReport report = fss::CheckCampaignResultFiles(results_, expected_, options);
+  if (predicted_ && !expected_.empty()) {
+    fss::throw_usage_error(
+        "--predicted compares RESULTS.csv with its own predictions: give no "
+        "EXPECTED.csv with it");
+  }
+  if (!predicted_ && expected_.empty()) {
+    fss::throw_usage_error("campaign check needs EXPECTED.csv (or --predicted)");
+  }
+  if (predicted_ && !(k_se_ > 0.0)) {
+    fss::throw_usage_error("--predicted compares within --k-se K standard errors: give --k-se");
+  }
+  std::vector<std::string> inputs = {results_};
+  if (!expected_.empty()) inputs.push_back(expected_);
+  if (!junit_.empty()) refuse_output_over_inputs("--junit", junit_, inputs);
+  const fss::CheckReport report = predicted_
+                                      ? fss::CheckCampaignPredictionFile(results_, options)
+                                      : fss::CheckCampaignResultFiles(results_, expected_, options);
   for (const fss::CheckCase& c : report.cases) {
     if (!c.passed) std::printf("%s\n", c.message.c_str());
   }
   if (!junit_.empty()) {
-    fss::write_file_safely(junit_, fss::check_junit_xml(report, "fssim campaign check"),
-                           {results_, expected_});
+    fss::write_file_safely(junit_, fss::check_junit_xml(report, "fssim campaign check"), inputs);
   }
   std::printf("campaign check: %zu comparisons, %d deviations\n", report.cases.size(),
               report.failures());

@@ -42,6 +42,7 @@ class CampaignCommand : public Command {
   bool per_trial_ = false;
   std::string read_noise_ = "0";
   std::vector<std::string> restorations_, regularization_, priors_;
+  std::vector<std::string> velocity_distributions_;
   double dark_current_ = 0.0, full_well_ = 0.0, adc_gain_ = 1.0;
   int adc_bits_ = 0;
   int threads_ = 0;
@@ -59,6 +60,7 @@ class CampaignCommand : public Command {
   std::string results_, expected_, junit_;
   std::vector<std::string> check_columns_;
   double abs_tolerance_ = 0.0, rel_tolerance_ = 1e-9, k_se_ = 0.0;
+  bool predicted_ = false;
 };
 
 }  // namespace fssim

@@ -136,6 +136,36 @@ void check_design_band(double velocity, double dt, const std::string& what) {
   }
 }
 
+void add_velocity_distribution_option(CLI::App* app, std::string* spec, CLI::Option** option) {
+  *option = app->add_option(
+      "--velocity-distribution", *spec,
+      "instead of --velocity, a distribution of velocities (px per slot): uniform:LO:HI, "
+      "normal:MEAN:SD (truncated at MEAN +/- 4 SD), normal:MEAN:SD:LO:HI, or a file of "
+      "'velocity weight' lines; the figure of merit is the expected error over it, each "
+      "velocity restored at itself");
+}
+
+std::optional<fss::VelocityDistribution> design_velocity_distribution(
+    const CLI::Option* option, const std::string& spec, const CLI::Option* velocity_option,
+    double dt) {
+  if (option->count() == 0) return std::nullopt;
+  if (velocity_option->count() > 0) {
+    fss::throw_usage_error(
+        "--velocity-distribution and --velocity are exclusive: the distribution gives the "
+        "velocities");
+  }
+  fss::VelocityDistribution d = fss::load_velocity_distribution(spec, "--velocity-distribution");
+  const double reach = d.max_abs_velocity() * dt;
+  if (!(reach < 2.0)) {
+    fss::throw_usage_error("--velocity-distribution " + fss::shorten_for_message(spec) +
+                           " with --dt " + format_exact(dt) +
+                           ": code design needs |v| dt < 2 at every velocity of the support [" +
+                           format_exact(d.low) + ", " + format_exact(d.high) +
+                           "], which reaches |v| dt = " + format_exact(reach));
+  }
+  return d;
+}
+
 CodeCommands::CodeCommands(CLI::App& parent)
     : Command(add_code_command(parent)), generate_(app()), analyze_(app()), optimize_(app()) {}
 

@@ -12,6 +12,7 @@
 #include "fss/design/analyze.h"
 #include "fss/design/generate.h"
 #include "fss/design/optimize.h"
+#include "fss/model/velocity_distribution.h"
 
 namespace fssim {
 
@@ -89,6 +90,9 @@ class CodeAnalyzeCommand : public Command {
   SensorFlags sensor_;
   RestorationFlags restoration_;
   std::string json_;
+  std::string velocity_distribution_;
+  CLI::Option* velocity_option_ = nullptr;
+  CLI::Option* velocity_distribution_option_ = nullptr;
 };
 
 // `code optimize --length L --velocity V ...`: the best code of a length.
@@ -105,6 +109,9 @@ class CodeOptimizeCommand : public Command {
   SensorFlags sensor_;
   RestorationFlags restoration_;
   std::string output_;
+  std::string velocity_distribution_;
+  CLI::Option* velocity_option_ = nullptr;
+  CLI::Option* velocity_distribution_option_ = nullptr;
 };
 
 class CodeCommands : public Command {
@@ -123,5 +130,14 @@ class CodeCommands : public Command {
 // Usage error unless 0 < |v| dt < 2, naming --velocity and --dt; `what` is
 // what needs the band ("the sinc code", "the optimizer").
 void check_design_band(double velocity, double dt, const std::string& what);
+
+// --velocity-distribution SPEC of code analyze and optimize (docs/method.md §13).
+void add_velocity_distribution_option(CLI::App* app, std::string* spec, CLI::Option** option);
+// The distribution asked for (none without the option): a usage error when --velocity is given
+// too, the spec is neither a distribution nor a file (load_velocity_distribution), or the
+// support reaches |v| dt >= 2; a runtime one when the file cannot be read.
+std::optional<fss::VelocityDistribution> design_velocity_distribution(
+    const CLI::Option* option, const std::string& spec, const CLI::Option* velocity_option,
+    double dt);
 
 }  // namespace fssim

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "cli_common.h"
@@ -26,7 +27,19 @@ bool admissible(const std::vector<double>& gains, fss::ShutterMode mode, bool bi
 
 // The command line's own words for what OptimizeOptions::IsValid refuses.
 void check_options(const fss::OptimizeOptions& options) {
-  check_design_band(options.velocity_px_per_slot, options.dt, "the optimizer");
+  if (!options.velocity_distribution) {
+    check_design_band(options.velocity_px_per_slot, options.dt, "the optimizer");
+  } else if (options.velocity_distribution->is_point()) {
+    const fss::VelocityDistribution& d = *options.velocity_distribution;
+    const double v =
+        d.kind == fss::VelocityDistributionKind::kDiscrete ? d.points[0].velocity : d.low;
+    if (!fss::design_band_is_valid(v, options.dt)) {
+      fss::throw_usage_error("--velocity-distribution " + fss::shorten_for_message(d.text()) +
+                             " is the one velocity " + format_exact(v) + " with --dt " +
+                             format_exact(options.dt) +
+                             ": the optimizer needs 0 < |velocity| dt < 2");
+    }
+  }
   // c = v_r / snr^2 (fss::readout_noise_slots) beyond double precision
   if (!std::isfinite(fss::readout_noise_slots(options.sensor,
                                               static_cast<std::size_t>(options.length), options.dt,
@@ -53,11 +66,13 @@ void check_options(const fss::OptimizeOptions& options) {
   }
 }
 
-// The paper's codes that the mode admits, at the same velocity and dt.
+// The paper's codes that the mode admits, at the same velocity (or distribution) and dt.
 void print_paper_comparison(const fss::OptimizeOptions& options, const std::string& kind,
                             const fss::CodeAnalysis& ours) {
-  std::printf("Paper codes (L = 52) admissible for %s gains%s, at the same velocity and dt:\n",
-              kind.c_str(), options.min_light_slots > 0.0 ? " and the light budget" : "");
+  std::printf("Paper codes (L = 52) admissible for %s gains%s, %s and dt:\n", kind.c_str(),
+              options.min_light_slots > 0.0 ? " and the light budget" : "",
+              options.velocity_distribution ? "under the same velocity distribution"
+                                            : "at the same velocity");
   std::string skipped;
   for (const std::string& name : fss::builtin_code_names()) {
     const fss::ShutterCode paper_code = *fss::builtin_code(name);
@@ -66,8 +81,11 @@ void print_paper_comparison(const fss::OptimizeOptions& options, const std::stri
       continue;
     }
     const fss::CodeAnalysis paper =
-        fss::analyze_code(paper_code, options.velocity_px_per_slot, options.dt, options.snr,
-                          options.mode, 0, options.sensor, options.restoration);
+        options.velocity_distribution
+            ? fss::analyze_code(paper_code, *options.velocity_distribution, options.dt, options.snr,
+                                options.mode, 0, options.sensor, options.restoration)
+            : fss::analyze_code(paper_code, options.velocity_px_per_slot, options.dt, options.snr,
+                                options.mode, 0, options.sensor, options.restoration);
     // A Wiener or Tikhonov restoration has a finite figure for every code.
     if (paper.invertible || options.restoration.method != fss::RestorationMethod::kInverse) {
       std::printf("  %-13s SNR at level 100 %9.4f  (optimized / paper: %.4f)\n", name.c_str(),
@@ -88,9 +106,13 @@ CodeOptimizeCommand::CodeOptimizeCommand(CLI::App& code)
   CLI::App& optimize = app();
   fss::OptimizeOptions& o = options_;
   optimize.add_option("-L,--length", o.length, "number of gains L")->required()->check(at_least(1));
-  optimize.add_option("-v,--velocity", o.velocity_px_per_slot, "velocity in pixels per slot")
-      ->required()
-      ->check(finite());
+  velocity_option_ =
+      optimize
+          .add_option("-v,--velocity", o.velocity_px_per_slot,
+                      "velocity in pixels per slot (required unless --velocity-distribution)")
+          ->check(finite());
+  add_velocity_distribution_option(&optimize, &velocity_distribution_,
+                                   &velocity_distribution_option_);
   optimize.add_option("--dt", o.dt, "time slot length, > 0")->check(scale())->capture_default_str();
   optimize
       .add_option("--snr", o.snr,
@@ -135,22 +157,42 @@ void CodeOptimizeCommand::WriteCode(const fss::OptimizeOptions& options,
   const fss::CodeAnalysis& a = result.analysis;
   std::ostringstream header;
   header << "# optimized " << (options.binary ? "binary" : mode_) << " code, L = " << options.length
-         << ", velocity " << format_number(options.velocity_px_per_slot) << ", dt "
-         << format_number(options.dt) << ": SNR at level 100 " << format_number(a.snr_level100)
-         << " at snr " << format_number(options.snr) << " (snapshot "
-         << format_number(a.snapshot_snr_level100) << ")\n";
+         << ", "
+         << (options.velocity_distribution
+                 ? "velocity distribution " + options.velocity_distribution->text()
+                 : "velocity " + format_number(options.velocity_px_per_slot))
+         << ", dt " << format_number(options.dt) << ": SNR at level 100 "
+         << format_number(a.snr_level100) << " at snr " << format_number(options.snr)
+         << " (snapshot " << format_number(a.snapshot_snr_level100) << ")\n";
   if (options.sensor.enabled()) {
     header << "# sensor: " << fss::describe_design_sensor(options.sensor) << "\n";
   }
   if (options.restoration.method != fss::RestorationMethod::kInverse) {
     header << "# criterion: " << fss::describe_design_criterion(options.restoration) << "\n";
   }
+  std::vector<std::string> inputs;
+  if (options.velocity_distribution) {
+    header << "# the SNR averaged over the velocity distribution, "
+           << options.velocity_distribution->describe() << "; worst velocity "
+           << format_number(a.worst_velocity) << " (SNR at level 100 "
+           << format_number(a.worst_snr_level100) << ")\n";
+    if (options.velocity_distribution->kind == fss::VelocityDistributionKind::kDiscrete) {
+      inputs.push_back(velocity_distribution_);
+    }
+  }
   const fss::ShutterCode code{"optimized", result.gains};
-  write_output(output_, header.str() + fss::format_code_txt(code));
+  write_output(output_, header.str() + fss::format_code_txt(code), inputs);
 }
 
 int CodeOptimizeCommand::Run() const {
   fss::OptimizeOptions options = options_;
+  options.velocity_distribution = design_velocity_distribution(
+      velocity_distribution_option_, velocity_distribution_, velocity_option_, options.dt);
+  if (!options.velocity_distribution && velocity_option_->count() == 0) {
+    fss::throw_usage_error(
+        "code optimize needs --velocity V or --velocity-distribution SPEC (see fssim code "
+        "optimize --help)");
+  }
   options.mode = *fss::shutter_mode_from_string(mode_);
   options.sensor = sensor_.Model("code optimize");
   options.restoration = restoration_.Options();

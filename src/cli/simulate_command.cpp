@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -61,8 +62,68 @@ void print_restoration(const fss::RestorationSummary& r) {
   std::printf("Restoration: %s\n", text.c_str());
 }
 
+// Under a velocity distribution (docs/method.md §13): the distribution and the first trial's
+// velocity, whose images and metrics follow.
+void print_velocity_distribution(const fss::SimulationReport& report) {
+  const auto& d = report.options.velocity_distribution;
+  if (!d) return;
+  std::printf(
+      "Velocity distribution: %s (%s); trial 1 at velocity %g (the images and metrics "
+      "below)\n",
+      fss::escape_control_characters(d->describe()).c_str(),
+      fss::escape_control_characters(d->text()).c_str(), fss::first_trial_velocity(report.options));
+}
+
+// Under a velocity distribution: the trials' mean MSE against the predicted expected MSE (the
+// mean RMSE is not sqrt(E[MSE]), Jensen), with the quadrature's cost and error estimate.
+void print_mse_comparison(const fss::SimulationReport& report) {
+  const fss::TrialStatistics& t = report.trials;
+  if (!report.options.velocity_distribution || !t.mse_mean) return;
+  if (t.n > 1) {
+    std::printf("MSE mean over trials: %f (sd %f, se %f)", *t.mse_mean, t.mse_sd.value_or(0.0),
+                t.mse_sd.value_or(0.0) / std::sqrt(static_cast<double>(t.n)));
+  } else {
+    std::printf("MSE of the one trial: %f", *t.mse_mean);
+  }
+  const fss::Prediction& p = report.prediction;
+  if (p.finite && p.mse) {
+    std::printf(
+        "; predicted expected MSE: %f (sqrt: %f; %d evaluation%s, quadrature error "
+        "estimate %g)\n",
+        *p.mse, p.rmse, p.mse_evaluations, p.mse_evaluations == 1 ? "" : "s", p.mse_error_estimate);
+  } else {
+    std::printf("; predicted expected MSE: infinite: %s\n", p.mse_infinite_reason.c_str());
+  }
+}
+
+// The predicted error (docs/method.md §6b, §6, §13).
+void print_prediction(const fss::SimulationReport& report) {
+  const fss::Prediction& p = report.prediction;
+  const bool distribution = report.options.velocity_distribution.has_value();
+  if (p.finite) {
+    // The exact expectation (docs/method.md §6b), then the paper's stationary
+    // approximation and the image-independent figure of merit (§6).
+    std::printf("%s: %f (noise-free %f, noise %f)%s\n",
+                distribution ? "Predicted sqrt(expected MSE)" : "Predicted RMSE", p.rmse,
+                p.rmse_noise_free, p.noise,
+                p.exact ? "" : ", approximate: the sensor clips readouts");
+    if (report.restoration.options.method == fss::RestorationMethod::kInverse) {
+      std::printf("Stationary approximation: RMSE %f (noise %f), SNR at level 100 %f\n",
+                  p.rmse_stationary, p.sigma, p.snr_level100);
+    } else {
+      std::printf("Stationary approximation: RMSE %f (noise %f)\n", p.rmse_stationary, p.sigma);
+    }
+  } else if (distribution) {
+    std::printf("Predicted RMSE: infinite: %s\n", p.mse_infinite_reason.c_str());
+  } else {
+    std::printf("Predicted RMSE: none (code not invertible, min |K| = %g at xi = %g)\n",
+                report.kernel.min_abs, report.kernel.min_abs_xi);
+  }
+}
+
 void print_results(const fss::SimulationReport& report, const fss::SimulationOptions& options,
                    const std::string& outdir) {
+  print_velocity_distribution(report);
   print_metric("RMSE", report.metrics.rmse);
   print_metric("PSNR", report.metrics.psnr);
   print_metric("Contrast Invariant RMSE", report.metrics.rmse_ci);
@@ -73,22 +134,7 @@ void print_results(const fss::SimulationReport& report, const fss::SimulationOpt
     std::printf("SSIM: none (it needs an RMSE margin of at least 5 and at least 11 rows)\n");
   }
   print_restoration(report.restoration);
-  const fss::Prediction& p = report.prediction;
-  if (p.finite) {
-    // The exact expectation (docs/method.md §6b), then the paper's stationary
-    // approximation and the image-independent figure of merit (§6).
-    std::printf("Predicted RMSE: %f (noise-free %f, noise %f)%s\n", p.rmse, p.rmse_noise_free,
-                p.noise, p.exact ? "" : ", approximate: the sensor clips readouts");
-    if (report.restoration.options.method == fss::RestorationMethod::kInverse) {
-      std::printf("Stationary approximation: RMSE %f (noise %f), SNR at level 100 %f\n",
-                  p.rmse_stationary, p.sigma, p.snr_level100);
-    } else {
-      std::printf("Stationary approximation: RMSE %f (noise %f)\n", p.rmse_stationary, p.sigma);
-    }
-  } else {
-    std::printf("Predicted RMSE: none (code not invertible, min |K| = %g at xi = %g)\n",
-                report.kernel.min_abs, report.kernel.min_abs_xi);
-  }
+  print_prediction(report);
   const fss::TrialStatistics& t = report.trials;
   if (t.n > 1) {
     std::printf("Trials: %d, RMSE mean %f sd %f, RMSE_CI mean %f sd %f", t.n, t.rmse_mean,
@@ -96,7 +142,11 @@ void print_results(const fss::SimulationReport& report, const fss::SimulationOpt
     if (t.ssim_mean) std::printf(", SSIM mean %f sd %f", *t.ssim_mean, t.ssim_sd.value_or(0.0));
     std::printf("\n");
   }
-  if (options.restore_velocity_px_per_slot) {
+  print_mse_comparison(report);
+  if (options.restore_velocity_px_per_slot && options.velocity_distribution) {
+    std::printf("Restore velocity: %g (true velocity drawn by each trial)\n",
+                *options.restore_velocity_px_per_slot);
+  } else if (options.restore_velocity_px_per_slot) {
     std::printf("Restore velocity: %g (true velocity %g)\n", *options.restore_velocity_px_per_slot,
                 options.velocity_px_per_slot);
   }
@@ -175,6 +225,9 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   const std::vector<std::string> builtins = fss::builtin_code_names();
   if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {
     run.outputs.other_inputs.push_back(code_name);  // an input too: never overwritten
+  }
+  if (const std::string file = flags_.velocity_distribution_file(options); !file.empty()) {
+    run.outputs.other_inputs.push_back(file);
   }
   run.on_stage = [context](const std::string& stage) { context->activity = stage; };
   run.on_simulated = [](const fss::SimulationReport& report) {

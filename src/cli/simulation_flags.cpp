@@ -71,8 +71,18 @@ void SimulationFlags::AddMode(CLI::App& app) {
 }
 
 void SimulationFlags::AddVelocity(CLI::App& app) {
-  add_checked_option(app, "-v,--velocity", options_.velocity_px_per_slot,
-                     "velocity in pixels per time slot, signed (direction along rows)", finite());
+  velocity_option_ = add_checked_option(
+      app, "-v,--velocity", options_.velocity_px_per_slot,
+      "velocity in pixels per time slot, signed (direction along rows)", finite());
+}
+
+void SimulationFlags::AddVelocityDistribution(CLI::App& app) {
+  velocity_distribution_option_ = app.add_option(
+      "--velocity-distribution", velocity_distribution_,
+      "each trial draws its velocity from uniform:LO:HI, normal:MEAN:SD (truncated at MEAN +/- 4 "
+      "SD), normal:MEAN:SD:LO:HI or a file of 'velocity weight' lines; the geometry is that of "
+      "the largest |v|, the prediction the expected MSE over it (docs/method.md §13); not with "
+      "--velocity");
 }
 
 void SimulationFlags::AddRestoreVelocity(CLI::App& app) {
@@ -209,11 +219,35 @@ void SimulationFlags::read_restoration(fss::SimulationOptions& options) const {
   }
 }
 
+void SimulationFlags::read_velocity_distribution(fss::SimulationOptions& options) const {
+  if (velocity_distribution_option_->count() == 0) return;
+  if (velocity_option_ != nullptr && velocity_option_->count() > 0) {
+    fss::throw_usage_error(
+        "--velocity-distribution: cannot be used with -v/--velocity (each trial draws its "
+        "velocity from the distribution)");
+  }
+  const fss::RestorationOptions& r = options.restoration;
+  const bool fitted = r.method == fss::RestorationMethod::kWiener ||
+                      (r.method == fss::RestorationMethod::kTikhonov && !r.regularization);
+  if (const std::string rule = fss::distribution_restoration_rule(fitted); !rule.empty()) {
+    fss::throw_usage_error("--restoration " + fss::describe(r) + " " + rule);
+  }
+  options.velocity_distribution =
+      fss::load_velocity_distribution(velocity_distribution_, "--velocity-distribution");
+}
+
+std::string SimulationFlags::velocity_distribution_file(
+    const fss::SimulationOptions& options) const {
+  const auto& d = options.velocity_distribution;
+  return d && d->kind == fss::VelocityDistributionKind::kDiscrete ? d->source : std::string();
+}
+
 void SimulationFlags::AddAll(CLI::App& app) {
   AddCode(app);
   AddMode(app);
   AddVelocity(app);
   AddRestoreVelocity(app);
+  AddVelocityDistribution(app);
   AddDt(app);
   AddSnr(app);
   AddSeed(app);
@@ -246,6 +280,7 @@ fss::SimulationOptions SimulationFlags::Options() const {
   }
   if (full_well_option_ != nullptr) check_sensor(options);
   if (restoration_option_ != nullptr) read_restoration(options);
+  if (velocity_distribution_option_ != nullptr) read_velocity_distribution(options);
   return options;
 }
 

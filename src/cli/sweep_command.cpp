@@ -7,6 +7,7 @@
 #include <iostream>
 #include <utility>
 
+#include "campaign/campaign_text.h"
 #include "cli_common.h"
 #include "fss/campaign/results.h"
 #include "fss/campaign/spec.h"
@@ -32,6 +33,10 @@ const char kRestorationColumns[] =
     ",restoration,regularization,prior,regularization_applied,prior_level,noise_variance,"
     "ssim_mean,ssim_sd";
 
+// Under a velocity distribution (docs/method.md §13), the header and each row end with these
+// columns (campaign results' columns of the same names), and the velocity cells are empty.
+const char kDistributionColumns[] = ",velocity_distribution,mse_mean,mse_sd,predicted_mse";
+
 // CSV numbers: 10 significant digits for the swept values (so that 0.1 steps
 // read 0.3, not 0.30000000000000004), full precision for the results.
 constexpr int kSettingDigits = 10;
@@ -41,17 +46,17 @@ std::string csv_number(double value, int digits = kResultDigits) {
   return format_number(value, digits);
 }
 
-// The swept values and the results, for --plot (NaN where a setting has none).
-struct Curves {
-  std::vector<double> x, measured, predicted;
-};
+using Curves = SweepCommand::Curves;
 
 // Turns the campaign engine's rows into the sweep's CSV rows and console
 // lines; the curves get each row's point.
 class SweepRows {
  public:
-  SweepRows(bool by_velocity, bool restoration_columns, std::FILE* console)
-      : by_velocity_(by_velocity), restoration_columns_(restoration_columns), console_(console) {}
+  SweepRows(bool by_velocity, bool restoration_columns, bool distribution, std::FILE* console)
+      : by_velocity_(by_velocity),
+        restoration_columns_(restoration_columns),
+        distribution_(distribution),
+        console_(console) {}
 
   // The CSV line of the setting (velocity, snr) from its campaign row.
   std::string Row(double velocity, double snr, const fss::ResultRow& row);
@@ -59,11 +64,17 @@ class SweepRows {
 
  private:
   std::string TooNarrowRow(double velocity, double snr, const fss::ResultRow& row);
-  // The line's end: the restoration's cells (with restoration_columns_) and the newline.
+  // The console line of a setting that ran, and its curves' point: the mean RMSE against the
+  // predicted RMSE; under a distribution, the trials' mean MSE against E[MSE].
+  void VelocityLine(double velocity, double snr, const fss::ResultRow& row, bool invertible);
+  void DistributionLine(double snr, const fss::ResultRow& row, bool invertible);
+  // The line's end: the restoration's cells (with restoration_columns_), the distribution's
+  // (with distribution_) and the newline.
   std::string LineEnd(const fss::ResultRow& row) const;
 
   bool by_velocity_;
   bool restoration_columns_;
+  bool distribution_;
   std::FILE* console_;  // stdout, or stderr when the CSV goes to stdout
   Curves curves_;
 };
@@ -83,35 +94,27 @@ std::string number_cell(const fss::ResultRow& row, const char* column) {
 }
 
 std::string SweepRows::LineEnd(const fss::ResultRow& row) const {
-  if (!restoration_columns_) return "\n";
   std::string end;
-  for (const char* text : {"restoration", "regularization", "prior"}) end += "," + cell(row, text);
-  for (const char* column :
-       {"regularization_applied", "prior_level", "noise_variance", "ssim_mean", "ssim_sd"}) {
-    end += "," + number_cell(row, column);
+  if (restoration_columns_) {
+    for (const char* text : {"restoration", "regularization", "prior"}) {
+      end += "," + cell(row, text);
+    }
+    for (const char* column :
+         {"regularization_applied", "prior_level", "noise_variance", "ssim_mean", "ssim_sd"}) {
+      end += "," + number_cell(row, column);
+    }
+  }
+  if (distribution_) {
+    end += "," + fss::campaign_text::csv_field(cell(row, "velocity_distribution"));
+    for (const char* column : {"mse_mean", "mse_sd", "predicted_mse"}) {
+      end += "," + number_cell(row, column);
+    }
   }
   return end + "\n";
 }
 
-std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::ResultRow& row) {
-  fss::write_stderr("fssim: warning: velocity " + format_exact(velocity) + ": " +
-                    cell(row, "message") + "; row marked too-narrow\n");
-  curves_.x.push_back(by_velocity_ ? velocity : snr);
-  curves_.measured.push_back(std::nan(""));
-  curves_.predicted.push_back(std::nan(""));
-  std::fprintf(console_, "velocity %g, snr %g: too narrow\n", velocity, snr);
-  return cell(row, "blur_length") + ",,,,,,,too-narrow" + LineEnd(row);
-}
-
-std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& row) {
-  const std::string setting =
-      csv_number(velocity, kSettingDigits) + "," + csv_number(snr, kSettingDigits) + ",";
-  const std::string& status = cell(row, "status");
-  if (status == fss::kStatusTooNarrow) return setting + TooNarrowRow(velocity, snr, row);
-  if (status != fss::kStatusOk && status != fss::kStatusNotInvertible) {
-    fss::throw_usage_error(cell(row, "message"));  // what Simulate refused
-  }
-  const bool invertible = status == fss::kStatusOk;
+void SweepRows::VelocityLine(double velocity, double snr, const fss::ResultRow& row,
+                             bool invertible) {
   const double mean = number(row, "rmse_mean"), sd = number(row, "rmse_sd");
   const double predicted = number(row, "predicted_rmse");
   const int trials = std::stoi(cell(row, "trials"));
@@ -127,6 +130,62 @@ std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& ro
   } else {
     std::fprintf(console_, "velocity %g, snr %g: RMSE %g (%d trial%s), not invertible\n", velocity,
                  snr, mean, trials, trials == 1 ? "" : "s");
+  }
+}
+
+void SweepRows::DistributionLine(double snr, const fss::ResultRow& row, bool invertible) {
+  const double mse = number(row, "mse_mean");
+  const double predicted = number(row, "predicted_mse");
+  const int trials = std::stoi(cell(row, "trials"));
+  curves_.x.push_back(snr);
+  curves_.measured.push_back(mse);
+  curves_.predicted.push_back(std::isfinite(predicted) ? predicted : std::nan(""));
+  const std::string name = cell(row, "velocity_distribution");
+  const std::string rmse = " (RMSE mean " + format_number(number(row, "rmse_mean")) + ", " +
+                           std::to_string(trials) + (trials == 1 ? " trial)" : " trials)");
+  if (std::isfinite(predicted)) {
+    std::fprintf(
+        console_, "velocity %s, snr %g: MSE mean %f%s, predicted expected MSE %f%s\n", name.c_str(),
+        snr, mse, rmse.c_str(), predicted,
+        cell(row, "predicted_exact") != "false" ? "" : " (approximate: the sensor clips readouts)");
+  } else {
+    std::fprintf(console_,
+                 "velocity %s, snr %g: MSE mean %f%s, predicted expected MSE infinite%s\n",
+                 name.c_str(), snr, mse, rmse.c_str(), invertible ? "" : " (not invertible)");
+  }
+}
+
+std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::ResultRow& row) {
+  const std::string distribution = distribution_ ? cell(row, "velocity_distribution") : "";
+  fss::write_stderr("fssim: warning: velocity " +
+                    (distribution_ ? distribution : format_exact(velocity)) + ": " +
+                    cell(row, "message") + "; row marked too-narrow\n");
+  curves_.x.push_back(by_velocity_ ? velocity : snr);
+  curves_.measured.push_back(std::nan(""));
+  curves_.predicted.push_back(std::nan(""));
+  if (distribution_) {
+    std::fprintf(console_, "velocity %s, snr %g: too narrow\n", distribution.c_str(), snr);
+  } else {
+    std::fprintf(console_, "velocity %g, snr %g: too narrow\n", velocity, snr);
+  }
+  return cell(row, "blur_length") + ",,,,,,,too-narrow" + LineEnd(row);
+}
+
+std::string SweepRows::Row(double velocity, double snr, const fss::ResultRow& row) {
+  const std::string setting = (distribution_ ? "" : csv_number(velocity, kSettingDigits)) + "," +
+                              csv_number(snr, kSettingDigits) + ",";
+  const std::string& status = cell(row, "status");
+  if (status == fss::kStatusTooNarrow) return setting + TooNarrowRow(velocity, snr, row);
+  if (status != fss::kStatusOk && status != fss::kStatusNotInvertible) {
+    fss::throw_usage_error(cell(row, "message"));  // what Simulate refused
+  }
+  const bool invertible = status == fss::kStatusOk;
+  const double mean = number(row, "rmse_mean"), sd = number(row, "rmse_sd");
+  const double predicted = number(row, "predicted_rmse");
+  if (distribution_) {
+    DistributionLine(snr, row, invertible);
+  } else {
+    VelocityLine(velocity, snr, row, invertible);
   }
   return setting + cell(row, "blur_length") + "," + csv_number(mean) + "," + csv_number(sd) + "," +
          csv_number(predicted) + "," + csv_number(number(row, "predicted_rmse_noise_free")) + "," +
@@ -159,10 +218,12 @@ SweepCommand::SweepCommand(CLI::App& parent)
   sweep.add_option("-i,--input", input_, "input PNG or TIFF image")->required();
   flags_.AddCode(sweep);
   flags_.AddMode(sweep);
-  sweep
-      .add_option("-v,--velocity", velocity_,
-                  "velocity V, or a range start:stop:step (inclusive stop), pixels per slot")
-      ->capture_default_str();
+  velocity_option_ =
+      sweep
+          .add_option("-v,--velocity", velocity_,
+                      "velocity V, or a range start:stop:step (inclusive stop), pixels per slot")
+          ->capture_default_str();
+  flags_.AddVelocityDistribution(sweep);
   sweep.add_option("--snr", snr_, "snr S, or a range start:stop:step; values > 0")
       ->capture_default_str();
   flags_.AddDt(sweep);
@@ -241,7 +302,45 @@ fss::ResolvedCampaign SweepCommand::Campaign(const Grid& grid, const fss::Shutte
   c.sensor = options.sensor;
   // The restoration (--restoration, --regularization, --prior): every setting's.
   c.restorations = {options.restoration};
+  // The velocity distribution (docs/method.md §13): every setting's, in place of the velocity.
+  if (options.velocity_distribution) {
+    const fss::VelocityDistribution& d = *options.velocity_distribution;
+    c.velocity_distributions = {
+        {d.kind == fss::VelocityDistributionKind::kDiscrete ? d.source : d.text(), d, ""}};
+  }
   return c;
+}
+
+// The PNG of --plot: measured and predicted RMSE against the swept parameter; under a velocity
+// distribution, the trials' mean MSE and E[MSE] (docs/method.md §13).
+std::vector<std::uint8_t> SweepCommand::Plot(const Grid& grid, const fss::ShutterCode& code,
+                                             const fss::SimulationOptions& options,
+                                             const Curves& c) const {
+  const std::string trials =
+      std::to_string(options.trials) + (options.trials == 1 ? " realization" : " realizations");
+  const auto& distribution = options.velocity_distribution;
+  const std::string velocity =
+      distribution ? distribution->text() : format_number(grid.velocities.front());
+  fss::PlotOptions plot_options;
+  plot_options.title = (distribution ? "MSE" : "RMSE") + std::string(" of code ") + code.name +
+                       " on " + std::filesystem::path(input_).filename().string() + ", " +
+                       fss::to_string(options.mode) +
+                       (grid.by_velocity() ? ", snr " + format_number(grid.snrs.front())
+                                           : ", velocity " + velocity) +
+                       (options.restoration.method != fss::RestorationMethod::kInverse
+                            ? ", " + fss::describe(options.restoration)
+                            : "");
+  if (distribution) {
+    return fss::plot_curves_png(c.x,
+                                {{"measured (mean MSE of " + trials + ")", c.measured, false, true},
+                                 {"predicted (expected MSE)", c.predicted, true, false}},
+                                "snr", "MSE (gray levels squared)", plot_options);
+  }
+  return fss::plot_curves_png(c.x,
+                              {{"measured (mean of " + trials + ")", c.measured, false, true},
+                               {"predicted (exact expectation)", c.predicted, true, false}},
+                              grid.by_velocity() ? "velocity (pixels per time slot)" : "snr",
+                              "RMSE (gray levels)", plot_options);
 }
 
 int SweepCommand::Sweep() const {
@@ -249,6 +348,11 @@ int SweepCommand::Sweep() const {
   CheckPaths();
   const fss::ShutterCode code = fss::load_code(flags_.code_name(), "--code");
   const fss::SimulationOptions options = flags_.Options();
+  if (options.velocity_distribution && velocity_option_->count() > 0) {
+    fss::throw_usage_error(
+        "--velocity-distribution: cannot be used with -v/--velocity (each trial draws its "
+        "velocity from the distribution; sweep --snr under it)");
+  }
   const fss::Image image = fss::read_image(input_, options.max_memory_bytes);
   // Refuse a code the mode cannot use before any row runs (Simulate would, at
   // the first setting that fits the image).
@@ -260,34 +364,24 @@ int SweepCommand::Sweep() const {
   const fss::SettingRunOptions run{options.threads, options.max_memory_bytes, "", options.seed};
   fss::SimulationPlanCache plans;
   const bool restoration_columns = options.restoration.method != fss::RestorationMethod::kInverse;
-  SweepRows rows(grid.by_velocity(), restoration_columns, on_stdout ? stderr : stdout);
+  const bool distribution = options.velocity_distribution.has_value();
+  SweepRows rows(grid.by_velocity(), restoration_columns, distribution,
+                 on_stdout ? stderr : stdout);
   std::string csv = kCsvHeader;
   if (restoration_columns) csv.insert(csv.size() - 1, kRestorationColumns);
+  if (distribution) csv.insert(csv.size() - 1, kDistributionColumns);
   const long long settings = campaign.setting_count();
   for (long long i = 0; i < settings; ++i) {
     const fss::Setting s = fss::setting_at(campaign, i);
     csv += rows.Row(grid.velocities[s.velocity], grid.snrs[s.snr],
                     fss::run_setting(campaign, s, image, run, &plans));
   }
-  std::vector<std::uint8_t> png;
-  if (!plot_.empty()) {
-    const std::string trials =
-        std::to_string(options.trials) + (options.trials == 1 ? " realization" : " realizations");
-    fss::PlotOptions plot_options;
-    plot_options.title =
-        "RMSE of code " + code.name + " on " + std::filesystem::path(input_).filename().string() +
-        ", " + fss::to_string(options.mode) +
-        (grid.by_velocity() ? ", snr " + format_number(grid.snrs.front())
-                            : ", velocity " + format_number(grid.velocities.front())) +
-        (restoration_columns ? ", " + fss::describe(options.restoration) : "");
-    const Curves& c = rows.curves();
-    png = fss::plot_curves_png(c.x,
-                               {{"measured (mean of " + trials + ")", c.measured, false, true},
-                                {"predicted (exact expectation)", c.predicted, true, false}},
-                               grid.by_velocity() ? "velocity (pixels per time slot)" : "snr",
-                               "RMSE (gray levels)", plot_options);
+  const std::vector<std::uint8_t> png =
+      plot_.empty() ? std::vector<std::uint8_t>() : Plot(grid, code, options, rows.curves());
+  std::vector<std::string> inputs = {input_, flags_.code_name()};
+  if (const std::string file = flags_.velocity_distribution_file(options); !file.empty()) {
+    inputs.push_back(file);
   }
-  const std::vector<std::string> inputs = {input_, flags_.code_name()};
   std::FILE* console = on_stdout ? stderr : stdout;
   write_output(output_, csv, inputs);
   std::fprintf(console, "Wrote %lld row%s to %s\n", settings, settings == 1 ? "" : "s",

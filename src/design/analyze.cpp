@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/scaled_math.h"
+#include "design/analysis_parts.h"
 #include "design/numerics.h"
 #include "fss/core/error.h"
 #include "fss/model/kernel.h"
@@ -18,7 +19,7 @@ using design_detail::inverse_sinc_h;
 using design_detail::kInfinity;
 using design_detail::simpson;
 
-namespace {
+namespace design_detail {
 
 // The code is checked by fss::check_code_for_mode (the simulator's check);
 // the setting here.
@@ -38,13 +39,25 @@ void check_analysis_setting(double velocity, double dt, double snr, int grid) {
   }
 }
 
-// M of `gains` on the grid of `a` (midpoint rule or DFT grid).
-double mean_inverse_on_grid(std::span<const double> gains, const CodeAnalysis& a) {
-  return a.grid == 0 ? band_mean_inverse_power(gains, a.velocity, a.dt)
-                     : mean_inverse_power(gains, a.velocity, a.dt, a.grid);
+void check_analysis_inputs(const ShutterCode& code, double velocity, double dt, double snr,
+                           ShutterMode mode, int grid, const SensorModel& sensor,
+                           const RestorationOptions& restoration) {
+  check_code_for_mode(code, mode);
+  check_analysis_setting(velocity, dt, snr, grid);
+  check_design_sensor(sensor);
+  check_design_restoration(restoration);
+  if (grid != 0 && restoration.method != RestorationMethod::kInverse) {
+    throw_usage_error("grid " + std::to_string(grid) +
+                      ": the DFT grid is the inverse filter's; the " +
+                      to_string(restoration.method) + " figure uses the midpoint rule");
+  }
 }
 
-// The sums and the kernel's figures of `gains`.
+double mean_inverse_on_grid(std::span<const double> gains, double velocity, const CodeAnalysis& a) {
+  return a.grid == 0 ? band_mean_inverse_power(gains, velocity, a.dt)
+                     : mean_inverse_power(gains, velocity, a.dt, a.grid);
+}
+
 void describe_gains(const std::vector<double>& g, CodeAnalysis* a) {
   a->sum = gain_sum(g);
   a->square_sum = gain_square_sum(g);
@@ -56,10 +69,8 @@ void describe_gains(const std::vector<double>& g, CodeAnalysis* a) {
   a->invertible = kernel.invertible;
 }
 
-// Q_eff of `gains` (docs/method.md §10): V snr^2 / 10^4 with V the variance of the
-// level-100 observation (model/sensor.h), so that snr_level100(Q_eff, M, snr)
-// = 100 / sqrt(V M); the photon noise's Q itself for a default sensor (to the
-// bit, as before sensors existed).
+// snr_level100(Q_eff, M, snr) = 100 / sqrt(V M); to the bit the photon noise's Q for a default
+// sensor, as before sensors existed.
 double effective_noise_gain(std::span<const double> gains, double dt, ShutterMode mode, double snr,
                             const SensorModel& sensor) {
   if (!sensor.enabled()) return noise_gain(gains, dt, mode);
@@ -78,7 +89,6 @@ double effective_noise_gain(std::span<const double> gains, double dt, ShutterMod
   return dt * sum + (analog ? v_r : sum * v_r) / snr / snr;
 }
 
-// The sensor's figures of `a` (its gains `g`): readouts, v_r, Q_eff, Q_eff M.
 void describe_sensor(std::span<const double> g, CodeAnalysis* a) {
   a->readouts = a->mode == ShutterMode::kNumerical ? a->square_sum : 1.0;
   a->readout_variance_electrons2 =
@@ -86,6 +96,18 @@ void describe_sensor(std::span<const double> g, CodeAnalysis* a) {
   a->effective_q = effective_noise_gain(g, a->dt, a->mode, a->snr, a->sensor);
   a->effective_noise_figure = a->effective_q * a->m;
 }
+
+}  // namespace design_detail
+
+namespace {
+
+using design_detail::analysis_of_setting;
+using design_detail::check_analysis_finite;
+using design_detail::describe_gains;
+using design_detail::describe_sensor;
+using design_detail::effective_noise_gain;
+using design_detail::error_of_level100_snr;
+using design_detail::mean_inverse_on_grid;
 
 // snr_level100 and the snapshot's under a Wiener or Tikhonov restoration: 100 / sqrt(E), E of the
 // code and of the snapshot (1, 0, ..., 0) of the same length (level100_restoration_error).
@@ -103,10 +125,11 @@ void apply_restoration_figure(std::span<const double> g, CodeAnalysis* a) {
   a->snapshot_snr_level100 = 100.0 / std::sqrt(reference.error);
 }
 
-// Every figure of `a` finite (M, Q M and Q_eff M too when K has no zero),
-// else the setting left double precision: a usage error naming code, dt, snr
-// and the sensor's parts that are on.
-void check_analysis_finite(const ShutterCode& code, const CodeAnalysis& a) {
+}  // namespace
+
+// Every figure of `a` finite (M, Q M and Q_eff M too when K has no zero), else the setting left
+// double precision: a usage error naming code, dt, snr and the sensor's parts that are on.
+void design_detail::check_analysis_finite(const ShutterCode& code, const CodeAnalysis& a) {
   bool finite = true;
   for (const double value : {a.sum, a.square_sum, a.normalized_l1, a.k0, a.min_abs, a.q, a.readouts,
                              a.readout_variance_electrons2, a.effective_q, a.snr_level100,
@@ -141,8 +164,6 @@ void check_analysis_finite(const ShutterCode& code, const CodeAnalysis& a) {
                       " are too extreme together");
   }
 }
-
-}  // namespace
 
 double readout_noise_slots(const SensorModel& sensor, std::size_t length, double dt,
                            ShutterMode mode, double snr) {
@@ -240,32 +261,16 @@ double noise_figure_lower_bound(double velocity, double dt) {
 CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, double snr,
                           ShutterMode mode, int grid, const SensorModel& sensor,
                           const RestorationOptions& restoration) {
-  check_code_for_mode(code, mode);
-  check_analysis_setting(velocity, dt, snr, grid);
-  check_design_sensor(sensor);
-  check_design_restoration(restoration);
+  design_detail::check_analysis_inputs(code, velocity, dt, snr, mode, grid, sensor, restoration);
   const bool inverse = restoration.method == RestorationMethod::kInverse;
-  if (grid != 0 && !inverse) {
-    throw_usage_error("grid " + std::to_string(grid) +
-                      ": the DFT grid is the inverse filter's; the " +
-                      to_string(restoration.method) + " figure uses the midpoint rule");
-  }
   const std::vector<double>& g = code.gains;
-  CodeAnalysis a;
-  a.length = static_cast<int>(g.size());
-  a.mode = mode;
-  a.velocity = velocity;
-  a.dt = dt;
-  a.snr = snr;
-  a.grid = grid;
-  a.sensor = sensor;
-  a.restoration = restoration;
+  CodeAnalysis a = analysis_of_setting(code, velocity, dt, snr, mode, grid, sensor, restoration);
   describe_gains(g, &a);
 
   a.q = noise_gain(g, dt, mode);
   // As in the simulator's prediction: a code with a zero on the band has no
   // finite M, whatever the grid happens to sample.
-  a.m = a.invertible ? mean_inverse_on_grid(g, a) : kInfinity;
+  a.m = a.invertible ? mean_inverse_on_grid(g, velocity, a) : kInfinity;
   a.noise_figure = a.q * a.m;
   describe_sensor(g, &a);
   a.snr_level100 = snr_level100(a.effective_q, a.m, snr);
@@ -275,9 +280,8 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
   snapshot[0] = 1.0;
   const double snapshot_q = effective_noise_gain(snapshot, dt, mode, snr, sensor);
   a.snapshot_snr_level100 =
-      snr_level100(snapshot_q, mean_inverse_on_grid(std::vector<double>{1.0}, a), snr);
-  a.restoration_error =
-      a.snr_level100 > 0.0 ? (100.0 / a.snr_level100) * (100.0 / a.snr_level100) : kInfinity;
+      snr_level100(snapshot_q, mean_inverse_on_grid(std::vector<double>{1.0}, velocity, a), snr);
+  a.restoration_error = error_of_level100_snr(a.snr_level100);
   if (!inverse) apply_restoration_figure(g, &a);
   a.ratio_to_snapshot =
       a.snapshot_snr_level100 > 0.0 ? a.snr_level100 / a.snapshot_snr_level100 : 0.0;

@@ -1,4 +1,5 @@
 // Steepest-descent local search for binary gains (design/local_search.h).
+#include <cmath>
 #include <utility>
 
 #include "design/local_search.h"
@@ -8,37 +9,50 @@ namespace fss::design_detail {
 
 namespace {
 
-// A move lowers Q M when it does so by more than this relative amount.
+// A move lowers the cost when it does so by more than this relative amount.
 constexpr double kRelativeGain = 1e-12;
 
 class BinarySearch {
  public:
-  BinarySearch(int length, double velocity, double dt, int grid, int min_ones,
-               const BinaryCost& cost)
+  BinarySearch(int length, std::span<const VelocityNode> velocities, double dt, int grid,
+               int min_ones, const BinaryCost& cost)
       : length_(length),
         dt_(dt),
         cost_(cost),
         grid_(grid),
         min_ones_(min_ones),
         g_(static_cast<std::size_t>(grid)),
-        re_(g_, 0.0),
-        im_(g_, 0.0),
         power_(cost.restoration != nullptr ? g_ : 0, 0.0) {
-    make_band_basis(length, velocity, dt, grid, &basis_re_, &basis_im_);
+    for (const VelocityNode& node : velocities) {
+      Band band;
+      band.weight = node.weight;
+      band.re.assign(g_, 0.0);
+      band.im.assign(g_, 0.0);
+      make_band_basis(length, node.velocity, dt, grid, &band.basis_re, &band.basis_im);
+      bands_.push_back(std::move(band));
+    }
   }
 
   LocalResult Run(std::vector<double> x, int max_moves);
 
  private:
   // The best move: a flip of gain a (b = -1) or a swap of a 1 at a with a 0
-  // at b, and the Q M after it.
+  // at b, and the cost after it.
   struct Move {
     int a = -1;
     int b = -1;
     double value = kInfinity;
   };
+  // One velocity node: its weight, its basis E_jk and K of the current code on the grid.
+  struct Band {
+    double weight = 1.0;
+    std::vector<double> basis_re, basis_im;
+    std::vector<double> re, im;
+  };
 
   void AddRow(int k, double sign);
+  double BandValueAfter(const Band& band, int a, double sign_a, int b, double sign_b, double q,
+                        int count) const;
   double ValueAfter(int a, double sign_a, int b, double sign_b, int count) const;
   void BestFlip(Move* best);
   void BestSwap(Move* best);
@@ -50,8 +64,7 @@ class BinarySearch {
   int grid_;
   int min_ones_;
   std::size_t g_;
-  std::vector<double> basis_re_, basis_im_;
-  std::vector<double> re_, im_;  // K of the current code on the grid
+  std::vector<Band> bands_;
   // |K|^2 of a candidate on the grid, under a restoration (ValueAfter is const but reuses it).
   mutable std::vector<double> power_;
   std::vector<double> x_;
@@ -59,45 +72,60 @@ class BinarySearch {
   LocalResult result_;
 };
 
-// K += sign E_k.
+// K += sign E_k at every node.
 void BinarySearch::AddRow(int k, double sign) {
-  for (std::size_t j = 0; j < g_; ++j) {
-    re_[j] += sign * basis_re_[k * g_ + j];
-    im_[j] += sign * basis_im_[k * g_ + j];
+  for (Band& band : bands_) {
+    for (std::size_t j = 0; j < g_; ++j) {
+      band.re[j] += sign * band.basis_re[k * g_ + j];
+      band.im[j] += sign * band.basis_im[k * g_ + j];
+    }
   }
 }
 
-// Q_eff M after adding sign_a E_a + sign_b E_b to K (b = -1: no second row),
-// for a code of `count` ones: M = mean of 1 / |K|^2 and Q_eff = dt count
-// without readout noise; with it (dt + c) count (numerical) or dt count + c
-// (analog). Under a restoration (cost_.restoration), its E instead.
-double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int count) const {
-  if (count == 0 || count < min_ones_) return kInfinity;
-  const double* ar = basis_re_.data() + a * g_;
-  const double* ai = basis_im_.data() + a * g_;
-  const double* br = basis_re_.data() + (b < 0 ? a : b) * g_;
-  const double* bi = basis_im_.data() + (b < 0 ? a : b) * g_;
+// At one node: Q_eff M after adding sign_a E_a + sign_b E_b to K (b = -1: no
+// second row), M = mean of 1 / |K|^2; under a restoration (cost_.restoration)
+// its E instead, with V = (10^4 / snr^2) Q_eff and kappa = dt count.
+double BinarySearch::BandValueAfter(const Band& band, int a, double sign_a, int b, double sign_b,
+                                    double q, int count) const {
+  const double* ar = band.basis_re.data() + a * g_;
+  const double* ai = band.basis_im.data() + a * g_;
+  const double* br = band.basis_re.data() + (b < 0 ? a : b) * g_;
+  const double* bi = band.basis_im.data() + (b < 0 ? a : b) * g_;
   const double weight_b = b < 0 ? 0.0 : sign_b;
-  const double q =
-      cost_.numerical ? (dt_ + cost_.readout_slots) * count : dt_ * count + cost_.readout_slots;
   if (cost_.restoration != nullptr) {
-    // E with V = (10^4 / snr^2) Q_eff and kappa = dt count; finite where K vanishes.
+    // finite where K vanishes
     for (std::size_t j = 0; j < g_; ++j) {
-      const double r = re_[j] + sign_a * ar[j] + weight_b * br[j];
-      const double i = im_[j] + sign_a * ai[j] + weight_b * bi[j];
+      const double r = band.re[j] + sign_a * ar[j] + weight_b * br[j];
+      const double i = band.im[j] + sign_a * ai[j] + weight_b * bi[j];
       power_[j] = r * r + i * i;
     }
     return cost_.restoration->Evaluate(power_, cost_.noise_per_q * q, dt_ * count).error;
   }
   double sum = 0.0;
   for (std::size_t j = 0; j < g_; ++j) {
-    const double r = re_[j] + sign_a * ar[j] + weight_b * br[j];
-    const double i = im_[j] + sign_a * ai[j] + weight_b * bi[j];
+    const double r = band.re[j] + sign_a * ar[j] + weight_b * br[j];
+    const double i = band.im[j] + sign_a * ai[j] + weight_b * bi[j];
     const double power = r * r + i * i;
     if (!(power > 0.0)) return kInfinity;
     sum += 1.0 / power;
   }
   return q * sum / grid_;
+}
+
+// The cost of the code of `count` ones after the move: sum_i w_i C(v_i) over the nodes, C the
+// node's Q_eff M or E; Q_eff = dt count without readout noise, with it (dt + c) count
+// (numerical) or dt count + c (analog). One node of weight 1 gives its C to the bit.
+double BinarySearch::ValueAfter(int a, double sign_a, int b, double sign_b, int count) const {
+  if (count == 0 || count < min_ones_) return kInfinity;
+  const double q =
+      cost_.numerical ? (dt_ + cost_.readout_slots) * count : dt_ * count + cost_.readout_slots;
+  double total = 0.0;
+  for (const Band& band : bands_) {
+    const double value = BandValueAfter(band, a, sign_a, b, sign_b, q, count);
+    if (std::isinf(value)) return value;
+    total += band.weight * value;
+  }
+  return total;
 }
 
 void BinarySearch::BestFlip(Move* best) {
@@ -160,9 +188,10 @@ LocalResult BinarySearch::Run(std::vector<double> x, int max_moves) {
 
 }  // namespace
 
-LocalResult minimize_binary(int length, double velocity, double dt, int grid, int min_ones,
-                            std::vector<double> x, int max_moves, const BinaryCost& cost) {
-  BinarySearch search(length, velocity, dt, grid, min_ones, cost);
+LocalResult minimize_binary(int length, std::span<const VelocityNode> velocities, double dt,
+                            int grid, int min_ones, std::vector<double> x, int max_moves,
+                            const BinaryCost& cost) {
+  BinarySearch search(length, velocities, dt, grid, min_ones, cost);
   return search.Run(std::move(x), max_moves);
 }
 

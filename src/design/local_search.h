@@ -8,6 +8,7 @@
 
 #include "design/numerics.h"
 #include "fss/design/optimize.h"
+#include "fss/model/velocity_distribution.h"
 
 namespace fss::design_detail {
 
@@ -69,11 +70,15 @@ struct BinaryCost {
 // Steepest-descent local search on binary codes of at least `min_ones` ones,
 // from `x`, for at most `max_moves` moves. A move flips one gain or, when no
 // flip helps, swaps a 1 with a 0 (which keeps the light, so the search can
-// move along a light budget); the move that lowers Q M the most is made, until
-// none lowers it. K is updated incrementally (K +/- E_k), so one pass over the
-// neighbours costs G operations per neighbour. Q = dt * (number of ones) in
-// both modes; Q_eff adds the readouts of `cost`.
-LocalResult minimize_binary(int length, double velocity, double dt, int grid, int min_ones,
-                            std::vector<double> x, int max_moves, const BinaryCost& cost = {});
+// move along a light budget); the move that lowers the cost the most is made,
+// until none lowers it. The cost is sum_i w_i C(v_i) over the velocity nodes
+// (v_i, w_i) (one node of weight 1 at a single velocity), C(v) the criterion
+// of `cost` at v: Q_eff M(v) or E(v). K is updated incrementally at each node
+// (K +/- E_k), so one pass over the neighbours costs G operations per
+// neighbour and node. Q = dt * (number of ones) in both modes; Q_eff adds the
+// readouts of `cost`.
+LocalResult minimize_binary(int length, std::span<const VelocityNode> velocities, double dt,
+                            int grid, int min_ones, std::vector<double> x, int max_moves,
+                            const BinaryCost& cost = {});
 
 }  // namespace fss::design_detail

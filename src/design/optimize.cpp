@@ -10,12 +10,14 @@
 #include "design/local_search.h"
 #include "design/option_checks.h"
 #include "design/restoration_figure.h"
+#include "design/velocity_average.h"
 #include "fss/core/error.h"
 #include "fss/design/generate.h"
 #include "model/noise.h"
 
 namespace fss {
 
+using design_detail::AveragedObjective;
 using design_detail::BinaryCost;
 using design_detail::code_length_and_dt_are_valid;
 using design_detail::ContinuousObjective;
@@ -88,37 +90,81 @@ std::vector<double> random_start(const OptimizeOptions& options, const SearchSet
   return start;
 }
 
-// The objectives of the search, made once: the inverse filter's Q_eff M (NoiseFigure; continuous
-// gains) or a restoration's E (RestorationObjective), as the continuous search takes it, and the
-// binary search's cost. Not copyable: `cost` and `continuous` refer to the members.
+// The velocity nodes of the criterion: the one velocity (weight 1), or the distribution's
+// composite Gauss rule (a discrete distribution: its velocities).
+std::vector<VelocityNode> criterion_velocities(const OptimizeOptions& options) {
+  if (!options.velocity_distribution) return {{options.velocity_px_per_slot, 1.0}};
+  return composite_gauss_nodes(*options.velocity_distribution);
+}
+
+// The velocity the sinc start is designed for: the options' one, or the support's largest |v|
+// (where the code must stay invertible for every velocity of the support).
+double design_velocity(const OptimizeOptions& options) {
+  return options.velocity_distribution ? design_detail::support_top(*options.velocity_distribution)
+                                       : options.velocity_px_per_slot;
+}
+
+// The objectives of the search, made once per velocity node: the inverse filter's Q_eff M
+// (NoiseFigure; continuous gains) or a restoration's E (RestorationObjective), as the continuous
+// search takes it (their weighted sum over the nodes, or the one node's own), and the binary
+// search's cost. Not copyable: `cost` and `continuous` refer to the members.
 class SearchObjectives {
  public:
-  explicit SearchObjectives(const OptimizeOptions& options) {
-    const double v = options.velocity_px_per_slot;
+  explicit SearchObjectives(const OptimizeOptions& options) : nodes(criterion_velocities(options)) {
     const double c = readout_noise_slots(options.sensor, static_cast<std::size_t>(options.length),
                                          options.dt, options.mode, options.snr);
     cost.numerical = options.mode == ShutterMode::kNumerical;
     cost.readout_slots = c;
+    std::vector<design_detail::ContinuousObjective> parts;
     if (options.restoration.method != RestorationMethod::kInverse) {
-      restoration.emplace(options.length, v, options.dt, options.mode, options.snr,
-                          options.restoration, options.grid_points, c);
-      cost.restoration = &restoration->band();
-      cost.noise_per_q = restoration->noise_per_q();
-      continuous = [this](std::span<const double> gains, std::span<double> gradient) {
-        return restoration->Evaluate(gains, gradient);
-      };
+      restorations.reserve(nodes.size());
+      for (const VelocityNode& node : nodes) {
+        restorations.emplace_back(options.length, node.velocity, options.dt, options.mode,
+                                  options.snr, options.restoration, options.grid_points, c);
+      }
+      cost.restoration = &restorations.front().band();
+      cost.noise_per_q = restorations.front().noise_per_q();
+      for (std::size_t i = 0; i < nodes.size(); ++i) {
+        parts.push_back([this, i](std::span<const double> gains, std::span<double> gradient) {
+          return restorations[i].Evaluate(gains, gradient);
+        });
+      }
     } else if (!options.binary) {
-      noise_figure.emplace(options.length, v, options.dt, options.mode, options.grid_points, c);
-      continuous = [this](std::span<const double> gains, std::span<double> gradient) {
-        return noise_figure->Evaluate(gains, gradient);
-      };
+      noise_figures.reserve(nodes.size());
+      for (const VelocityNode& node : nodes) {
+        noise_figures.emplace_back(options.length, node.velocity, options.dt, options.mode,
+                                   options.grid_points, c);
+      }
+      for (std::size_t i = 0; i < nodes.size(); ++i) {
+        parts.push_back([this, i](std::span<const double> gains, std::span<double> gradient) {
+          return noise_figures[i].Evaluate(gains, gradient);
+        });
+      }
+    }
+    if (parts.size() == 1) {
+      continuous = parts.front();
+    } else if (!parts.empty()) {
+      std::vector<double> weights;
+      for (const VelocityNode& node : nodes) weights.push_back(node.weight);
+      continuous = AveragedObjective(std::move(parts), std::move(weights), options.length);
     }
   }
   SearchObjectives(const SearchObjectives&) = delete;
   SearchObjectives& operator=(const SearchObjectives&) = delete;
 
-  std::optional<NoiseFigure> noise_figure;
-  std::optional<RestorationObjective> restoration;
+  // E of `gains` under the restoration: the one node's, or sum_i w_i E_i over the nodes.
+  double RestorationError(std::span<const double> gains) const {
+    if (restorations.size() == 1) return restorations.front().Evaluate(gains);
+    double total = 0.0;
+    for (std::size_t i = 0; i < restorations.size(); ++i) {
+      total += nodes[i].weight * restorations[i].Evaluate(gains);
+    }
+    return total;
+  }
+
+  std::vector<VelocityNode> nodes;
+  std::vector<NoiseFigure> noise_figures;
+  std::vector<RestorationObjective> restorations;
   BinaryCost cost;
   ContinuousObjective continuous;
 };
@@ -126,13 +172,13 @@ class SearchObjectives {
 // The box code (1, ..., 1, 0, ..., 0) of n ones, n from the light budget to L, with the lowest E
 // under the restoration (the first such n on ties).
 std::vector<double> best_box_code(const OptimizeOptions& options, const SearchSetting& setting,
-                                  const RestorationObjective& objective) {
+                                  const SearchObjectives& objectives) {
   std::vector<double> best;
   double best_error = kInfinity;
   for (int n = std::max(setting.min_ones, 1); n <= options.length; ++n) {
     std::vector<double> box(static_cast<std::size_t>(options.length), 0.0);
     std::fill(box.begin(), box.begin() + n, 1.0);
-    const double error = objective.Evaluate(box);
+    const double error = objectives.RestorationError(box);
     if (error < best_error) {
       best_error = error;
       best = std::move(box);
@@ -143,22 +189,25 @@ std::vector<double> best_box_code(const OptimizeOptions& options, const SearchSe
 
 // Starting codes: the snapshot first (admissible in every mode without a light
 // budget, so the result is never worse than it), under a restoration the best
-// box code when it has more than one 1, the sinc code for numerical gains, then
-// seeded random codes.
+// box code when it has more than one 1, the sinc code for numerical gains,
+// under a distribution `speed_optimum` (when not empty), then seeded random
+// codes.
 std::vector<std::vector<double>> starting_codes(const OptimizeOptions& options,
                                                 const SearchSetting& setting,
-                                                const SearchObjectives& objectives) {
+                                                const SearchObjectives& objectives,
+                                                std::vector<double> speed_optimum) {
   std::vector<std::vector<double>> starts;
   std::mt19937_64 deterministic_rng(start_seed(options.seed, -1));
   starts.push_back(snapshot_code(options.length));
   make_feasible(options, setting, starts.back(), deterministic_rng);
-  if (objectives.restoration) {
-    std::vector<double> box = best_box_code(options, setting, *objectives.restoration);
+  if (!objectives.restorations.empty()) {
+    std::vector<double> box = best_box_code(options, setting, objectives);
     if (gain_sum(box) > 1.0) starts.push_back(std::move(box));
   }
   if (setting.numerical && options.length > 1) {
-    starts.push_back(generate_sinc_code(options.length, options.velocity_px_per_slot, options.dt));
+    starts.push_back(generate_sinc_code(options.length, design_velocity(options), options.dt));
   }
+  if (!speed_optimum.empty()) starts.push_back(std::move(speed_optimum));
   for (int r = 0; r < options.restarts; ++r) starts.push_back(random_start(options, setting, r));
   return starts;
 }
@@ -168,14 +217,13 @@ void search_from_starts(const OptimizeOptions& options, const SearchSetting& set
                         const SearchObjectives& objectives,
                         const std::vector<std::vector<double>>& starts,
                         OptimizationResult* result) {
-  const double v = options.velocity_px_per_slot;
   double best = kInfinity;
   for (std::size_t s = 0; s < starts.size(); ++s) {
     const LocalResult local =
         options.binary
-            ? design_detail::minimize_binary(options.length, v, options.dt, options.grid_points,
-                                             setting.min_ones, starts[s], options.max_iterations,
-                                             objectives.cost)
+            ? design_detail::minimize_binary(options.length, objectives.nodes, options.dt,
+                                             options.grid_points, setting.min_ones, starts[s],
+                                             options.max_iterations, objectives.cost)
             : design_detail::minimize_continuous(objectives.continuous, starts[s], setting.feasible,
                                                  options.max_iterations);
     result->iterations += local.iterations;
@@ -201,12 +249,50 @@ void normalize_result(const OptimizeOptions& options, bool numerical, std::vecto
   }
 }
 
+// The distribution and the rules that average the criterion over it, for FullReport.
+std::string velocity_rules(const OptimizationResult& result) {
+  const VelocityDistribution& d = *result.options.velocity_distribution;
+  if (d.is_point()) return d.describe() + ": one velocity, the single-velocity criterion";
+  if (d.kind == VelocityDistributionKind::kDiscrete) {
+    return d.describe() + "; criterion averaged over it: the weighted sum over its " +
+           std::to_string(d.points.size()) + " velocities (optimisation and reported figure)";
+  }
+  const CodeAnalysis& a = result.analysis;
+  return d.describe() + "; criterion averaged over it: composite Gauss rule " +
+         std::to_string(kDesignVelocityPanels) + " panels x " +
+         std::to_string(kDesignVelocityOrder) +
+         " nodes (optimisation), adaptive Gauss-Kronrod to " +
+         design_detail::tolerance_text(kVelocityQuadratureTolerance) +
+         " (reported figure: " + std::to_string(a.quadrature_evaluations) + " evaluations" +
+         (a.quadrature_converged
+              ? ""
+              : ", the tolerance not met within " +
+                    std::to_string(kMaxVelocityQuadratureIntervals) + " intervals") +
+         ")";
+}
+
+// The worst velocity of an averaged analysis and its SNR, or where the code is not invertible.
+std::string worst_velocity_line(const CodeAnalysis& a) {
+  char line[256];
+  if (a.worst_snr_level100 > 0.0) {
+    std::snprintf(line, sizeof line, "Worst velocity in the support: %g (SNR at level 100 %.4f)\n",
+                  a.worst_velocity, a.worst_snr_level100);
+  } else {
+    std::snprintf(line, sizeof line,
+                  "Not invertible at velocity %g: the expected error is infinite\n",
+                  a.worst_velocity);
+  }
+  return line;
+}
+
 }  // namespace
 
 bool OptimizeOptions::IsValid(std::string* error) const {
   if (!code_length_and_dt_are_valid(length, kMaxOptimizedCodeLength, dt, error)) return false;
   const auto fail = [error](const std::string& message) { return invalid(error, message); };
-  if (!design_band_is_valid(velocity_px_per_slot, dt)) {
+  if (velocity_distribution) {
+    if (!design_detail::distribution_options_are_valid(*this, error)) return false;
+  } else if (!design_band_is_valid(velocity_px_per_slot, dt)) {
     return fail("velocity_px_per_slot = " + format_exact(velocity_px_per_slot) +
                 " with dt = " + format_exact(dt) +
                 ": must satisfy 0 < |velocity| dt < 2 (at v = 0 no motion needs undoing; from "
@@ -259,6 +345,44 @@ bool OptimizeOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// E|V|, the mean speed of a distribution.
+double mean_speed(const VelocityDistribution& d) {
+  return expected_over_velocity(d, [](double v) { return std::abs(v); }).value;
+}
+
+// The search for `search` (a single velocity or a distribution that is not a point): the best
+// code, normalised, with the counts of the search. Under a distribution the same search at its
+// mean speed E|V| runs first and its optimum is a start (its counts included), so that the
+// result is no worse than that single-velocity optimum under the optimisation's rule.
+OptimizationResult run_search(const OptimizeOptions& search) {
+  OptimizationResult result;
+  std::vector<double> speed_optimum;
+  if (search.velocity_distribution) {
+    OptimizeOptions single = search;
+    single.velocity_distribution.reset();
+    single.velocity_px_per_slot = mean_speed(*search.velocity_distribution);
+    if (design_band_is_valid(single.velocity_px_per_slot, single.dt)) {
+      const OptimizationResult inner = run_search(single);
+      speed_optimum = inner.gains;
+      result.iterations = inner.iterations;
+      result.evaluations = inner.evaluations;
+    }
+  }
+  const SearchSetting setting(search);
+  const SearchObjectives objectives(search);
+  const std::vector<std::vector<double>> starts =
+      starting_codes(search, setting, objectives, std::move(speed_optimum));
+  result.starts = static_cast<int>(starts.size());
+  search_from_starts(search, setting, objectives, starts, &result);
+  if (result.gains.empty()) result.gains = snapshot_code(search.length);  // every start failed
+  normalize_result(search, setting.numerical, result.gains);
+  return result;
+}
+
+}  // namespace
+
 // From each start: continuous gains by projected L-BFGS on log(Q M), or log E under a restoration
 // (continuous_search.cpp),
 // binary gains by a steepest-descent local search over single bit flips, and swaps of a 1 with
@@ -266,21 +390,23 @@ bool OptimizeOptions::IsValid(std::string* error) const {
 OptimizationResult optimize_code(const OptimizeOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw_usage_error(error);
-  const SearchSetting setting(options);
-  const SearchObjectives objectives(options);
-  const std::vector<std::vector<double>> starts = starting_codes(options, setting, objectives);
-
-  OptimizationResult result;
+  // A point distribution is the search at its one velocity.
+  OptimizeOptions search = options;
+  if (options.velocity_distribution && options.velocity_distribution->is_point()) {
+    search.velocity_px_per_slot = design_detail::point_velocity(*options.velocity_distribution);
+    search.velocity_distribution.reset();
+  }
+  OptimizationResult result = run_search(search);
   result.options = options;
-  result.starts = static_cast<int>(starts.size());
-  search_from_starts(options, setting, objectives, starts, &result);
-  if (result.gains.empty()) result.gains = snapshot_code(options.length);  // every start failed
-  normalize_result(options, setting.numerical, result.gains);
   // Binary gains are admissible in both modes; their Q is the same in both,
   // their readouts are not.
+  const ShutterCode code{"optimized", result.gains};
   result.analysis =
-      analyze_code(ShutterCode{"optimized", result.gains}, options.velocity_px_per_slot, options.dt,
-                   options.snr, options.mode, 0, options.sensor, options.restoration);
+      options.velocity_distribution
+          ? analyze_code(code, *options.velocity_distribution, options.dt, options.snr,
+                         options.mode, 0, options.sensor, options.restoration)
+          : analyze_code(code, options.velocity_px_per_slot, options.dt, options.snr, options.mode,
+                         0, options.sensor, options.restoration);
   return result;
 }
 
@@ -289,8 +415,13 @@ std::string OptimizationResult::FullReport() const {
   char line[256];
   const std::string kind =
       options.binary ? "binary" : (options.mode == ShutterMode::kAnalog ? "analog" : "numerical");
-  std::snprintf(line, sizeof line, "Optimized %s code: L = %d, velocity %g, dt %g", kind.c_str(),
-                options.length, options.velocity_px_per_slot, options.dt);
+  if (options.velocity_distribution) {
+    std::snprintf(line, sizeof line, "Optimized %s code: L = %d, dt %g", kind.c_str(),
+                  options.length, options.dt);
+  } else {
+    std::snprintf(line, sizeof line, "Optimized %s code: L = %d, velocity %g, dt %g", kind.c_str(),
+                  options.length, options.velocity_px_per_slot, options.dt);
+  }
   out << line;
   if (options.min_light_slots > 0.0) {
     std::snprintf(line, sizeof line, ", light >= %g slots", options.min_light_slots);
@@ -304,6 +435,7 @@ std::string OptimizationResult::FullReport() const {
   if (options.restoration.method != RestorationMethod::kInverse) {
     out << "\nCriterion: " << describe_design_criterion(options.restoration);
   }
+  if (options.velocity_distribution) out << "\nVelocity: " << velocity_rules(*this);
   std::snprintf(line, sizeof line,
                 "\nSearch: %d starts (seed %llu, best from start %d), %d iterations, %d "
                 "evaluations\n",
@@ -321,15 +453,22 @@ std::string OptimizationResult::FullReport() const {
   if (options.restoration.method != RestorationMethod::kInverse) {
     std::snprintf(line, sizeof line, "the Cauchy-Schwarz bound is for the inverse filter only)\n");
   } else if (std::isfinite(analysis.snr_level100_bound)) {
-    std::snprintf(line, sizeof line, "Cauchy-Schwarz bound %.4f)\n", analysis.snr_level100_bound);
+    std::snprintf(line, sizeof line, "Cauchy-Schwarz bound %s%.4f)\n",
+                  options.velocity_distribution ? "of the average " : "",
+                  analysis.snr_level100_bound);
   } else {
     std::snprintf(line, sizeof line, "no finite Cauchy-Schwarz bound at |v| dt = %g)\n",
                   std::abs(options.velocity_px_per_slot) * options.dt);
   }
   out << line;
+  if (options.velocity_distribution) out << worst_velocity_line(analysis);
   if (options.restoration.method == RestorationMethod::kTikhonov) {
     out << "Regularization: lambda " << format_number(analysis.regularization) << " (snapshot "
-        << format_number(analysis.snapshot_regularization) << ")\n";
+        << format_number(analysis.snapshot_regularization) << ")"
+        << (options.velocity_distribution && !options.restoration.regularization
+                ? " at the worst velocity; each velocity is restored with its own optimal lambda"
+                : "")
+        << "\n";
   }
   return out.str();
 }

@@ -107,10 +107,12 @@ void write_summary(std::ostringstream& out, const SimulationReport& r, const std
   out << "<h1>Flutter shutter simulation: code <code>" << code << "</code></h1>\n"
       << "<p>Input <code>" << html_escape(input_path) << "</code>, " << r.width << "×" << r.height
       << ", " << (r.channels == 1 ? "gray" : "colour") << ". "
-      << (o.mode == ShutterMode::kAnalog ? "Analog" : "Numerical")
-      << " flutter shutter, v = " << format("%g", o.velocity_px_per_slot)
-      << " pixel per time slot, dt = " << format("%g", o.dt) << ", snr = " << format("%g", o.snr)
-      << ".</p>\n";
+      << (o.mode == ShutterMode::kAnalog ? "Analog" : "Numerical") << " flutter shutter, v "
+      << (o.velocity_distribution
+              ? "drawn by each trial from the " + html_escape(o.velocity_distribution->describe()) +
+                    " (pixels per time slot)"
+              : "= " + format("%g", o.velocity_px_per_slot) + " pixel per time slot")
+      << ", dt = " << format("%g", o.dt) << ", snr = " << format("%g", o.snr) << ".</p>\n";
   if (r.warnings.empty()) return;
   out << "<ul class=\"warning\">\n";
   for (const std::string& warning : r.warnings) {
@@ -126,7 +128,14 @@ void write_parameters(std::ostringstream& out, const SimulationReport& r, const 
   t.row("code", "<code>" + code + "</code>, L = " + std::to_string(r.gains.size()) +
                     ", ‖α‖₁ / sup|α| = " + format("%.4f", normalized_l1(r.gains)));
   t.row("mode", to_string(o.mode));
-  t.row("velocity v", format("%g", o.velocity_px_per_slot) + " (pixels per time slot)");
+  if (o.velocity_distribution) {  // docs/method.md §13
+    t.row("velocity distribution",
+          html_escape(o.velocity_distribution->describe()) + " (<code>" +
+              html_escape(o.velocity_distribution->text()) +
+              "</code>); the first trial's v = " + format("%g", first_trial_velocity(o)));
+  } else {
+    t.row("velocity v", format("%g", o.velocity_px_per_slot) + " (pixels per time slot)");
+  }
   t.row("slot length dt", format("%g", o.dt));
   t.row("snr", format("%g", o.snr));
   t.row("noise", to_string(o.noise));
@@ -151,10 +160,28 @@ void write_parameters(std::ostringstream& out, const SimulationReport& r, const 
   t.row("RMSE_CI columns", columns(r.rmse_ci_first, r.rmse_ci_end));
 }
 
+// Under a velocity distribution (docs/method.md §13): the trials' mean MSE against E[MSE].
+void write_mse_rows(Table& t, const SimulationReport& r) {
+  if (!r.trials.mse_mean) return;
+  const Prediction& p = r.prediction;
+  t.row("MSE over " + std::to_string(r.trials.n) + " trials",
+        metric(*r.trials.mse_mean) + " ± " + metric(r.trials.mse_sd.value_or(0.0)) +
+            " (mean ± sd; se " +
+            metric(r.trials.mse_sd.value_or(0.0) / std::sqrt(static_cast<double>(r.trials.n))) +
+            ")");
+  t.row(
+      "predicted expected MSE",
+      p.finite && p.mse
+          ? metric(*p.mse) + " (√: " + metric(p.rmse) + "; " + std::to_string(p.mse_evaluations) +
+                " velocities evaluated)"
+          : "<span class=\"warning\">infinite: " + html_escape(p.mse_infinite_reason) + "</span>");
+}
+
 // The predicted error: the exact expectation (docs/method.md §6b), the
 // stationary approximation and the figure of merit (§6), and |K| (§1).
 void write_prediction_rows(Table& t, const SimulationReport& r) {
-  if (r.prediction.finite) {
+  write_mse_rows(t, r);
+  if (r.prediction.finite && !r.options.velocity_distribution) {
     t.row(r.prediction.exact ? "predicted RMSE (exact expectation)"
                              : "predicted RMSE (approximate: the sensor clips readouts)",
           metric(r.prediction.rmse));
@@ -166,15 +193,15 @@ void write_prediction_rows(Table& t, const SimulationReport& r) {
       t.row("SNR at level 100 (stationary figure of merit)",
             format("%.3f", r.prediction.snr_level100));
     }
-  } else {
+  } else if (!r.options.velocity_distribution) {
     t.row("predicted RMSE", "<span class=\"warning\">none: the code is not invertible</span>");
     t.row("noise-free RMSE", metric(r.prediction.rmse_noise_free));
   }
   t.row("K(0)", format("%.6g", r.kernel.k0));
-  t.row("min |K|", format("%.6g", r.kernel.min_abs) +
-                       " at ξ = " + (r.kernel.min_abs_xi > 0.0 ? "±" : "") +
-                       format("%.6g", r.kernel.min_abs_xi) +
-                       (r.kernel.invertible ? "" : " <span class=\"warning\">(zero)</span>"));
+  t.row(r.options.velocity_distribution ? "min |K| (the first trial's)" : "min |K|",
+        format("%.6g", r.kernel.min_abs) + " at ξ = " + (r.kernel.min_abs_xi > 0.0 ? "±" : "") +
+            format("%.6g", r.kernel.min_abs_xi) +
+            (r.kernel.invertible ? "" : " <span class=\"warning\">(zero)</span>"));
 }
 
 // The measured errors (docs/method.md §5), then the predicted ones.

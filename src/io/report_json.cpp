@@ -15,18 +15,31 @@ using nlohmann::json;
 // JSON has no infinity: an infinite or NaN value is written as null.
 json finite_or_null(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
 
+// Under a velocity distribution (docs/method.md §13): the distribution, and the velocities as
+// the trials drew them (velocity null; restore_velocity null unless given).
+void add_distribution_parameters(const SimulationReport& r, json& j) {
+  const SimulationOptions& o = r.options;
+  j["velocity"] = nullptr;
+  j["restore_velocity"] =
+      o.restore_velocity_px_per_slot ? json(*o.restore_velocity_px_per_slot) : json(nullptr);
+  j["velocity_distribution"] = {{"text", o.velocity_distribution->text()},
+                                {"description", o.velocity_distribution->describe()}};
+}
+
 json parameters_json(const SimulationReport& r) {
   const SimulationOptions& o = r.options;
-  return {{"code", r.code_name},
-          {"code_length", r.gains.size()},
-          {"mode", to_string(o.mode)},
-          {"velocity", o.velocity_px_per_slot},
-          {"restore_velocity", o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot)},
-          {"dt", o.dt},
-          {"snr", o.snr},
-          {"seed", o.seed},
-          {"noise", to_string(o.noise)},
-          {"trials", o.trials}};
+  json j = {{"code", r.code_name},
+            {"code_length", r.gains.size()},
+            {"mode", to_string(o.mode)},
+            {"velocity", o.velocity_px_per_slot},
+            {"restore_velocity", o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot)},
+            {"dt", o.dt},
+            {"snr", o.snr},
+            {"seed", o.seed},
+            {"noise", to_string(o.noise)},
+            {"trials", o.trials}};
+  if (o.velocity_distribution) add_distribution_parameters(r, j);
+  return j;
 }
 
 json geometry_json(const SimulationReport& r) {
@@ -56,6 +69,16 @@ json prediction_json(const SimulationReport& r) {
             {"m", finite_or_null(r.prediction.m_amplification)}};
   // With an enabled sensor only, so that a default report keeps its bytes.
   if (r.options.sensor.enabled()) j["exact"] = r.prediction.exact;
+  // Under a velocity distribution only (docs/method.md §13): E[MSE] over it, null when infinite
+  // with the reason.
+  if (r.options.velocity_distribution) {
+    const Prediction& p = r.prediction;
+    j["mse"] = p.mse ? finite_or_null(*p.mse) : json(nullptr);
+    j["mse_error_estimate"] = p.mse_error_estimate;
+    j["mse_evaluations"] = p.mse_evaluations;
+    j["mse_infinite_reason"] =
+        p.mse_infinite_reason.empty() ? json(nullptr) : json(p.mse_infinite_reason);
+  }
   return j;
 }
 
@@ -133,6 +156,11 @@ json report_json(const SimulationReport& r, const std::string& input_path) {
                  {"rmse_ci_sd", finite_or_null(r.trials.rmse_ci_sd)},
                  {"ssim_mean", optional_json(r.trials.ssim_mean)},
                  {"ssim_sd", optional_json(r.trials.ssim_sd)}};
+  if (r.options.velocity_distribution) {
+    j["trials"]["mse_mean"] = optional_json(r.trials.mse_mean);
+    j["trials"]["mse_sd"] = optional_json(r.trials.mse_sd);
+    j["trials"]["velocities"] = r.trial_velocities;
+  }
   j["warnings"] = r.warnings;
   return j;
 }

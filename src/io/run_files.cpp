@@ -130,7 +130,7 @@ std::string make_code_txt(const RunFileSources& s) {
 
 std::string make_spectrum_txt(const RunFileSources& s) {
   const SimulationOptions& o = s.report.options;
-  return format_spectrum_txt(s.report.gains, o.velocity_px_per_slot, o.dt);
+  return format_spectrum_txt(s.report.gains, first_trial_velocity(o), o.dt);
 }
 
 std::string make_report_json(const RunFileSources& s) {

@@ -8,8 +8,9 @@ namespace fss {
 
 namespace {
 
+// The velocities of the report's images (under a velocity distribution, the first trial's).
 double restore_velocity_of(const SimulationOptions& o) {
-  return o.restore_velocity_px_per_slot.value_or(o.velocity_px_per_slot);
+  return o.restore_velocity_px_per_slot.value_or(first_trial_velocity(o));
 }
 
 // What differs between the run `plots` were drawn for and the report's run;
@@ -21,9 +22,9 @@ std::string difference(const RunPlots& plots, const SimulationReport& report) {
     return "code '" + plots.code_name + "', the run's is '" + report.code_name + "'";
   }
   if (plots.gains != report.gains) return "other gains of code '" + plots.code_name + "'";
-  if (plots.velocity_px_per_slot != o.velocity_px_per_slot) {
+  if (plots.velocity_px_per_slot != first_trial_velocity(o)) {
     return "velocity " + format_exact(plots.velocity_px_per_slot) + ", the run's is " +
-           format_exact(o.velocity_px_per_slot);
+           format_exact(first_trial_velocity(o));
   }
   if (plots.restore_velocity_px_per_slot != restore_velocity) {
     return "restore velocity " + format_exact(plots.restore_velocity_px_per_slot) +
@@ -50,7 +51,7 @@ RunPlots render_run_plots(const ShutterCode& code, const SimulationOptions& opti
   RunPlots plots;
   plots.code_name = code.name;
   plots.gains = code.gains;
-  plots.velocity_px_per_slot = options.velocity_px_per_slot;
+  plots.velocity_px_per_slot = first_trial_velocity(options);
   plots.restore_velocity_px_per_slot = restore_velocity_of(options);
   plots.dt = options.dt;
   plots.code_png = plot_code_png(code.gains, code.name);
@@ -81,7 +82,7 @@ std::vector<std::uint8_t> run_code_png(const SimulationReport& report,
 std::vector<std::uint8_t> run_spectrum_png(const SimulationReport& report,
                                            const RunPlots* drawn_ahead) {
   if (drawn_ahead != nullptr) return checked(*drawn_ahead, report).spectrum_png;
-  return plot_spectrum_png(report.gains, report.code_name, report.options.velocity_px_per_slot,
+  return plot_spectrum_png(report.gains, report.code_name, first_trial_velocity(report.options),
                            report.options.dt, report.kernel);
 }
 

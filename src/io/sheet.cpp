@@ -16,7 +16,7 @@ std::vector<std::uint8_t> figure_sheet_png(const SimulationReport& r, const Imag
   char parameters[160];
   std::snprintf(parameters, sizeof parameters,
                 "%s, v = %g, dt = %g, snr = %g: RMSE %.4g, RMSE_CI %.4g",
-                to_string(r.options.mode).c_str(), r.options.velocity_px_per_slot, r.options.dt,
+                to_string(r.options.mode).c_str(), first_trial_velocity(r.options), r.options.dt,
                 r.options.snr, r.metrics.rmse, r.metrics.rmse_ci);
   const Image residual = residual_image(input, r);
   return figure_sheet_png(

@@ -1,18 +1,16 @@
 #include "fss/model/code.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/enum_names.h"
+#include "core/text_file.h"
 #include "fss/core/error.h"
 
 namespace fss {
@@ -141,27 +139,8 @@ ShutterCode load_code(const std::string& name_or_path, const std::string& named_
     throw_usage_error(named_as + " '" + shown + "' is neither a built-in code (" + names +
                       ") nor an existing file");
   }
-  if (std::filesystem::is_directory(path, ec)) {
-    throw_runtime_error("code file '" + shown + "' is a directory, expected a text file");
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw_runtime_error("cannot open code file '" + shown + "': " + std::strerror(errno));
-  }
-  // Read in blocks and refused past kMaxCodeFileBytes, so that an endless
-  // stream (/dev/zero) or a huge file does not exhaust memory.
-  std::string text;
-  std::vector<char> buffer(std::size_t{1} << 16);
-  while (file.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) ||
-         file.gcount() > 0) {
-    text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
-    if (text.size() > kMaxCodeFileBytes) {
-      throw_runtime_error("code file '" + shown + "' is larger than " +
-                          std::to_string(kMaxCodeFileBytes >> 20) +
-                          " MiB: expected a text file of gains");
-    }
-  }
-  if (file.bad()) throw_runtime_error("cannot read code file '" + shown + "'");
+  const std::string text = detail::read_bounded_text_file(path, kMaxCodeFileBytes, "code file",
+                                                          shown, "a text file of gains");
   return parse_code_text(text, name_or_path);
 }
 

@@ -154,6 +154,11 @@ bool VelocityDistribution::IsValid(std::string* error) const {
                              format_exact(value) + ": " + rule);
     }
   }
+  if (kind == VelocityDistributionKind::kNormal &&
+      !(std::isfinite(sd) && sd > 0.0 && sd <= kMaxDistributionVelocity)) {
+    return fail(error, "normal velocity distribution: sd " + format_exact(sd) +
+                           " must be > 0 and at most " + format_exact(kMaxDistributionVelocity));
+  }
   if (!(low <= high)) {
     return fail(error, "velocity distribution [" + format_exact(low) + ", " + format_exact(high) +
                            "]: the lower bound must not exceed the upper one");
@@ -165,11 +170,6 @@ bool VelocityDistribution::IsValid(std::string* error) const {
       if (!(std::isfinite(mean) && std::abs(mean) <= kMaxDistributionVelocity)) {
         return fail(error, "normal velocity distribution: mean " + format_exact(mean) + " " +
                                velocity_rule(mean));
-      }
-      if (!(std::isfinite(sd) && sd > 0.0 && sd <= kMaxDistributionVelocity)) {
-        return fail(error, "normal velocity distribution: sd " + format_exact(sd) +
-                               " must be > 0 and at most " +
-                               format_exact(kMaxDistributionVelocity));
       }
       if (!(low < high) || !(normal_mass(*this) > 1e-12)) {
         return fail(error, "normal velocity distribution of mean " + format_exact(mean) +
@@ -185,8 +185,7 @@ bool VelocityDistribution::IsValid(std::string* error) const {
         if (!velocity_rule(p.velocity).empty() || !(std::isfinite(p.weight) && p.weight > 0.0)) {
           return fail(error, "discrete velocity distribution: velocity " +
                                  format_exact(p.velocity) + " with weight " +
-                                 format_exact(p.weight) +
-                                 " (velocities finite with |v| <= " +
+                                 format_exact(p.weight) + " (velocities finite with |v| <= " +
                                  format_exact(kMaxDistributionVelocity) +
                                  ", weights finite and > 0)");
         }
@@ -213,7 +212,9 @@ double VelocityDistribution::density(double v) const {
 }
 
 double VelocityDistribution::quantile(double u) const {
-  u = std::clamp(u, 0.0, 1.0);
+  if (!(u > 0.0))
+    return kind == VelocityDistributionKind::kDiscrete ? points.front().velocity : low;
+  if (u >= 1.0) return high;
   switch (kind) {
     case VelocityDistributionKind::kUniform:
       return std::min(high, low + u * (high - low));
@@ -274,7 +275,7 @@ std::string VelocityDistribution::text() const {
 }
 
 std::string VelocityDistribution::describe() const {
-  const std::string support = "[" + format_number(low) + ", " + format_number(high) + "]";
+  std::string support = "[" + format_number(low) + ", " + format_number(high) + "]";
   switch (kind) {
     case VelocityDistributionKind::kUniform:
       return "uniform on " + support;
@@ -285,10 +286,9 @@ std::string VelocityDistribution::describe() const {
                                  " sd to " + support) +
              " and renormalised";
     case VelocityDistributionKind::kDiscrete:
-      return std::to_string(points.size()) +
-             (points.size() == 1 ? " velocity" : " velocities") +
-             (source.empty() ? "" : " from '" + escape_control_characters(source) + "'") +
-             " in " + support;
+      return std::to_string(points.size()) + (points.size() == 1 ? " velocity" : " velocities") +
+             (source.empty() ? "" : " from '" + escape_control_characters(source) + "'") + " in " +
+             support;
   }
   return support;
 }
@@ -332,7 +332,12 @@ bool parse_velocity_distribution(std::string_view text, VelocityDistribution* di
     return bad("unknown distribution");
   }
   std::string rule;
-  if (!d.IsValid(&rule)) return bad(rule);
+  if (!d.IsValid(&rule)) {
+    // The syntax was right: the spec and the rule, without the list of forms.
+    constexpr std::string_view kPrefix = "velocity distribution ";
+    if (std::string_view(rule).substr(0, kPrefix.size()) == kPrefix) rule.erase(0, kPrefix.size());
+    return fail(error, "velocity distribution '" + shorten_for_message(text) + "': " + rule);
+  }
   *distribution = std::move(d);
   return true;
 }
@@ -342,8 +347,8 @@ bool discrete_velocity_distribution(std::vector<VelocityPoint> points, std::stri
   if (points.empty()) return fail(error, "discrete velocity distribution: no velocity");
   if (points.size() > static_cast<std::size_t>(kMaxDiscreteVelocities)) {
     return fail(error, "discrete velocity distribution: " + std::to_string(points.size()) +
-                           " velocities, more than the " +
-                           std::to_string(kMaxDiscreteVelocities) + " allowed");
+                           " velocities, more than the " + std::to_string(kMaxDiscreteVelocities) +
+                           " allowed");
   }
   double total = 0.0;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -360,10 +365,9 @@ bool discrete_velocity_distribution(std::vector<VelocityPoint> points, std::stri
   if (!std::isfinite(total)) {
     return fail(error, "discrete velocity distribution: the weights sum beyond double precision");
   }
-  std::stable_sort(points.begin(), points.end(),
-                   [](const VelocityPoint& a, const VelocityPoint& b) {
-                     return a.velocity < b.velocity;
-                   });
+  std::stable_sort(
+      points.begin(), points.end(),
+      [](const VelocityPoint& a, const VelocityPoint& b) { return a.velocity < b.velocity; });
   VelocityDistribution d;
   d.kind = VelocityDistributionKind::kDiscrete;
   for (const VelocityPoint& p : points) {
@@ -425,18 +429,26 @@ std::vector<VelocityNode> composite_gauss_nodes(const VelocityDistribution& dist
 VelocityExpectation expected_over_velocity(const VelocityDistribution& distribution,
                                            const std::function<double(double)>& f,
                                            double relative_tolerance, int max_intervals,
-                                           std::vector<VelocityNode>* rule) {
+                                           std::vector<VelocityNode>* rule, int initial_intervals) {
   if (rule) rule->clear();
   if (distribution.kind == VelocityDistributionKind::kDiscrete || distribution.is_point()) {
     return expected_over_points(support_points(distribution), f, rule);
   }
   VelocityExpectation e;
   std::priority_queue<Interval> queue;
-  queue.push(kronrod_interval(distribution, f, distribution.low, distribution.high,
-                              &e.evaluations));
-  double value = queue.top().kronrod;
-  double error = queue.top().error;
-  int intervals = 1;
+  const int pieces = std::max(initial_intervals, 1);
+  const double width = (distribution.high - distribution.low) / pieces;
+  double value = 0.0;
+  double error = 0.0;
+  for (int p = 0; p < pieces; ++p) {
+    const double a = distribution.low + p * width;
+    const double b = p + 1 == pieces ? distribution.high : distribution.low + (p + 1) * width;
+    const Interval piece = kronrod_interval(distribution, f, a, b, &e.evaluations);
+    value += piece.kronrod;
+    error += piece.error;
+    queue.push(piece);
+  }
+  int intervals = pieces;
   while (std::isfinite(value) && error > relative_tolerance * std::abs(value)) {
     if (intervals >= max_intervals) {
       e.converged = false;

@@ -1,12 +1,10 @@
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "core/number_text.h"
+#include "core/text_file.h"
 #include "fss/core/error.h"
 #include "fss/model/velocity_distribution.h"
 
@@ -14,39 +12,14 @@ namespace fss {
 
 namespace {
 
-// The text of file `path`, refused past kMaxVelocityFileBytes as it is read (an endless stream
-// is refused too).
-std::string read_velocity_file(const std::filesystem::path& path, const std::string& shown) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw_runtime_error("velocity file '" + shown +
-                        "' is a directory, expected a text file of 'velocity weight' lines");
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw_runtime_error("cannot open velocity file '" + shown + "': " + std::strerror(errno));
-  }
-  std::string text;
-  std::vector<char> buffer(std::size_t{1} << 16);
-  while (file.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) ||
-         file.gcount() > 0) {
-    text.append(buffer.data(), static_cast<std::size_t>(file.gcount()));
-    if (text.size() > kMaxVelocityFileBytes) {
-      throw_runtime_error("velocity file '" + shown + "' is larger than " +
-                          std::to_string(kMaxVelocityFileBytes >> 10) +
-                          " KiB: expected a text file of 'velocity weight' lines");
-    }
-  }
-  if (file.bad()) throw_runtime_error("cannot read velocity file '" + shown + "'");
-  return text;
-}
-
 // The white-space separated fields of `line` before any '#'.
 std::vector<std::string_view> line_fields(std::string_view line) {
   line = line.substr(0, line.find('#'));
   std::vector<std::string_view> fields;
   std::size_t i = 0;
-  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
+  const auto space = [](char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+  };
   while (i < line.size()) {
     while (i < line.size() && space(line[i])) ++i;
     const std::size_t start = i;
@@ -73,7 +46,8 @@ std::vector<VelocityPoint> parse_velocity_lines(std::string_view text, const std
     const double v = parse_finite_number(fields[0]);
     const double w = parse_finite_number(fields[1]);
     if (std::isnan(v) || std::isnan(w)) {
-      throw_runtime_error(where + ": '" + shorten_for_message(std::isnan(v) ? fields[0] : fields[1]) +
+      throw_runtime_error(where + ": '" +
+                          shorten_for_message(std::isnan(v) ? fields[0] : fields[1]) +
                           "' is not a finite number");
     }
     if (!(std::abs(v) <= kMaxDistributionVelocity) || !(w > 0.0)) {
@@ -109,7 +83,8 @@ VelocityDistribution load_velocity_distribution(const std::string& spec_or_path,
     return distribution;
   }
   if (spec_or_path.find('\0') != std::string::npos) {
-    throw_usage_error(named_as + " '" + shown + "' holds a NUL byte: no distribution or file "
+    throw_usage_error(named_as + " '" + shown +
+                      "' holds a NUL byte: no distribution or file "
                       "name has one");
   }
   std::error_code ec;
@@ -121,7 +96,10 @@ VelocityDistribution load_velocity_distribution(const std::string& spec_or_path,
                       "' is neither uniform:LO:HI, normal:MEAN:SD, normal:MEAN:SD:LO:HI nor an "
                       "existing file of 'velocity weight' lines");
   }
-  const std::vector<VelocityPoint> points = parse_velocity_lines(read_velocity_file(path, shown), shown);
+  const std::vector<VelocityPoint> points = parse_velocity_lines(
+      detail::read_bounded_text_file(path, kMaxVelocityFileBytes, "velocity file", shown,
+                                     "a text file of 'velocity weight' lines"),
+      shown);
   if (!discrete_velocity_distribution(points, spec_or_path, &distribution, &error)) {
     throw_runtime_error("velocity file '" + shown + "': " + error);
   }

@@ -45,6 +45,27 @@ std::size_t working_bytes(int width, int height, int channels, const Geometry& g
   return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
 }
 
+// Under a velocity distribution (docs/method.md §13), one velocity's kernel part beside the
+// plan at a time (a trial's, or a velocity's of the prediction): the observer's filters (a
+// complex half spectrum per slot), the restorer's (at most the inverse filter's N / 2 + 1 bins
+// and the folded convolution's two filters of at most 2 (Wa + Wo) bins), W(j) and the impulse
+// response it is made from, and the noise-free pass's sums (64 blocks of Wa and one per row).
+std::size_t velocity_kernel_bytes(int width, int height, int channels, const Geometry& geometry,
+                                  const SimulationOptions& options, int code_length) {
+  if (!options.velocity_distribution) return 0;
+  const auto bins = static_cast<std::size_t>(width) / 2 + 1;
+  const std::size_t slots =
+      options.mode == ShutterMode::kAnalog ? 1 : static_cast<std::size_t>(std::max(code_length, 1));
+  const auto wa = static_cast<std::size_t>(std::max(geometry.observed_width, 0));
+  const auto wo = static_cast<std::size_t>(std::max(geometry.output_width, 0));
+  const std::size_t complex_bytes = 16;
+  const std::size_t restorer = complex_bytes * ((wa + 1) + 4 * (wa + wo));
+  const std::size_t weights = sizeof(double) * 3 * wa;
+  const std::size_t rows = static_cast<std::size_t>(height) * static_cast<std::size_t>(channels);
+  const std::size_t pass = sizeof(double) * (64 * wa + rows);
+  return complex_bytes * slots * bins + restorer + weights + pass;
+}
+
 }  // namespace
 
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
@@ -65,19 +86,22 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
   return working_bytes(width, height, channels, geometry, options.trials, observed_sink == nullptr,
                        extra_encoding_bytes_per_sample) +
          RowPipeline::plan_bytes(width, height, channels, options, code_length) +
-         fitted_restoration_bytes(options, geometry.observed_width, height, channels);
+         fitted_restoration_bytes(options, geometry.observed_width, height, channels) +
+         velocity_kernel_bytes(width, height, channels, geometry, options, code_length);
 }
 
 std::size_t estimate_run_memory_bytes(const ImageShape& shape, const SimulationOptions& options,
                                       const ShutterCode& code, bool observed_to_sink,
                                       std::size_t extra_encoding_bytes_per_sample) {
-  // The run's geometry: its blur covers both velocities.
+  // The run's geometry: its blur covers both velocities (under a distribution, its support).
   const Geometry geometry = checked_geometry(options, shape.width, code);
   return working_bytes(shape.width, shape.height, shape.channels, geometry, options.trials,
                        !observed_to_sink, extra_encoding_bytes_per_sample) +
          RowPipeline::plan_bytes(shape.width, shape.height, shape.channels, options,
                                  code.length()) +
-         fitted_restoration_bytes(options, geometry.observed_width, shape.height, shape.channels);
+         fitted_restoration_bytes(options, geometry.observed_width, shape.height, shape.channels) +
+         velocity_kernel_bytes(shape.width, shape.height, shape.channels, geometry, options,
+                               code.length());
 }
 
 void check_run_memory(const ImageShape& shape, const SimulationOptions& options,

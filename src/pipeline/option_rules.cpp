@@ -43,6 +43,20 @@ std::string sensor_noise_rule(bool aggregated, bool sensor_linear) {
              : std::string();
 }
 
+std::string distribution_velocity_rule(double velocity) {
+  return velocity == 1.0 ? std::string()
+                         : "is the velocity of a run without a distribution: leave it at its "
+                           "default 1 with a velocity distribution, from which each trial draws "
+                           "its velocity";
+}
+
+std::string distribution_restoration_rule(bool fitted) {
+  return fitted ? "cannot be used with a velocity distribution: its filter is fitted to the run "
+                  "at one velocity; use the inverse filter, or tikhonov with a given "
+                  "regularization"
+                : std::string();
+}
+
 std::string trials_rule(long long trials) { return trials < 1 ? "must be >= 1" : std::string(); }
 
 std::string threads_rule(long long threads) {

@@ -26,11 +26,41 @@ PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCod
       margin_(options.rmse_margin_columns),
       noisy_(options.noise != NoiseModel::kNone),
       restoration_options_(options.restoration),
+      distribution_(options.velocity_distribution),
       geometry_(checked_geometry(options, width, code)),
-      windows_(metric_windows(geometry_, margin_)),
-      observer_(width, code.gains, options.mode, observation_params(options, geometry_)) {
+      windows_(metric_windows(geometry_, margin_)) {
+  if (distribution_) {
+    // K(0) = dt sum alpha_k at every velocity: the divisor of every trial's observed image.
+    kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
+    set_observed_divisor(code);
+    return;
+  }
+  observer_.emplace(width, code.gains, options.mode, observation_params(options, geometry_));
   analyze(code);
-  plan_filter(code);
+  plan_filter(code, true);
+}
+
+PlanCore::PlanCore(const SimulationOptions& options, const Geometry& geometry,
+                   const ShutterCode& code, VelocityPart part)
+    : code_name_(code.name),
+      gains_(code.gains),
+      mode_(options.mode),
+      velocity_(options.velocity_px_per_slot),
+      restore_velocity_(options.restore_velocity_px_per_slot.value_or(velocity_)),
+      dt_(options.dt),
+      margin_(options.rmse_margin_columns),
+      noisy_(options.noise != NoiseModel::kNone),
+      restoration_options_(options.restoration),
+      geometry_(geometry),
+      windows_(metric_windows(geometry_, margin_)) {
+  observer_.emplace(geometry.width, code.gains, options.mode,
+                    observation_params(options, geometry_));
+  if (part == VelocityPart::kTrial) {
+    analyze(code);
+  } else {
+    kernel_.invertible = true;
+  }
+  plan_filter(code, part == VelocityPart::kPrediction);
 }
 
 void PlanCore::analyze(const ShutterCode& code) {
@@ -49,6 +79,10 @@ void PlanCore::analyze(const ShutterCode& code) {
                        " restoration damps the frequencies where K vanishes: the restored image "
                        "loses them"));
   }
+  set_observed_divisor(code);
+}
+
+void PlanCore::set_observed_divisor(const ShutterCode& code) {
   observed_divisor_ = kernel_.k0;
   if (transfer_vanishes(std::abs(kernel_.k0), transfer_scale(code.gains, dt_))) {
     observed_divisor_ = dt_ * gain_max_abs(code.gains);
@@ -60,15 +94,15 @@ void PlanCore::analyze(const ShutterCode& code) {
 
 // The restorer, M and W(j) (docs/method.md §6, §6b, §12) of a filter that
 // does not depend on the image: the inverse filter, or Tikhonov at a given
-// lambda.
-void PlanCore::plan_filter(const ShutterCode& code) {
+// lambda. Without `prediction_parts`, the restorer only.
+void PlanCore::plan_filter(const ShutterCode& code, bool prediction_parts) {
   restoration_.options = restoration_options_;
-  m_amplification_ = std::numeric_limits<double>::infinity();
+  m_amplification_ = prediction_parts ? std::numeric_limits<double>::infinity() : 0.0;
   const int n = geometry_.mirror_width;
   switch (restoration_options_.method) {
     case RestorationMethod::kInverse:
       restorer_.emplace(geometry_, code.gains, restore_velocity_, dt_);
-      if (!kernel_.invertible) return;
+      if (!kernel_.invertible || !prediction_parts) return;
       m_amplification_ = mean_inverse_power(code.gains, restore_velocity_, dt_, n);
       if (noisy_) {
         noise_weights_ = noise_energy_weights(geometry_, code.gains, restore_velocity_, dt_,
@@ -80,8 +114,8 @@ void PlanCore::plan_filter(const ShutterCode& code) {
       {
         const double lambda = *restoration_options_.regularization;
         FilterBins filter = tikhonov_filter_bins(code.gains, restore_velocity_, dt_, n, lambda);
-        m_amplification_ = filter_mean_power(filter.h, n);
-        if (noisy_) {
+        if (prediction_parts) m_amplification_ = filter_mean_power(filter.h, n);
+        if (noisy_ && prediction_parts) {
           noise_weights_ = noise_energy_weights(geometry_, filter_impulse_response(filter.h, n),
                                                 windows_.rmse_first, windows_.rmse_end);
         }
@@ -101,27 +135,45 @@ bool same_restoration(const RestorationOptions& a, const RestorationOptions& b) 
          a.prior_exponent == b.prior_exponent && a.prior_level == b.prior_level;
 }
 
+// Compared as bits: -0.0 and 0.0 are different velocities to the filters.
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+bool same_distribution(const std::optional<VelocityDistribution>& a,
+                       const std::optional<VelocityDistribution>& b) {
+  if (!a || !b) return !a && !b;
+  const auto same_point = [](const VelocityPoint& p, const VelocityPoint& q) {
+    return same_bits(p.velocity, q.velocity) && same_bits(p.weight, q.weight);
+  };
+  return a->kind == b->kind && same_bits(a->low, b->low) && same_bits(a->high, b->high) &&
+         same_bits(a->mean, b->mean) && same_bits(a->sd, b->sd) &&
+         a->bounds_given == b->bounds_given && a->points.size() == b->points.size() &&
+         std::equal(a->points.begin(), a->points.end(), b->points.begin(), same_point);
+}
+
 }  // namespace
 
 bool PlanCore::fits(const SimulationOptions& options, int width, const ShutterCode& code) const {
   const double v = options.velocity_px_per_slot;
-  // Compared as bits: -0.0 and 0.0 are different velocities to the filters.
-  const auto same = [](double a, double b) {
-    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-  };
-  return code.name == code_name_ && code.gains.size() == gains_.size() &&
+  const auto same = same_bits;
+  // Under a distribution the plan holds no part that depends on the noise.
+  const bool noise_fits =
+      distribution_ || options.noise == NoiseModel::kNone || noisy_ || !kernel_.invertible;
+  return same_distribution(options.velocity_distribution, distribution_) &&
+         code.name == code_name_ && code.gains.size() == gains_.size() &&
          std::equal(gains_.begin(), gains_.end(), code.gains.begin(), same) &&
          options.mode == mode_ && same(v, velocity_) &&
          same(options.restore_velocity_px_per_slot.value_or(v), restore_velocity_) &&
          same(options.dt, dt_) && width == geometry_.width &&
          options.rmse_margin_columns == margin_ &&
-         same_restoration(options.restoration, restoration_options_) &&
-         (options.noise == NoiseModel::kNone || noisy_ || !kernel_.invertible);
+         same_restoration(options.restoration, restoration_options_) && noise_fits;
 }
 
 std::size_t PlanCore::bytes() const {
   const std::size_t bins = static_cast<std::size_t>(geometry_.width) / 2 + 1;
-  const std::size_t filters = (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins;
+  const std::size_t filters =
+      observer_ ? (mode_ == ShutterMode::kAnalog ? 1 : gains_.size()) * bins : 0;
   return sizeof(*this) + sizeof(std::complex<double>) * filters +
          (restorer_ ? restorer_->bytes() : 0) +
          sizeof(double) * (noise_weights_.size() + gains_.size());

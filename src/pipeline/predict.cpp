@@ -12,8 +12,6 @@
 
 namespace fss {
 
-namespace {
-
 // m: the mean of input columns [first, end), per channel, then averaged over
 // the channels (equal pixel counts).
 double window_mean(const Image& image, int first, int end) {
@@ -45,6 +43,8 @@ double exact_noise_power(const SimulationReport& report, const std::vector<doubl
       static_cast<double>(report.rmse_end - report.rmse_first) * report.height * report.channels;
   return total / count;
 }
+
+namespace {
 
 // The prediction, with M and W(j) from `m_amplification()` and
 // `noise_weights()` (called only when needed).

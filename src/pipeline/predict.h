@@ -11,6 +11,15 @@
 
 namespace fss {
 
+// m: the mean of `image`'s columns [first, end) over its rows and channels.
+double window_mean(const Image& image, int first, int end);
+
+// sum_j W(j) S(j) / (rows * channels * window width): the noise part of E[MSE] over the RMSE
+// window of `report` (docs/method.md §6b), with W(j) = `w` and S(j) from `run`. Throws a usage
+// fss::Error when `run` does not have one S(j) per observed-crop column.
+double exact_noise_power(const SimulationReport& report, const std::vector<double>& w,
+                         const NoiseFreeRun& run);
+
 // The prediction for the run `report` describes (its options, code, geometry,
 // RMSE window and kernel) on `input`, from its noise-free pass. The noise
 // parts are 0 without noise, and infinite for a kernel that is not

@@ -110,6 +110,19 @@ class RowPipeline::Worker {
     return variance_.data();
   }
 
+  // expectation = E[o] of input row (c, y) and, when `variances`, Var(o) (returned; null
+  // otherwise), adding the row's clipped readouts to `clipping`: observe_first() without the
+  // noisy observation, the same bits.
+  const double* observe_expectation(int c, int y, bool variances, ReadoutClipping& clipping) {
+    const RowObserver& observer = pipeline_.observer_;
+    expectation_.resize(observation_.size());
+    variance_.resize(variances ? observation_.size() : 0);
+    observer.load_row(pipeline_.input_.row(c, y), observer_scratch_);
+    clipping += observer.observe(0, c, y, observer_scratch_,
+                                 RowObserver::Outputs{{}, expectation_, variance_});
+    return variances ? variance_.data() : nullptr;
+  }
+
   // Sends observation columns [3h, 3h + Wo) / divisor to `sink`; false when
   // one is not finite.
   bool send_observed(int c, int y, ObservedRowSink& sink) {
@@ -177,39 +190,26 @@ bool RowPipeline::restore_all(std::optional<std::uint64_t> noise_seed, Image& re
   return observed_finite;
 }
 
-RowPipeline::FirstTrial RowPipeline::first_trial(std::uint64_t noise_seed, int first, int end,
-                                                 Image& restored, ObservedRowSink* observed) const {
+template <typename PerRow>
+NoiseFreeRun RowPipeline::noise_free_blocks(int first, int end, bool variances,
+                                            const PerRow& per_row) const {
   const int rows = input_.channels * input_.height;
   const int wa = geometry_.observed_width;
-  const int h = geometry_.half_blur;
   // Blocks of rows fixed by the image alone, at most kVarianceBlocks of them.
   constexpr int kVarianceBlocks = 64;
   const int blocks = std::min(rows, kVarianceBlocks);
   std::vector<double> row_errors(static_cast<std::size_t>(rows));
-  std::vector<double> block_sums(static_cast<std::size_t>(blocks) * wa, 0.0);
+  std::vector<double> block_sums(variances ? static_cast<std::size_t>(blocks) * wa : 0, 0.0);
   std::vector<ReadoutClipping> block_clipping(static_cast<std::size_t>(blocks));
-  std::atomic<bool> observed_finite{true};
   for_each_item(blocks, [&](Worker& worker, int b) {
-    double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
+    double* sums = variances ? block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa : nullptr;
     const auto row_begin = static_cast<int>(static_cast<long long>(rows) * b / blocks);
     const auto row_end = static_cast<int>(static_cast<long long>(rows) * (b + 1) / blocks);
     for (int r = row_begin; r < row_end; ++r) {
-      const int c = r / input_.height;
-      const int y = r % input_.height;
-      AggregatedRowPlan* plan = plans_.empty() ? nullptr : &plans_[static_cast<std::size_t>(r)];
-      const double* variance = worker.observe_first(c, y, noise_seed, plan,
-                                                    block_clipping[static_cast<std::size_t>(b)]) +
-                               h;  // crop column 0
-      for (int j = 0; j < wa; ++j) sums[j] += variance[j];
-      if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
-      worker.restore(restored.row(c, y));
-      row_errors[r] =
-          row_squared_error(input_.row(c, y) + 3 * h, worker.restore_expectation(), first, end);
+      row_errors[r] = per_row(worker, r, sums, block_clipping[static_cast<std::size_t>(b)]);
     }
   });
-  FirstTrial trial;
-  trial.observed_finite = observed_finite.load();
-  NoiseFreeRun& run = trial.noise_free;
+  NoiseFreeRun run;
   ReadoutClipping clipping;
   for (const ReadoutClipping& block : block_clipping) clipping += block;
   run.saturated_readouts = clipping.saturated;
@@ -219,13 +219,55 @@ RowPipeline::FirstTrial RowPipeline::first_trial(std::uint64_t noise_seed, int f
   // sqrt(mean (truth - restored)^2), as rmse() divides
   run.rmse =
       std::sqrt(total / (static_cast<double>(end - first) * input_.height * input_.channels));
+  if (!variances) return run;
   // S(j) = sum over the blocks, in order
   run.crop_variance_sums.assign(static_cast<std::size_t>(wa), 0.0);
   for (int b = 0; b < blocks; ++b) {
     const double* sums = block_sums.data() + static_cast<std::ptrdiff_t>(b) * wa;
     for (int j = 0; j < wa; ++j) run.crop_variance_sums[j] += sums[j];
   }
+  return run;
+}
+
+RowPipeline::FirstTrial RowPipeline::first_trial(std::uint64_t noise_seed, int first, int end,
+                                                 Image& restored, ObservedRowSink* observed) const {
+  const int wa = geometry_.observed_width;
+  const int h = geometry_.half_blur;
+  std::atomic<bool> observed_finite{true};
+  FirstTrial trial;
+  trial.noise_free = noise_free_blocks(
+      first, end, true, [&](Worker& worker, int r, double* sums, ReadoutClipping& clipping) {
+        const int c = r / input_.height;
+        const int y = r % input_.height;
+        AggregatedRowPlan* plan = plans_.empty() ? nullptr : &plans_[static_cast<std::size_t>(r)];
+        const double* variance =
+            worker.observe_first(c, y, noise_seed, plan, clipping) + h;  // crop column 0
+        if (sums != nullptr) {  // first_trial always asks for the variances
+          for (int j = 0; j < wa; ++j) sums[j] += variance[j];
+        }
+        if (observed != nullptr && !worker.send_observed(c, y, *observed)) observed_finite = false;
+        worker.restore(restored.row(c, y));
+        return row_squared_error(input_.row(c, y) + 3 * h, worker.restore_expectation(), first,
+                                 end);
+      });
+  trial.observed_finite = observed_finite.load();
   return trial;
+}
+
+NoiseFreeRun RowPipeline::noise_free_pass(int first, int end, bool variances) const {
+  const int wa = geometry_.observed_width;
+  const int h = geometry_.half_blur;
+  return noise_free_blocks(
+      first, end, variances, [&](Worker& worker, int r, double* sums, ReadoutClipping& clipping) {
+        const int c = r / input_.height;
+        const int y = r % input_.height;
+        const double* variance = worker.observe_expectation(c, y, variances, clipping);
+        if (variance != nullptr && sums != nullptr) {
+          for (int j = 0; j < wa; ++j) sums[j] += variance[h + j];  // crop column j
+        }
+        return row_squared_error(input_.row(c, y) + 3 * h, worker.restore_expectation(), first,
+                                 end);
+      });
 }
 
 }  // namespace fss

@@ -91,6 +91,12 @@ class RowPipeline {
   FirstTrial first_trial(std::uint64_t noise_seed, int first, int end, Image& restored,
                          ObservedRowSink* observed) const;
 
+  // The noise-free pass alone, as first_trial() makes it (the same rows, blocks and order of
+  // sums, so the same bits): RMSE_0 over output columns [first, end), S(j) when `variances`
+  // (empty otherwise) and the clipped readouts, without a noisy observation or a restored
+  // image (the prediction at one velocity of a distribution, docs/method.md §13).
+  NoiseFreeRun noise_free_pass(int first, int end, bool variances) const;
+
  private:
   class Worker;
 
@@ -100,6 +106,12 @@ class RowPipeline {
   // Items are independent, so results do not depend on who takes which.
   template <typename PerItem>
   void for_each_item(int count, const PerItem& per_item) const;
+
+  // The rows of the noise-free pass in fixed blocks: per_row(worker, c, y, block sums,
+  // block clipping) for each row, the rows of a block in order; then RMSE_0 from the rows'
+  // squared errors, which per_row returns, and S(j) from the blocks' sums when `variances`.
+  template <typename PerRow>
+  NoiseFreeRun noise_free_blocks(int first, int end, bool variances, const PerRow& per_row) const;
 
   const Image& input_;
   Geometry geometry_;

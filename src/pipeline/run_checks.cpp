@@ -1,5 +1,6 @@
 #include "pipeline/run_checks.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -65,7 +66,8 @@ void check_inputs(const SimulationOptions& options, const Image& input, const Sh
 }
 
 std::string restore_blur_excess(const SimulationOptions& options, int width, int code_length) {
-  const double v = options.velocity_px_per_slot;
+  const double v = options.velocity_distribution ? options.velocity_distribution->max_abs_velocity()
+                                                 : options.velocity_px_per_slot;
   const double v_r = options.restore_velocity_px_per_slot.value_or(v);
   if (!(std::abs(v_r) > std::abs(v))) return "";
   const double motion = std::ceil(std::abs(v_r) * options.dt * code_length);
@@ -75,7 +77,39 @@ std::string restore_blur_excess(const SimulationOptions& options, int width, int
          std::to_string(width);
 }
 
+double geometry_velocity(const SimulationOptions& options) {
+  const double v = options.velocity_distribution ? options.velocity_distribution->max_abs_velocity()
+                                                 : std::abs(options.velocity_px_per_slot);
+  return std::max(v, std::abs(options.restore_velocity_px_per_slot.value_or(0.0)));
+}
+
+namespace {
+
+// Under a velocity distribution (docs/method.md §13): B is the blur of the largest of the
+// support's |v| and |v_r|, the same for every trial.
+Geometry distribution_geometry(const SimulationOptions& options, int width,
+                               const ShutterCode& code) {
+  if (const std::string excess = restore_blur_excess(options, width, code.length());
+      !excess.empty()) {
+    throw_usage_error("the blur of restore velocity " +
+                      format_exact(*options.restore_velocity_px_per_slot) + " " + excess);
+  }
+  const double v = geometry_velocity(options);
+  const double motion = std::ceil(v * options.dt * code.length());
+  if (!(motion < static_cast<double>(width))) {
+    throw_usage_error("the blur of the largest |velocity| " + format_exact(v) +
+                      " of the velocity distribution's support over " +
+                      std::to_string(code.length()) + " slots of dt " + format_exact(options.dt) +
+                      " spans " + format_exact(motion) + " pixels, more than the image width " +
+                      std::to_string(width));
+  }
+  return Geometry::compute(width, code.length(), v, options.dt);
+}
+
+}  // namespace
+
 Geometry run_geometry(const SimulationOptions& options, int width, const ShutterCode& code) {
+  if (options.velocity_distribution) return distribution_geometry(options, width, code);
   const double v = options.velocity_px_per_slot;
   const double v_r = options.restore_velocity_px_per_slot.value_or(v);
   // A blur wider than the image is said to be the restore velocity's when

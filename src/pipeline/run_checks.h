@@ -23,8 +23,13 @@ void check_inputs(const SimulationOptions& options, const Image& input, const Sh
 // the image width W".
 std::string restore_blur_excess(const SimulationOptions& options, int width, int code_length);
 
+// The |velocity| whose blur sets a run's geometry: the larger of |v| (under a velocity
+// distribution, the largest |v| of its support) and |v_r|.
+double geometry_velocity(const SimulationOptions& options);
+
 // The geometry of a run (docs/method.md §4): the blur length B covers both
-// velocities. Throws a usage fss::Error for an image too narrow.
+// velocities (under a velocity distribution, geometry_velocity's, §13). Throws a usage
+// fss::Error for an image too narrow.
 Geometry run_geometry(const SimulationOptions& options, int width, const ShutterCode& code);
 
 // check_run_settings, then run_geometry and its metric windows.

@@ -15,63 +15,19 @@
 #include "fss/model/transfer.h"
 #include "fss/pipeline/memory_estimate.h"
 #include "fss/pipeline/metrics.h"
+#include "pipeline/finite_checks.h"
 #include "pipeline/fitted_restoration.h"
 #include "pipeline/plan_core.h"
 #include "pipeline/predict.h"
 #include "pipeline/row_pipeline.h"
 #include "pipeline/run_checks.h"
-#include "pipeline/ssim.h"
+#include "pipeline/trial_metrics.h"
+#include "pipeline/velocity_prediction.h"
+#include "pipeline/velocity_trials.h"
 
 namespace fss {
 
 namespace {
-
-// RMSE and RMSE_CI of one restoration over the report's windows
-// (docs/method.md §5).
-Metrics measure(const SimulationReport& report, const Image& input, const Image& restored) {
-  const int offset = report.output_first_column();
-  Metrics m;
-  m.rmse = rmse(input, offset, restored, report.rmse_first, report.rmse_end);
-  m.psnr = psnr(m.rmse);
-  m.rmse_ci = rmse_contrast_invariant(input, offset, restored, report.rmse_ci_first,
-                                      report.rmse_ci_end, report.options.threads);
-  m.psnr_ci = psnr(m.rmse_ci);
-  m.ssim = structural_similarity(input, offset, restored, report.rmse_first, report.rmse_end,
-                                 report.options.threads);
-  return m;
-}
-
-double sample_sd(double sum, double sum_sq, int n) {
-  if (n < 2) return 0.0;
-  const double mean = sum / n;
-  return std::sqrt(std::max(0.0, (sum_sq - n * mean * mean) / (n - 1)));
-}
-
-// Sums of the trials' metrics, for their means and sample deviations.
-struct TrialSums {
-  double rmse = 0.0, rmse_sq = 0.0, ci = 0.0, ci_sq = 0.0, ssim = 0.0, ssim_sq = 0.0;
-  bool has_ssim = true;
-
-  void add(const Metrics& m) {
-    rmse += m.rmse;
-    rmse_sq += m.rmse * m.rmse;
-    ci += m.rmse_ci;
-    ci_sq += m.rmse_ci * m.rmse_ci;
-    has_ssim = has_ssim && m.ssim.has_value();
-    if (m.ssim) ssim += *m.ssim, ssim_sq += *m.ssim * *m.ssim;
-  }
-  TrialStatistics statistics(int n) const {
-    TrialStatistics t{n,
-                      rmse / n,
-                      sample_sd(rmse, rmse_sq, n),
-                      ci / n,
-                      sample_sd(ci, ci_sq, n),
-                      std::nullopt,
-                      std::nullopt};
-    if (has_ssim) t.ssim_mean = ssim / n, t.ssim_sd = sample_sd(ssim, ssim_sq, n);
-    return t;
-  }
-};
 
 // Without noise every trial is the same run: run it once. False when an
 // observed value is not finite.
@@ -81,8 +37,15 @@ bool run_noise_free(const RowPipeline& pipeline, const SimulationOptions& option
   const bool observed_finite =
       pipeline.restore_all(std::nullopt, report.restored, observed, &clipping);
   report.metrics = measure(report, input, report.restored);
-  report.trials = {options.trials,      report.metrics.rmse, 0.0, report.metrics.rmse_ci, 0.0,
-                   report.metrics.ssim, std::nullopt};
+  report.trials = {options.trials,
+                   report.metrics.rmse,
+                   0.0,
+                   report.metrics.rmse_ci,
+                   0.0,
+                   report.metrics.ssim,
+                   std::nullopt,
+                   std::nullopt,
+                   std::nullopt};
   if (report.metrics.ssim) report.trials.ssim_sd = 0.0;
   report.trial_metrics.assign(static_cast<std::size_t>(options.trials), report.metrics);
   if (options.trial_callback) options.trial_callback(options.trials, options.trials);
@@ -117,76 +80,6 @@ NoiseFreeRun run_trials(const RowPipeline& pipeline, const SimulationOptions& op
   }
   report.trials = sums.statistics(n);
   return std::move(first.noise_free);
-}
-
-// "the gains of code 'c' (|gain| from a to b), dt x, snr y and read noise z
-// e-": the settings whose scales multiply in a run's numbers (the sensor's
-// parts that are on), for an error when they leave double precision.
-std::string scale_settings(const SimulationOptions& options, const ShutterCode& code) {
-  double smallest = 0.0;
-  for (const double gain : code.gains) {
-    if (gain != 0.0 && (smallest == 0.0 || std::abs(gain) < smallest)) smallest = std::abs(gain);
-  }
-  std::vector<std::string> parts = {
-      "the gains of code '" + escape_control_characters(code.name) + "' (|gain| from " +
-          format_exact(smallest) + " to " + format_exact(gain_max_abs(code.gains)) + ")",
-      "dt " + format_exact(options.dt), "snr " + format_exact(options.snr)};
-  const SensorModel& s = options.sensor;
-  if (s.read_noise_electrons != 0.0) {
-    parts.push_back("read noise " + format_exact(s.read_noise_electrons) + " e-");
-  }
-  if (s.dark_current_electrons_per_slot != 0.0) {
-    parts.push_back("dark current " + format_exact(s.dark_current_electrons_per_slot) + " e-/slot");
-  }
-  if (s.full_well_electrons) {
-    parts.push_back("full well " + format_exact(*s.full_well_electrons) + " e-");
-  }
-  if (s.adc_bits != 0) {
-    parts.push_back("ADC gain " + format_exact(s.adc_gain_electrons_per_count) + " e-/count");
-  }
-  std::string text = parts.front();
-  for (std::size_t i = 1; i < parts.size(); ++i) {
-    text += (i + 1 == parts.size() ? " and " : ", ") + parts[i];
-  }
-  return text;
-}
-
-// Extreme gains (1e-320, 1e308), dt, snr or sensor can leave the range of
-// doubles: an error, never a silent NaN.
-void check_finite(const SimulationReport& report, const ShutterCode& code, bool observed_finite) {
-  const auto finite = [](double value) { return std::isfinite(value); };
-  const bool ssim_finite = finite(report.metrics.ssim.value_or(0.0)) &&
-                           finite(report.trials.ssim_mean.value_or(0.0)) &&
-                           finite(report.trials.ssim_sd.value_or(0.0));
-  if (ssim_finite && finite(report.metrics.rmse) && finite(report.metrics.rmse_ci) &&
-      finite(report.trials.rmse_mean) && finite(report.trials.rmse_sd) &&
-      finite(report.trials.rmse_ci_mean) && finite(report.trials.rmse_ci_sd) && observed_finite &&
-      std::all_of(report.restored.data.begin(), report.restored.data.end(), finite)) {
-    return;
-  }
-  throw_usage_error("the simulation left the range of double-precision numbers (RMSE " +
-                    format_exact(report.metrics.rmse) +
-                    "): " + scale_settings(report.options, code) + " are too extreme together");
-}
-
-// The prediction of an invertible code is finite (docs/method.md §6): where
-// its variance terms leave double precision although the simulation did not,
-// an error naming the settings instead of an infinite or NaN figure.
-void check_prediction_finite(const SimulationReport& report, const ShutterCode& code) {
-  const Prediction& p = report.prediction;
-  bool finite = std::isfinite(p.window_mean) && std::isfinite(p.q);
-  if (p.finite) {
-    for (const double value :
-         {p.m_amplification, p.noise, p.rmse, p.sigma, p.rmse_stationary, p.snr_level100}) {
-      finite = finite && std::isfinite(value);
-    }
-  }
-  if (finite) return;
-  throw_usage_error(
-      "the error prediction left the range of double-precision numbers (predicted RMSE " +
-      format_exact(p.rmse) + ", stationary " + format_exact(p.rmse_stationary) +
-      ", SNR at level 100 " + format_exact(p.snr_level100) +
-      "): " + scale_settings(report.options, code) + " are too extreme together");
 }
 
 // A full well or an ADC that clips readouts (docs/method.md §10): the
@@ -251,11 +144,36 @@ SimulationReport planned_report(const PlanCore& plan, const SimulationOptions& o
   return report;
 }
 
+// A run under a velocity distribution (docs/method.md §13): each trial at its own velocity on
+// the plan's geometry, and the expected error averaged over the distribution.
+SimulationReport run_over_velocities(const PlanCore& plan, const SimulationOptions& options,
+                                     const Image& input, const ShutterCode& code,
+                                     ObservedRowSink* observed_sink, SimulationReport report) {
+  const int wo = report.geometry.output_width;
+  ImageRowSink kept_observed(report.observed);
+  if (observed_sink == nullptr) {
+    report.observed = Image(wo, input.height, input.channels);
+    observed_sink = &kept_observed;
+  }
+  report.restored = Image(wo, input.height, input.channels);
+  const bool observed_finite =
+      run_velocity_trials(plan, options, input, code, report, observed_sink);
+  check_finite(report, code, observed_finite);
+  add_ssim_warning(report);
+  report.prediction = predict_over_velocities(plan, report, input, code,
+                                              kVelocityQuadratureTolerance, &report.warnings);
+  check_prediction_finite(report, code);
+  return report;
+}
+
 // The run once the inputs are checked and the memory guard passed.
 SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& options,
                              const Image& input, const ShutterCode& code,
                              ObservedRowSink* observed_sink) {
   SimulationReport report = planned_report(plan, options, input, code);
+  if (options.velocity_distribution) {
+    return run_over_velocities(plan, options, input, code, observed_sink, std::move(report));
+  }
 
   // The filter: the plan's, or fitted to this image (docs/method.md §12).
   std::optional<FittedFilter> fitted;
@@ -304,12 +222,7 @@ SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& opti
     noise_free = run_trials(pipeline, options, input, report, observed_sink, observed_finite);
   }
   check_finite(report, code, observed_finite);
-  if (!report.metrics.ssim) {
-    report.warnings.push_back(
-        "SSIM is null: it is taken over the RMSE window, which must start at least 5 columns "
-        "inside the output (a margin of 5 or more) on an image of at least 11 rows, so that each "
-        "pixel's 11 x 11 window lies inside it (docs/method.md §5)");
-  }
+  add_ssim_warning(report);
 
   // Prediction (docs/method.md §6, §6b): E[MSE] = RMSE_0^2 + sum_j W(j) S(j) / count,
   // and the stationary approximation RMSE_0^2 + m Q (100 / snr^2) M.

@@ -24,6 +24,47 @@ std::optional<NoiseModel> noise_model_from_string(std::string_view text) {
   return detail::enum_from_name(kNoiseModelNames, text);
 }
 
+namespace {
+
+// The rules of a velocity distribution: valid on its own, and velocity_px_per_slot left at its
+// default; "" when there is none or it keeps them.
+std::string distribution_error(const SimulationOptions& o) {
+  if (!o.velocity_distribution) return "";
+  if (const std::string rule = distribution_velocity_rule(o.velocity_px_per_slot); !rule.empty()) {
+    return "velocity_px_per_slot = " + format_exact(o.velocity_px_per_slot) + ": " + rule;
+  }
+  std::string distribution_error;
+  if (!o.velocity_distribution->IsValid(&distribution_error)) {
+    return "velocity_distribution: " + distribution_error;
+  }
+  return "";
+}
+
+// Under a velocity distribution, a restoration fitted to the run is refused.
+std::string distribution_restoration_error(const SimulationOptions& o) {
+  if (!o.velocity_distribution) return "";
+  const RestorationOptions& r = o.restoration;
+  const bool fitted = r.method == RestorationMethod::kWiener ||
+                      (r.method == RestorationMethod::kTikhonov && !r.regularization);
+  const std::string rule = distribution_restoration_rule(fitted);
+  return rule.empty() ? "" : "restoration = " + describe(r) + ": " + rule;
+}
+
+// The rules of the sensor and the restoration, as parts of a simulation: "" when they hold.
+std::string parts_error(const SimulationOptions& o) {
+  std::string part_error;
+  if (!o.sensor.IsValid(&part_error)) return "sensor." + part_error;
+  if (!o.restoration.IsValid(&part_error)) return "restoration." + part_error;
+  if (o.restoration.prior_level) {
+    return "restoration.prior_level = " + format_exact(*o.restoration.prior_level) +
+           ": a simulation estimates the power-law prior's level from a calibration "
+           "observation; give the prior without a level (power-law or power-law:GAMMA)";
+  }
+  return distribution_restoration_error(o);
+}
+
+}  // namespace
+
 bool SimulationOptions::IsValid(std::string* error) const {
   // True, with the message, when `rule` (option_rules.h) is broken.
   const auto broken = [&](const char* field, const std::string& value, const std::string& rule) {
@@ -40,6 +81,10 @@ bool SimulationOptions::IsValid(std::string* error) const {
              velocity_rule(*restore_velocity_px_per_slot))) {
     return false;
   }
+  if (const std::string message = distribution_error(*this); !message.empty()) {
+    if (error) *error = message;
+    return false;
+  }
   // The sign of either scale is reported before the range of either.
   for (const bool positive : {false, true}) {
     if (scale_is_positive(dt) == positive && broken("dt", format_exact(dt), scale_rule(dt))) {
@@ -49,22 +94,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
       return false;
     }
   }
-  std::string sensor_error;
-  if (!sensor.IsValid(&sensor_error)) {
-    if (error) *error = "sensor." + sensor_error;
-    return false;
-  }
-  std::string restoration_error;
-  if (!restoration.IsValid(&restoration_error)) {
-    if (error) *error = "restoration." + restoration_error;
-    return false;
-  }
-  if (restoration.prior_level) {
-    if (error) {
-      *error = "restoration.prior_level = " + format_exact(*restoration.prior_level) +
-               ": a simulation estimates the power-law prior's level from a calibration "
-               "observation; give the prior without a level (power-law or power-law:GAMMA)";
-    }
+  if (const std::string message = parts_error(*this); !message.empty()) {
+    if (error) *error = message;
     return false;
   }
   const std::string margin = std::to_string(rmse_margin_columns);

@@ -27,8 +27,12 @@ std::string SimulationReport::FullReport() const {
   out << "  code             " << code_name << " (L = " << gains.size()
       << ", sum = " << format_number(gain_sum(gains))
       << ", normalized L1 = " << format_number(normalized_l1(gains)) << ")\n";
-  out << "  mode             " << to_string(options.mode) << ", velocity "
-      << format_number(options.velocity_px_per_slot)
+  const std::string velocity =
+      options.velocity_distribution
+          ? "drawn by each trial from the " + options.velocity_distribution->describe() +
+                " (the first trial's " + format_number(first_trial_velocity(options)) + ")"
+          : format_number(options.velocity_px_per_slot);
+  out << "  mode             " << to_string(options.mode) << ", velocity " << velocity
       << (options.restore_velocity_px_per_slot
               ? " (restored as " + format_number(*options.restore_velocity_px_per_slot) + ")"
               : std::string())
@@ -62,6 +66,15 @@ std::string SimulationReport::FullReport() const {
     out << "  trials           n = " << trials.n << ", RMSE " << format_number(trials.rmse_mean)
         << " +/- " << format_number(trials.rmse_sd) << ", RMSE_CI "
         << format_number(trials.rmse_ci_mean) << " +/- " << format_number(trials.rmse_ci_sd)
+        << "\n";
+  }
+  if (trials.mse_mean) {  // under a velocity distribution (docs/method.md §13)
+    out << "  trials' MSE      mean " << format_number(*trials.mse_mean) << " +/- "
+        << format_number(trials.mse_sd.value_or(0.0)) << " (sd), predicted E[MSE] "
+        << (prediction.finite && prediction.mse
+                ? format_number(*prediction.mse) + " (" +
+                      std::to_string(prediction.mse_evaluations) + " velocities evaluated)"
+                : "infinite: " + prediction.mse_infinite_reason)
         << "\n";
   }
   if (prediction.finite) {

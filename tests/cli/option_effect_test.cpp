@@ -158,6 +158,7 @@ std::vector<OptionCase> simulation_cases() {
       {"--code", "--code snapshot", Effect::kChanges},
       {"--mode", "--mode analog", Effect::kChanges},
       {"--velocity", "--velocity 1.5", Effect::kChanges},
+      {"--velocity-distribution", "--velocity-distribution uniform:0.8:1.2", Effect::kChanges},
       {"--dt", "--dt 0.5", Effect::kChanges},
       {"--snr", "--snr 20", Effect::kChanges},
       {"--seed", "--seed 7", Effect::kChanges},
@@ -254,6 +255,8 @@ TEST_F(OptionEffect, CodeAnalyze) {
   CommandCase c{"code analyze", "raskar", design_cases()};
   c.options.push_back({"--json", "--json {W}/analysis.json", Effect::kChanges});
   c.options.push_back({"--grid", "--grid 1024", Effect::kChanges});
+  c.options.push_back(
+      {"--velocity-distribution", "--velocity-distribution uniform:0.9:1.1", Effect::kChanges});
   check(c);
 }
 
@@ -268,7 +271,9 @@ TEST_F(OptionEffect, CodeOptimize) {
       {"--min-light", "--min-light 5", Effect::kChanges, "--mode analog"},
       {"--restarts", "--restarts 3", Effect::kChanges},
       {"--iterations", "--iterations 2", Effect::kChanges},
-      {"--seed", "--seed 3", Effect::kChanges}};
+      {"--seed", "--seed 3", Effect::kChanges},
+      // With the base's --velocity: exclusive (velocity_design_cli_test runs it alone).
+      {"--velocity-distribution", "--velocity-distribution uniform:0.9:1.1", Effect::kRefused}};
   c.options.insert(c.options.end(), own.begin(), own.end());
   check(c);
   // Numerical frames of real gains have no light budget: refused there.
@@ -299,7 +304,8 @@ TEST_F(OptionEffect, Campaign) {
       {"--no-progress", "--no-progress", Effect::kSame},
       {"--restoration", "--restoration inverse,wiener", Effect::kChanges},
       {"--regularization", "--regularization 0.01", Effect::kChanges, "--restoration tikhonov"},
-      {"--prior", "--prior oracle", Effect::kChanges, "--restoration wiener"}};
+      {"--prior", "--prior oracle", Effect::kChanges, "--restoration wiener"},
+      {"--velocity-distribution", "--velocity-distribution uniform:0.8:1.2", Effect::kChanges}};
   for (const OptionCase& s : sensor_cases()) c.options.push_back(s);
   check(c);
 }
@@ -337,7 +343,9 @@ TEST_F(OptionEffect, CampaignCheck) {
                  {"--columns", "--columns predicted_rmse", Effect::kChanges},
                  {"--abs", "--abs 2", Effect::kChanges},
                  {"--rel", "--rel 0.5", Effect::kChanges},
-                 {"--k-se", "--k-se 40", Effect::kChanges}}};
+                 {"--k-se", "--k-se 40", Effect::kChanges},
+                 // It compares RESULTS.csv with its own predictions, not with EXPECTED.csv.
+                 {"--predicted", "--predicted --k-se 3", Effect::kRefused}}};
   c.verdicts = true;
   check(c);
 }

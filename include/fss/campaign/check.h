@@ -11,7 +11,7 @@ namespace fss {
 
 struct CheckOptions {
   // Quantities to compare; empty: every result quantity EXPECTED has
-  // (rmse_mean, rmse_ci_mean, psnr_mean, ssim_mean, predicted_*, snr_level100,
+  // (rmse_mean, rmse_ci_mean, psnr_mean, ssim_mean, mse_mean, predicted_*, snr_level100,
   // regularization_applied, prior_level, noise_variance, status, invertible;
   // the *_sd, seed and trials columns serve the k-SE rule only).
   std::vector<std::string> columns;
@@ -42,7 +42,7 @@ struct CheckReport {
 // Compares the rows of EXPECTED (CSV text; columns named as results.csv's,
 // any subset) with RESULTS. Setting columns present in EXPECTED (image, code,
 // mode, velocity, restore_velocity, snr, dt, noise, rmse_margin, the sensor's,
-// restoration, regularization, prior) select the
+// restoration, regularization, prior, velocity_distribution) select the
 // result row: numbers compare as numbers, and an image given as a bare file
 // name matches a result image of that file name. `*_name` arguments name the
 // files in messages. Throws a usage fss::Error for malformed CSV, a column
@@ -50,6 +50,17 @@ struct CheckReport {
 CheckReport CheckCampaignResults(const std::string& results_csv, const std::string& results_name,
                                  const std::string& expected_csv, const std::string& expected_name,
                                  const CheckOptions& options);
+
+// Compares each measured mean of RESULTS (CSV text) with the row's own prediction: under a
+// velocity distribution mse_mean with predicted_mse (the exact E[MSE] over the distribution,
+// docs/method.md §13), otherwise rmse_mean with predicted_rmse; the standard error is the row's
+// sd / sqrt(trials), so z = (mse_mean - predicted_mse) / (mse_sd / sqrt(trials)). Rows that did
+// not run ok, have fewer than 2 trials or an infinite prediction are not compared. A value passes
+// within any of the options' tolerances (--k-se K: |z| <= K). Throws a usage fss::Error for
+// options.columns (EXPECTED.csv's choice), malformed CSV, a column RESULTS lacks, or no row to
+// compare.
+CheckReport CheckCampaignPredictions(const std::string& results_csv,
+                                     const std::string& results_name, const CheckOptions& options);
 
 // Largest results or expectations file 'campaign check' reads (checked
 // before reading; a stream is cut there): the results.csv of some million
@@ -61,6 +72,11 @@ inline constexpr std::size_t kMaxCheckFileBytes = std::size_t{1} << 30;
 // file when larger or unreadable).
 CheckReport CheckCampaignResultFiles(const std::string& results_path,
                                      const std::string& expected_path, const CheckOptions& options);
+
+// CheckCampaignPredictions on the file at `results_path` (read as CheckCampaignResultFiles
+// reads it).
+CheckReport CheckCampaignPredictionFile(const std::string& results_path,
+                                        const CheckOptions& options);
 
 // The report as JUnit XML: one test case per comparison.
 std::string check_junit_xml(const CheckReport& report, const std::string& suite_name);

@@ -21,6 +21,11 @@ namespace fss {
 // the restoration (restoration, regularization, prior, regularization_applied, prior_level,
 // noise_variance) and SSIM (ssim_mean, ssim_sd; ssim in the trial rows).
 inline constexpr int kCampaignSchemaVersion = 3;
+// Version 4 adds, after the columns of version 3, the velocity distribution (docs/method.md §13):
+// velocity_distribution, mse_mean, mse_sd and predicted_mse (velocity_distribution and
+// trial_velocity in the trial rows). Only a campaign with velocity distributions has them and
+// is version 4; any other keeps version 3, its columns and its bytes.
+inline constexpr int kCampaignDistributionSchemaVersion = 4;
 
 enum class ColumnKind { kText, kNumber, kBoolean };
 
@@ -29,18 +34,25 @@ struct ResultColumn {
   ColumnKind kind;
 };
 
-// The columns of results.csv and results.jsonl, in order.
+// The columns of results.csv and results.jsonl, in order: of schema 3 (a campaign without
+// velocity distributions), or of schema 4 (with them: the same, then velocity_distribution,
+// mse_mean, mse_sd, predicted_mse).
 const std::vector<ResultColumn>& campaign_columns();
-// Index of a column by name; -1 if there is none.
+const std::vector<ResultColumn>& campaign_columns(bool with_distributions);
+// Index of a column by name (schema 4's names included; schema 3's columns are its first ones);
+// -1 if there is none.
 int campaign_column_index(std::string_view name);
 
 // The columns of trials.csv and trials.jsonl (a campaign with per_trial): the setting columns of
 // results.csv (image to trials), then trial (0, 1, ...), trial_seed (seed + trial), rmse, rmse_ci,
-// psnr and ssim of that trial.
+// psnr and ssim of that trial; with velocity distributions, then velocity_distribution and
+// trial_velocity (the velocity the trial observed).
 const std::vector<ResultColumn>& trial_columns();
+const std::vector<ResultColumn>& trial_columns(bool with_distributions);
 
-// One row: campaign_columns().size() cells; numbers in shortest round-trip form ("inf" where a
-// prediction is infinite), empty where the setting has no value.
+// One row: campaign_columns(with_distributions).size() cells; numbers in shortest round-trip form
+// ("inf" where a prediction is infinite), empty where the setting has no value (the velocity
+// under a distribution, the restore velocity too unless given).
 using ResultRow = std::vector<std::string>;
 
 // Row status values.
@@ -91,14 +103,14 @@ ResultRow run_setting(const ResolvedCampaign& campaign, const Setting& setting, 
                       const SettingRunOptions& options, SimulationPlanCache* plans = nullptr,
                       std::vector<ResultRow>* trial_rows = nullptr);
 
-// results.csv: the header line, then one line per row.
-std::string results_csv(const std::vector<ResultRow>& rows);
+// results.csv: the header line, then one line per row (of campaign_columns(with_distributions)).
+std::string results_csv(const std::vector<ResultRow>& rows, bool with_distributions = false);
 // results.jsonl: one JSON object per row, keys in column order; numbers as
 // JSON numbers (null when empty or not finite), booleans as true/false.
-std::string results_jsonl(const std::vector<ResultRow>& rows);
+std::string results_jsonl(const std::vector<ResultRow>& rows, bool with_distributions = false);
 
-// trials.csv and trials.jsonl: the same forms with trial_columns().
-std::string trials_csv(const std::vector<ResultRow>& rows);
-std::string trials_jsonl(const std::vector<ResultRow>& rows);
+// trials.csv and trials.jsonl: the same forms with trial_columns(with_distributions).
+std::string trials_csv(const std::vector<ResultRow>& rows, bool with_distributions = false);
+std::string trials_jsonl(const std::vector<ResultRow>& rows, bool with_distributions = false);
 
 }  // namespace fss

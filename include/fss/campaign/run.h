@@ -33,8 +33,8 @@ struct CampaignRunOptions {
   int threads = 0;
   std::size_t max_memory_bytes = 0;
   std::string fssim_version;
-  // Files the run reads besides the campaign's images and code files (the
-  // campaign file): none of them may be a file the run writes.
+  // Files the run reads besides the campaign's images, code files and velocity
+  // files (the campaign file): none of them may be a file the run writes.
   std::vector<std::string> inputs;
   // Called after each setting (and once at the start); may be empty.
   std::function<void(const CampaignProgress&)> progress;
@@ -67,9 +67,9 @@ inline constexpr std::size_t kMaxCampaignJournalBytes = std::size_t{2} << 30;
 // journalling each as it ends so that a rerun resumes a killed run, then writes the result files,
 // whose bytes depend only on the specification and the fssim version. Throws a usage fss::Error
 // when dir holds another campaign or shard, or when a file it writes is one of its inputs (images,
-// code files, options.inputs), a runtime one when a file cannot be read or written or a setting
-// fails at run time (the journal keeps what finished; a failed run before any setting finished
-// leaves no directory it created).
+// code files, velocity files, options.inputs), a runtime one when a file cannot be read or
+// written or a setting fails at run time (the journal keeps what finished; a failed run before
+// any setting finished leaves no directory it created).
 CampaignRunSummary RunCampaign(const ResolvedCampaign& campaign, const std::string& dir,
                                const CampaignRunOptions& options);
 

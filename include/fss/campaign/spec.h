@@ -13,6 +13,7 @@
 #include "fss/core/image.h"
 #include "fss/model/code.h"
 #include "fss/model/restoration.h"
+#include "fss/model/velocity_distribution.h"
 #include "fss/pipeline/simulate.h"
 
 namespace fss {
@@ -63,6 +64,11 @@ struct CampaignSpec {
   std::vector<std::string> restorations;
   std::vector<std::string> regularization;
   std::vector<std::string> priors;
+  // Distributions of velocities (docs/method.md §13), an axis in place of the velocities: each
+  // item a spec ("uniform:LO:HI", "normal:MEAN:SD", "normal:MEAN:SD:LO:HI") or the path of a
+  // file of "velocity weight" lines (load_velocity_distribution). Empty: the velocity axis. With
+  // distributions, `velocity` must keep its default "1", as SimulationOptions's velocity does.
+  std::vector<std::string> velocity_distributions;
 
   // False, with a message naming the field, its value and the rule, when a field is malformed on
   // its own (values a setting cannot run with, such as snr = 0, are rows with a status instead).
@@ -84,6 +90,15 @@ struct CampaignImage {
   std::string name;
   std::string path;
   std::string sha256;  // of the file's bytes
+};
+
+// One distribution of velocities: its name (the spec's canonical text, or the file's path as
+// given), the distribution, and the digest of its canonical text (a file's points, one
+// "velocity weight" a line in shortest round-trip form).
+struct CampaignDistribution {
+  std::string name;
+  VelocityDistribution distribution;
+  std::string sha256;
 };
 
 // One code: its name as given, its gains and the digest of their canonical
@@ -115,6 +130,9 @@ struct ResolvedCampaign {
   // The restoration variants, an axis: the inverse filter once, Tikhonov at each lambda, Wiener
   // with each prior, in the order the methods were given; each variant once.
   std::vector<RestorationOptions> restorations = {RestorationOptions{}};
+  // The distributions of velocities, an axis in place of the velocities (which are then {1},
+  // unused); empty: none, each setting has a velocity.
+  std::vector<CampaignDistribution> velocity_distributions;
 
   // True when the campaign uses a sensor (a read noise other than {0} or a fixed part on): only
   // then do the canonical JSON and the settings' descriptions name the sensor.
@@ -122,6 +140,9 @@ struct ResolvedCampaign {
   // True when the restorations are other than the inverse filter alone: only then does the
   // canonical JSON name them.
   bool has_restorations() const;
+  // True when the settings run under velocity distributions: only then do the canonical JSON,
+  // the settings' descriptions and the result files name them (results schema 4).
+  bool has_velocity_distributions() const { return !velocity_distributions.empty(); }
 
   // Canonical JSON of everything above (one line, keys sorted, numbers in shortest round-trip
   // form) and its SHA-256: specifications that run the same settings have the same hash.
@@ -147,17 +168,20 @@ struct Setting {
   int image = 0, code = 0, mode = 0, velocity = 0, restore_velocity = 0, snr = 0, dt = 0;
   int read_noise = 0;
   int restoration = 0;
+  // The index into ResolvedCampaign::velocity_distributions; -1 in a campaign without them.
+  int velocity_distribution = -1;
 };
 
 // The setting at position `index` of the product, in the order images,
-// codes, modes, velocities, restore velocities, snrs, dts, read noises,
-// restorations (the last varies fastest).
+// codes, modes, velocities (or velocity distributions), restore velocities, snrs, dts, read
+// noises, restorations (the last varies fastest).
 Setting setting_at(const ResolvedCampaign& campaign, long long index);
 
 // The setting's canonical description, one line of JSON: the digests of its image and code and
-// its values (with a sensor, its read noise and the fixed sensor parts); not the campaign's
-// trials, noise and margin, so that more trials extend a setting's seeds, nor its restoration,
-// so that the restorations of one observation restore the same noisy images.
+// its values (with a sensor, its read noise and the fixed sensor parts; under a velocity
+// distribution, the distribution's canonical text or digest in place of the velocity); not the
+// campaign's trials, noise and margin, so that more trials extend a setting's seeds, nor its
+// restoration, so that the restorations of one observation restore the same noisy images.
 std::string setting_description(const ResolvedCampaign& campaign, const Setting& setting);
 
 // The setting's seed: splitmix64 of the campaign seed plus the first 64 bits of

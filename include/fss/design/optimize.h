@@ -1,10 +1,11 @@
 // Optimizing flutter shutter codes: the code of a given length that maximizes the SNR at level
-// 100 (design/analyze.h) at a velocity, under the constraints of the mode, for the inverse filter
-// or a Wiener or Tikhonov restoration.
+// 100 (design/analyze.h) at a velocity or averaged over a distribution of velocities, under the
+// constraints of the mode, for the inverse filter or a Wiener or Tikhonov restoration.
 // Conventions: fss/fss.h.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "fss/design/analyze.h"
 #include "fss/model/code.h"
 #include "fss/model/sensor.h"
+#include "fss/model/velocity_distribution.h"
 
 namespace fss {
 
@@ -52,7 +54,15 @@ class NoiseFigure {
 struct OptimizeOptions {
   int length = 52;                    // 1 <= L <= kMaxOptimizedCodeLength
   double velocity_px_per_slot = 1.0;  // 0 < |v| dt < 2
-  double dt = 1.0;                    // > 0
+  // A distribution of velocities instead (docs/method.md §13); velocity_px_per_slot then stays at
+  // its default 1. The criterion is averaged over the velocity nodes of composite_gauss_nodes
+  // (kDesignVelocityPanels panels of kDesignVelocityOrder Gauss nodes; a discrete distribution's
+  // own velocities), each restored at itself: |v| dt < 2 over the support, and a point
+  // distribution 0 < |v| dt < 2 (it gives the single-velocity search at its velocity, bit for
+  // bit). The objective holds a band basis of 2 x grid_points x length doubles per node, twice
+  // for a binary search under a restoration: at most 1 GiB in all.
+  std::optional<VelocityDistribution> velocity_distribution;
+  double dt = 1.0;  // > 0
   // > 0; lambda2 = snr^2 / 100 photo-electrons per gray level per slot. It scales the reported
   // SNR only, unless the sensor adds readout noise, which counts against lambda2.
   double snr = 100.0;
@@ -88,11 +98,13 @@ struct OptimizationResult {
   // The best code found, numerical codes scaled to max |alpha| = 1, analog ones to max alpha = 1
   // (binary codes as found).
   std::vector<double> gains;
-  CodeAnalysis analysis;  // of `gains`, at the options' v, dt, snr, mode, default grid
-  int starts = 0;         // starting codes tried
-  int best_start = 0;     // index of the start that gave the best code (0: snapshot)
-  int iterations = 0;     // iterations or moves over all starts
-  int evaluations = 0;    // objective evaluations over all starts
+  // Of `gains`, at the options' v (or averaged over their distribution: analyze_code's second
+  // form), dt, snr, mode, default grid.
+  CodeAnalysis analysis;
+  int starts = 0;       // starting codes tried
+  int best_start = 0;   // index of the start that gave the best code (0: snapshot)
+  int iterations = 0;   // iterations or moves over all starts
+  int evaluations = 0;  // objective evaluations over all starts
 
   // Human-readable summary.
   std::string FullReport() const;
@@ -100,10 +112,15 @@ struct OptimizationResult {
 
 // Minimizes Q_eff M (the inverse filter) or E (a Wiener or Tikhonov restoration; for Tikhonov
 // without a lambda, E at each code's optimal lambda, whose gradient is the partial one at that
-// lambda), i.e. maximizes SNR_100 with the sensor's readouts, under the constraints of the mode:
+// lambda), i.e. maximizes SNR_100 with the sensor's readouts; under a velocity distribution the
+// weighted sum sum_i w_i C(v_i) of the criterion C over the velocity nodes (v_i, w_i), with
+// gradient sum_i w_i grad C(v_i). Under the constraints of the mode:
 // any real gains (numerical), gains in [0, 1] (analog), gains in {0, 1} (binary), and sum alpha
 // >= min_light_slots. Under a Wiener or Tikhonov restoration the box code of n ones (n from the
 // light budget to L) with the lowest E is a start too, so the result is never worse than it.
+// The sinc start is designed for the velocity (a distribution: its support's largest |v|); under
+// a distribution the same search at its mean speed E|V| runs first and its optimum is a start,
+// so the result is no worse than it under the objective.
 // Bounded by iterations, not time: the result depends only on the options. Throws a usage
 // fss::Error when the options are not valid.
 OptimizationResult optimize_code(const OptimizeOptions& options);

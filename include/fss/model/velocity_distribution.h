@@ -114,6 +114,8 @@ std::vector<VelocityNode> composite_gauss_nodes(const VelocityDistribution& dist
 // sum. An infinite f at a node makes the value infinite (no refinement). `rule` (when not null)
 // receives the final rule, the Kronrod nodes of the final intervals with their weights times the
 // density, so that other functions evaluated at the same velocities can be averaged alike.
+// `initial_intervals` equal intervals start the refinement: a 15-node rule over the whole support
+// can miss the wiggles of an error E(v) with an error estimate far below its error.
 struct VelocityExpectation {
   double value = 0.0;
   double error_estimate = 0.0;  // summed |K15 - G7| over the final intervals; 0 when exact
@@ -123,10 +125,11 @@ struct VelocityExpectation {
 };
 inline constexpr double kVelocityQuadratureTolerance = 1e-4;
 inline constexpr int kMaxVelocityQuadratureIntervals = 256;
-VelocityExpectation expected_over_velocity(const VelocityDistribution& distribution,
-                                           const std::function<double(double)>& f,
-                                           double relative_tolerance = kVelocityQuadratureTolerance,
-                                           int max_intervals = kMaxVelocityQuadratureIntervals,
-                                           std::vector<VelocityNode>* rule = nullptr);
+inline constexpr int kInitialVelocityQuadratureIntervals = 8;
+VelocityExpectation expected_over_velocity(
+    const VelocityDistribution& distribution, const std::function<double(double)>& f,
+    double relative_tolerance = kVelocityQuadratureTolerance,
+    int max_intervals = kMaxVelocityQuadratureIntervals, std::vector<VelocityNode>* rule = nullptr,
+    int initial_intervals = kInitialVelocityQuadratureIntervals);
 
 }  // namespace fss

@@ -32,6 +32,15 @@ std::string noise_rule(bool aggregated, bool analog);
 // a full well or an ADC ...").
 std::string sensor_noise_rule(bool aggregated, bool sensor_linear);
 
+// velocity_px_per_slot under a velocity distribution (docs/method.md §13): its default 1, since
+// each trial draws its own velocity. "is the velocity of a run without a distribution: ...".
+std::string distribution_velocity_rule(double velocity);
+
+// The restoration under a velocity distribution: a filter that does not depend on the run
+// (the inverse filter, Tikhonov at a given lambda); `fitted` is a filter fitted to the run at one
+// velocity (Tikhonov's optimal lambda, Wiener). "cannot be used with a velocity distribution: ...".
+std::string distribution_restoration_rule(bool fitted);
+
 // trials: "must be >= 1".
 std::string trials_rule(long long trials);
 

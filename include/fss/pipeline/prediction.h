@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <span>
+#include <string>
 
 #include "fss/model/code.h"
 #include "fss/model/sensor.h"
@@ -54,9 +55,15 @@ struct Prediction {
   // then averaged alike: m_amplification = E[M], rmse_noise_free = sqrt(E[RMSE_0^2]), noise =
   // sqrt(E[noise^2]), sigma and rmse_stationary from E[M], snr_level100 = snr / sqrt(Q E[M]).
   // Empty without a distribution.
+  // mse_evaluations counts the noise-free passes, one per velocity (each made once). When mse is
+  // infinite, mse_infinite_reason says where the code is not invertible ("code not invertible
+  // at velocity 1.5 of the support", or "... at the restore velocity 1.2"), no velocity is
+  // evaluated, and the averaged fields but window_mean and q are infinite (rmse_noise_free
+  // included: not computed); "" otherwise.
   std::optional<double> mse;
   double mse_error_estimate = 0.0;
   int mse_evaluations = 0;
+  std::string mse_infinite_reason;
 };
 
 }  // namespace fss

@@ -73,7 +73,8 @@ struct SimulationReport {
   int rmse_ci_end = 0;
 
   // The kernel that is inverted: the code at the restore velocity (the true
-  // velocity unless options.restore_velocity_px_per_slot is set).
+  // velocity unless options.restore_velocity_px_per_slot is set). Under a velocity
+  // distribution, the first trial's, like zero_bins, metrics and the images.
   KernelAnalysis kernel;
   double observed_divisor = 1.0;  // K(0), or dt max |alpha| when K(0) vanishes
   int zero_bins = 0;              // deconvolution bins where K vanishes, left at 0
@@ -121,7 +122,8 @@ class SimulationPlan {
   bool fits(const SimulationOptions& options, int width, const ShutterCode& code) const;
 
   const Geometry& geometry() const;
-  // The kernel at the restore velocity, as SimulationReport::kernel.
+  // The kernel at the restore velocity, as SimulationReport::kernel (under a velocity
+  // distribution, at the restore velocity or 1: each trial has its own).
   const KernelAnalysis& kernel() const;
   const std::vector<std::string>& warnings() const;
   // Memory the plan holds, in bytes (filters, inverse filter, weights).
@@ -145,6 +147,12 @@ SimulationReport Simulate(const SimulationOptions& options, const Image& input,
 SimulationReport Simulate(const SimulationPlan& plan, const SimulationOptions& options,
                           const Image& input, const ShutterCode& code,
                           ObservedRowSink* observed_sink = nullptr);
+
+// The velocity of the report's images: options.velocity_px_per_slot, or under a velocity
+// distribution the first trial's, trial_velocity(distribution, seed, 0)
+// (SimulationReport::trial_velocities[0]). The outputs that show one velocity (the spectrum)
+// show this one.
+double first_trial_velocity(const SimulationOptions& options);
 
 // The ground truth aligned with report.restored: input columns
 // [output_first_column(), output_first_column() + Wo).

@@ -16,7 +16,9 @@
 
 namespace fss {
 
-PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCode& code)
+// The members every constructor sets the same way.
+PlanCore::PlanCore(const SimulationOptions& options, const Geometry& geometry,
+                   const ShutterCode& code)
     : code_name_(code.name),
       gains_(code.gains),
       mode_(options.mode),
@@ -26,9 +28,12 @@ PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCod
       margin_(options.rmse_margin_columns),
       noisy_(options.noise != NoiseModel::kNone),
       restoration_options_(options.restoration),
-      distribution_(options.velocity_distribution),
-      geometry_(checked_geometry(options, width, code)),
-      windows_(metric_windows(geometry_, margin_)) {
+      geometry_(geometry),
+      windows_(metric_windows(geometry_, margin_)) {}
+
+PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCode& code)
+    : PlanCore(options, checked_geometry(options, width, code), code) {
+  distribution_ = options.velocity_distribution;
   if (distribution_) {
     // K(0) = dt sum alpha_k at every velocity: the divisor of every trial's observed image.
     kernel_ = analyze_kernel(code.gains, restore_velocity_, dt_);
@@ -42,17 +47,7 @@ PlanCore::PlanCore(const SimulationOptions& options, int width, const ShutterCod
 
 PlanCore::PlanCore(const SimulationOptions& options, const Geometry& geometry,
                    const ShutterCode& code, VelocityPart part)
-    : code_name_(code.name),
-      gains_(code.gains),
-      mode_(options.mode),
-      velocity_(options.velocity_px_per_slot),
-      restore_velocity_(options.restore_velocity_px_per_slot.value_or(velocity_)),
-      dt_(options.dt),
-      margin_(options.rmse_margin_columns),
-      noisy_(options.noise != NoiseModel::kNone),
-      restoration_options_(options.restoration),
-      geometry_(geometry),
-      windows_(metric_windows(geometry_, margin_)) {
+    : PlanCore(options, geometry, code) {
   observer_.emplace(geometry.width, code.gains, options.mode,
                     observation_params(options, geometry_));
   if (part == VelocityPart::kTrial) {

@@ -61,6 +61,7 @@ class PlanCore {
   std::size_t bytes() const;
 
  private:
+  PlanCore(const SimulationOptions& options, const Geometry& geometry, const ShutterCode& code);
   void analyze(const ShutterCode& code);
   void set_observed_divisor(const ShutterCode& code);
   void plan_filter(const ShutterCode& code, bool prediction_parts);

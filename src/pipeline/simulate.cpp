@@ -144,18 +144,26 @@ SimulationReport planned_report(const PlanCore& plan, const SimulationOptions& o
   return report;
 }
 
+// Allocates report.restored and, without a caller's sink, report.observed (Wo x H x C); returns
+// the sink the first trial's observed rows go to: the caller's, or `kept` (report.observed's).
+ObservedRowSink* allocate_outputs(const Image& input, ObservedRowSink* observed_sink,
+                                  ImageRowSink& kept, SimulationReport& report) {
+  const int wo = report.geometry.output_width;
+  if (observed_sink == nullptr) {
+    report.observed = Image(wo, input.height, input.channels);
+    observed_sink = &kept;
+  }
+  report.restored = Image(wo, input.height, input.channels);
+  return observed_sink;
+}
+
 // A run under a velocity distribution (docs/method.md §13): each trial at its own velocity on
 // the plan's geometry, and the expected error averaged over the distribution.
 SimulationReport run_over_velocities(const PlanCore& plan, const SimulationOptions& options,
                                      const Image& input, const ShutterCode& code,
                                      ObservedRowSink* observed_sink, SimulationReport report) {
-  const int wo = report.geometry.output_width;
   ImageRowSink kept_observed(report.observed);
-  if (observed_sink == nullptr) {
-    report.observed = Image(wo, input.height, input.channels);
-    observed_sink = &kept_observed;
-  }
-  report.restored = Image(wo, input.height, input.channels);
+  observed_sink = allocate_outputs(input, observed_sink, kept_observed, report);
   const bool observed_finite =
       run_velocity_trials(plan, options, input, code, report, observed_sink);
   check_finite(report, code, observed_finite);
@@ -200,13 +208,8 @@ SimulationReport run_planned(const PlanCore& plan, const SimulationOptions& opti
         " as 0 there, so the restored image has nothing at those "
         "frequencies");
   }
-  const int wo = report.geometry.output_width;
   ImageRowSink kept_observed(report.observed);
-  if (observed_sink == nullptr) {
-    report.observed = Image(wo, input.height, input.channels);
-    observed_sink = &kept_observed;
-  }
-  report.restored = Image(wo, input.height, input.channels);
+  observed_sink = allocate_outputs(input, observed_sink, kept_observed, report);
 
   // Metrics of the first trial and over all trials; RMSE_0 and, with noise,
   // the observation noise's variance sums S(j).

@@ -6,8 +6,10 @@
 # --velocity/--snr of sweep), and the Python module's argument conversion
 # (python/arguments.cpp); and
 # runs each for FUZZ_SECONDS (default 60) from its seed corpus in
-# tests/fuzz/corpus/. Fails on any crash, leak, timeout, out-of-memory or
-# sanitizer report; prints the number of inputs each target executed.
+# tests/fuzz/corpus/, as many targets at a time as there are cores (each
+# target is one process on one core). Fails on any crash, leak, timeout,
+# out-of-memory or sanitizer report; prints the number of inputs each target
+# executed, in the order of the targets.
 # Limits: 2 GiB of resident memory, no single allocation above 1 GiB (the PNG
 # target skips images of more than 2^24 pixels that a file could really hold,
 # the TIFF target refuses decodings over 256 MiB),
@@ -32,11 +34,10 @@ cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code fuzz_cam
 export ASAN_OPTIONS=detect_leaks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-status=0
-# run TARGET SEEDS MAX_LEN DICTIONARY
+# run TARGET SEEDS MAX_LEN DICTIONARY: fuzzes TARGET; prints one line, or the
+# failure and the end of its log and returns 1.
 run() {
   local target=$1 seeds=$2 max_len=$3 dict=$4
-  case " ${FUZZ_TARGETS:-$target} " in *" $target "*) ;; *) return 0 ;; esac
   local corpus="$build/corpus/$target" log="$build/$target.log"
   mkdir -p "$corpus"
   if "$build/tests/fuzz/$target" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=1024 \
@@ -50,15 +51,34 @@ run() {
     echo "fuzz: $target FAILED (full log: $log):"
     grep -E 'ERROR|SUMMARY|runtime error|Test unit written|deadly signal' "$log" | head -20
     tail -n 40 "$log"
-    status=1
+    return 1
   fi
 }
-run fuzz_png tests/fuzz/corpus/png 65536 tests/fuzz/png.dict
-run fuzz_tiff tests/fuzz/corpus/tiff 65536 tests/fuzz/tiff.dict
-run fuzz_code tests/fuzz/corpus/code 4096 tests/fuzz/code.dict
-run fuzz_campaign_file tests/fuzz/corpus/campaign_file 4096 tests/fuzz/campaign_file.dict
-run fuzz_campaign_journal tests/fuzz/corpus/campaign_journal 16384 tests/fuzz/campaign_journal.dict
-run fuzz_campaign_check tests/fuzz/corpus/campaign_check 8192 tests/fuzz/campaign_check.dict
-run fuzz_range tests/fuzz/corpus/range 1024 tests/fuzz/range.dict
-run fuzz_python_arguments tests/fuzz/corpus/python_arguments 1024 tests/fuzz/python_arguments.dict
+
+# start TARGET SEEDS MAX_LEN DICTIONARY: runs `run` in the background, $jobs
+# at a time; its output goes to $build/TARGET.summary, its exit status to
+# $build/TARGET.status.
+started=()
+start() {
+  local target=$1
+  case " ${FUZZ_TARGETS:-$target} " in *" $target "*) ;; *) return 0 ;; esac
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n; done
+  rm -f "$build/$target.status"
+  { if run "$@" >"$build/$target.summary" 2>&1; then echo 0; else echo 1; fi >"$build/$target.status"; } &
+  started+=("$target")
+}
+start fuzz_png tests/fuzz/corpus/png 65536 tests/fuzz/png.dict
+start fuzz_tiff tests/fuzz/corpus/tiff 65536 tests/fuzz/tiff.dict
+start fuzz_code tests/fuzz/corpus/code 4096 tests/fuzz/code.dict
+start fuzz_campaign_file tests/fuzz/corpus/campaign_file 4096 tests/fuzz/campaign_file.dict
+start fuzz_campaign_journal tests/fuzz/corpus/campaign_journal 16384 tests/fuzz/campaign_journal.dict
+start fuzz_campaign_check tests/fuzz/corpus/campaign_check 8192 tests/fuzz/campaign_check.dict
+start fuzz_range tests/fuzz/corpus/range 1024 tests/fuzz/range.dict
+start fuzz_python_arguments tests/fuzz/corpus/python_arguments 1024 tests/fuzz/python_arguments.dict
+wait
+status=0
+for target in "${started[@]}"; do
+  cat "$build/$target.summary"
+  [ "$(cat "$build/$target.status" 2>/dev/null)" = 0 ] || status=1
+done
 exit "$status"

@@ -6,6 +6,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
+  ccache  # scripts/test.sh: the install test's shared build reuses the Release build's compiles
   libpng-dev libtiff-dev libfftw3-dev libcli11-dev nlohmann-json3-dev
   libisal-dev  # ISA-L: the deflate of the image PNGs (src/io/png_write.cpp)
   libplplot-dev plplot-driver-cairo fonts-dejavu-core

@@ -15,7 +15,9 @@
 #                      configured with BUILD_SHARED_LIBS=ON) from DIR instead
 #                      of configuring and building a fresh one (CTest's
 #                      `install` test does this); the other variant is built
-#                      fresh.
+#                      fresh, through DIR's compiler launcher if it has one
+#                      (scripts/test.sh's ccache: what DIR compiled with the
+#                      same flags is not compiled again).
 #   --keep             leave the temporary directory (printed) for inspection.
 # Prints one line per check and "test-install: N passed, M failed"; exits 1 on
 # any failure. Builds with all cores; a fresh library build takes minutes.
@@ -39,6 +41,11 @@ if [ -n "$reuse" ]; then
   esac
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
+launcher=()
+if [ -n "$reuse" ]; then
+  value=$(sed -n 's/^CMAKE_CXX_COMPILER_LAUNCHER:[A-Z]*=//p' "$reuse/CMakeCache.txt")
+  [ -z "$value" ] || launcher=("-DCMAKE_CXX_COMPILER_LAUNCHER=$value")
+fi
 work=$(mktemp -d "${TMPDIR:-/tmp}/fss-test-install.XXXXXX")
 if [ "$keep" -eq 1 ]; then
   echo "test-install: working in $work (kept)"
@@ -69,7 +76,7 @@ last_output() { cat "$work/log.$((passed + failed - 1))"; }
 configure_and_build() {
   local build=$1
   shift
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DFSS_BUILD_TESTS=OFF "$@" &&
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DFSS_BUILD_TESTS=OFF "${launcher[@]}" "$@" &&
     cmake --build "$build" -j "$jobs"
 }
 

@@ -162,8 +162,16 @@ SimulationOptions simulation_options(const SimulateArguments& a) {
   options.seed = a.seed;
   options.trials = int_argument("trials", a.trials, 1, INT_MAX);
   options.threads = int_argument("threads", a.threads, 0, INT_MAX);
-  options.rmse_margin_columns =
-      a.rmse_margin ? int_argument("rmse_margin", *a.rmse_margin, 0, kMaxMarginColumns) : -1;
+  if (a.rmse_margin_auto) {
+    options.rmse_margin_columns = kRmseMarginAuto;
+  } else if (!a.rmse_margin) {
+    options.rmse_margin_columns = kRmseMarginDefault;
+  } else if (*a.rmse_margin < 0) {
+    throw_rule("rmse_margin", std::to_string(*a.rmse_margin),
+               "must be >= 0 (or None for 3B, or 'auto')");
+  } else {
+    options.rmse_margin_columns = int_argument("rmse_margin", *a.rmse_margin, 0, kMaxMarginColumns);
+  }
   options.max_memory_bytes = static_cast<std::size_t>(a.max_memory);
   options.sensor.read_noise_electrons = a.read_noise;
   options.sensor.dark_current_electrons_per_slot = a.dark_current;

@@ -80,6 +80,7 @@ struct SimulateArguments {
   std::optional<double> restore_velocity;
   long long threads = 0;
   std::optional<long long> rmse_margin;  // empty: 3 B
+  bool rmse_margin_auto = false;         // rmse_margin='auto'
   std::uint64_t max_memory = 0;          // bytes; 0: no limit
   double read_noise = 0.0;
   double dark_current = 0.0;

@@ -305,7 +305,14 @@ args::SimulateArguments simulate_arguments(const SimulateCall& c) {
   a.noise = string_argument(c.noise, "noise");
   a.restore_velocity = optional_float(c.restore_velocity, "restore_velocity");
   a.threads = int_argument(c.threads, "threads");
-  a.rmse_margin = optional_int(c.rmse_margin, "rmse_margin");
+  if (py::isinstance<py::str>(c.rmse_margin)) {
+    if (string_argument(c.rmse_margin, "rmse_margin") != "auto") {
+      fss::throw_usage_error("rmse_margin: a string must be 'auto' (or give a number of columns)");
+    }
+    a.rmse_margin_auto = true;
+  } else {
+    a.rmse_margin = optional_int(c.rmse_margin, "rmse_margin");
+  }
   a.max_memory = uint64_argument(c.max_memory, "max_memory", " (bytes; 0: no limit)");
   a.read_noise = float_argument(c.read_noise, "read_noise");
   a.dark_current = float_argument(c.dark_current, "dark_current");
@@ -687,8 +694,9 @@ restore_velocity : float, optional
     distribution).
 threads : int, default 0
     0: all hardware threads; never changes a result.
-rmse_margin : int, optional
-    Columns left out at each side for the RMSE; None: 3 B.
+rmse_margin : int or 'auto', optional
+    Columns left out at each side for the RMSE; None: 3 B; 'auto': 3 B where the image is
+    wide enough (W >= 9 B + 1), else the largest margin leaving a window of B columns.
 max_memory : int, default 0
     Bytes; refuses, before allocating, a run estimated to need more (0: no limit).
 read_noise, dark_current : float, default 0

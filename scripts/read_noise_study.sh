@@ -19,19 +19,42 @@
 # at every sigma_r have the same SNR at 0 e- to within 1e-6, and reports the
 # one found at 0 e-.
 #
-# Usage: scripts/read_noise_study.sh
-# Writes results/read_noise_study.csv and, when gnuplot is installed
-# (scripts/install-deps.sh installs it), docs/read_noise_study.png; prints
-# the read noise from which an analog code found beats the numerical optimum.
-# Needs a built fssim (FSSIM=path to override, default build/fssim) and jq.
-# About 2 minutes of one core's time.
+# Usage: scripts/read_noise_study.sh [--update-docs] [OUT_DIR]
+#   OUT_DIR (default out/read_noise_study, under the checkout) receives
+#   read_noise_study.csv and, when gnuplot is installed (scripts/install-deps.sh
+#   installs it), the figure read_noise_study.png and read_noise_study.svg.
+#   --update-docs also copies the CSV to results/ and the PNG to docs/ (the
+#   files docs/sensor-model.md shows); nothing else in the checkout is written.
+# Prints the read noise from which an analog code found beats the numerical
+# optimum. Needs a built fssim (FSSIM=path to override, default build/fssim)
+# and jq. About 2 minutes of one core's time.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-fssim=${FSSIM:-build/fssim}
+root=$(cd "$(dirname "$0")/.." && pwd)
+update_docs=0
+out=""
+for argument in "$@"; do
+  case "$argument" in
+    --update-docs) update_docs=1 ;;
+    -h | --help)
+      sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
+      exit 0
+      ;;
+    -*)
+      echo "read_noise_study: unknown option $argument (usage: $0 [--update-docs] [OUT_DIR])" >&2
+      exit 2
+      ;;
+    *)
+      [ -z "$out" ] || { echo "read_noise_study: one OUT_DIR only" >&2; exit 2; }
+      out=$argument
+      ;;
+  esac
+done
+out=$(realpath -m "${out:-$root/out/read_noise_study}")
+fssim=$(realpath -m "${FSSIM:-$root/build/fssim}")
 [ -x "$fssim" ] || { echo "read_noise_study: $fssim not found; build first (cmake -S . -B build && cmake --build build)" >&2; exit 1; }
 command -v jq >/dev/null || { echo "read_noise_study: jq not found (scripts/install-deps.sh installs it)" >&2; exit 1; }
-csv=results/read_noise_study.csv
-png=docs/read_noise_study.png
+mkdir -p "$out"
+csv=$out/read_noise_study.csv
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 noise_values=$(seq 0 20)
@@ -88,7 +111,6 @@ for snr in $light_levels; do
     echo "$snr,$r,$(snr_of snapshot numerical "$snr" "$r"),$(snr_of raskar numerical "$snr" "$r"),$(snr_of raskar analog "$snr" "$r"),$(snr_of sinc numerical "$snr" "$r"),$numerical_best,$analog_best,$analog_light" >>"$tmp_csv"
   done
 done
-mkdir -p results
 mv "$tmp_csv" "$csv"
 echo "read_noise_study: wrote $csv"
 
@@ -109,30 +131,74 @@ for snr in $light_levels; do
     }'
 done
 
-if command -v gnuplot >/dev/null; then
-  tmp_png="$work/study.png"
+# plot_figure TERMINAL FILE: both light levels side by side and one legend
+# under them, in a strip of its own (a plot of no data, so that the legend
+# has the whole width). The snapshot is a wide gray band under the others:
+# the analog optimum and sinc coincide with it at snr 100.
+plot_figure() {
   gnuplot <<EOF
-set terminal pngcairo size 1100,520 font "DejaVu Sans,10"
-set output "$tmp_png"
+set terminal $1
+set output "$2"
 set datafile separator ","
-set multiplot layout 1,2 title "SNR at level 100 against read noise (L = 52, v = 1, dt = 1)"
-set xlabel "read noise (e- RMS per readout)"
+set style line 1 lw 7 lc rgb "#b0b0b0"
+set style line 2 lw 2 lc rgb "#1f77b4"
+set style line 3 lw 2 lc rgb "#d62728"
+set style line 4 lw 2 dt 2 lc rgb "#2ca02c"
+set style line 5 lw 2 dt 3 lc rgb "#1f77b4"
+set style line 6 lw 2 dt 3 lc rgb "#d62728"
+set multiplot title "SNR at level 100 against read noise (L = 52, v = 1, dt = 1)"
+set xlabel "read noise σ_r (e- RMS per readout)"
 set ylabel "SNR at level 100"
 set grid
-set key outside bottom center horizontal maxrows 2 width -2
+unset key
+set size 0.5, 0.8
+panel = 0
 do for [s in "100 20"] {
+  set origin 0.5 * panel, 0.14
+  panel = panel + 1
   set title sprintf("snr %s (%d photo-electrons per gray level per slot)", s, int(s) * int(s) / 100)
-  plot "$csv" using (\$1 == int(s) ? \$2 : NaN):3 with lines lw 2 lc rgb "black" title "snapshot (both modes)", \
-       "" using (\$1 == int(s) ? \$2 : NaN):7 with lines lw 2 lc rgb "#1f77b4" title "numerical optimum", \
-       "" using (\$1 == int(s) ? \$2 : NaN):8 with lines lw 2 lc rgb "#d62728" title "analog optimum", \
-       "" using (\$1 == int(s) ? \$2 : NaN):6 with lines lw 2 dt 2 lc rgb "#2ca02c" title "sinc (numerical)", \
-       "" using (\$1 == int(s) ? \$2 : NaN):4 with lines lw 2 dt 3 lc rgb "#1f77b4" title "raskar (numerical)", \
-       "" using (\$1 == int(s) ? \$2 : NaN):5 with lines lw 2 dt 3 lc rgb "#d62728" title "raskar (analog)"
+  plot "$csv" using (\$1 == int(s) ? \$2 : NaN):3 with lines ls 1, \
+       "" using (\$1 == int(s) ? \$2 : NaN):7 with lines ls 2, \
+       "" using (\$1 == int(s) ? \$2 : NaN):8 with lines ls 3, \
+       "" using (\$1 == int(s) ? \$2 : NaN):6 with lines ls 4, \
+       "" using (\$1 == int(s) ? \$2 : NaN):4 with lines ls 5, \
+       "" using (\$1 == int(s) ? \$2 : NaN):5 with lines ls 6
 }
+set origin 0, 0
+set size 1, 0.14
+unset title
+unset xlabel
+unset ylabel
+unset tics
+unset border
+unset grid
+set xrange [0:1]
+set yrange [0:1]
+set key center center horizontal maxrows 2 samplen 4 width 2 box
+plot NaN with lines ls 1 title "snapshot (both modes)", \
+     NaN with lines ls 2 title "numerical optimum", \
+     NaN with lines ls 3 title "analog optimum", \
+     NaN with lines ls 4 title "sinc (numerical)", \
+     NaN with lines ls 5 title "raskar (numerical)", \
+     NaN with lines ls 6 title "raskar (analog)"
 unset multiplot
 EOF
-  mv "$tmp_png" "$png"
-  echo "read_noise_study: wrote $png"
+}
+
+if command -v gnuplot >/dev/null; then
+  plot_figure 'pngcairo size 1100,560 font "DejaVu Sans,10"' "$work/study.png"
+  plot_figure 'svg size 1100,560 font "DejaVu Sans,10" dynamic background rgb "white"' "$work/study.svg"
+  mv "$work/study.png" "$out/read_noise_study.png"
+  mv "$work/study.svg" "$out/read_noise_study.svg"
+  echo "read_noise_study: wrote $out/read_noise_study.png and .svg"
 else
   echo "read_noise_study: gnuplot not found, no plot (scripts/install-deps.sh installs gnuplot-nox)" >&2
+fi
+if [ "$update_docs" -eq 1 ]; then
+  cp "$csv" "$root/results/read_noise_study.csv"
+  echo "read_noise_study: updated results/read_noise_study.csv"
+  if [ -f "$out/read_noise_study.png" ]; then
+    cp "$out/read_noise_study.png" "$root/docs/read_noise_study.png"
+    echo "read_noise_study: updated docs/read_noise_study.png"
+  fi
 fi

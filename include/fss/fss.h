@@ -20,9 +20,11 @@
 
 #include "fss/campaign/check.h"
 #include "fss/campaign/figures.h"
+#include "fss/campaign/gaps.h"
 #include "fss/campaign/results.h"
 #include "fss/campaign/run.h"
 #include "fss/campaign/spec.h"
+#include "fss/campaign/table.h"
 #include "fss/core/error.h"
 #include "fss/core/image.h"
 #include "fss/design/analyze.h"

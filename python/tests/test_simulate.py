@@ -21,6 +21,9 @@ CASES = [
      "camera"),
     ("noise_free_sinc", ["--code", "sinc", "--noise", "none"], {"code": "sinc", "noise": "none"},
      "astronaut"),
+    # --rmse-margin auto where the paper's 3B does not fit camera.png (B = 78 at v 1.5)
+    ("auto_margin", ["--velocity", "1.5", "--rmse-margin", "auto", "--seed", "4"],
+     {"velocity": 1.5, "rmse_margin": "auto", "seed": 4}, "camera"),
     # the sensor (docs/method.md §10)
     ("sensor", ["--read-noise", "6", "--dark-current", "0.5", "--adc-bits", "14", "--adc-gain",
                 "2", "--full-well", "30000", "--seed", "5"],

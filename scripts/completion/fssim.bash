@@ -35,9 +35,11 @@ _fssim_options() {
       echo "-h --help -f --file -i --input -c --code -m --mode -v --velocity --restore-velocity
             --snr --dt --trials --seed --noise --rmse-margin --per-trial --threads -o --output
             --shard --figures --no-progress --read-noise --dark-current --full-well --adc-bits
-            --adc-gain --restoration --regularization --prior --velocity-distribution" ;;
-    merge) echo "-h --help -o --output --figures" ;;
+            --adc-gain --restoration --regularization --prior --velocity-distribution
+            --skip-unrunnable" ;;
+    merge) echo "-h --help -o --output --figures --skip-unrunnable" ;;
     check) echo "-h --help --columns --abs --rel --k-se --junit --predicted" ;;
+    table) echo "-h --help --format --columns --digits -o --output" ;;
   esac
 }
 
@@ -46,7 +48,7 @@ _fssim_options() {
 _fssim_takes_value() {
   case $1 in
     -h | --help | --version | --no-plots | --sheet | --report | --save-float | --linear | --analog | --binary) return 1 ;;
-    --figures | --no-progress | --per-trial | --predicted) return 1 ;;
+    --figures | --no-progress | --per-trial | --predicted | --skip-unrunnable) return 1 ;;
     -*=*) return 1 ;;
     -*) return 0 ;;
   esac
@@ -81,7 +83,7 @@ _fssim() {
     fi
     case $context:$word in
       main:spectra | main:code | main:sweep | main:campaign) context=$word ;;
-      campaign:merge | campaign:check) context=$word ;;
+      campaign:merge | campaign:check | campaign:table) context=$word ;;
       code:generate | code:analyze | code:optimize) context=$word ;;
     esac
   done
@@ -100,6 +102,9 @@ _fssim() {
       return ;;
     --png-depth)
       _fssim_add "8 16 auto" "$cur"
+      return ;;
+    --format)
+      _fssim_add "markdown latex csv" "$cur"
       return ;;
     --restoration)
       _fssim_add "inverse tikhonov wiener" "$cur"
@@ -131,9 +136,9 @@ _fssim() {
   fi
   case $context in
     main) _fssim_add "spectra code sweep campaign" "$cur" ;;
-    campaign) _fssim_add "merge check" "$cur" ;;
+    campaign) _fssim_add "merge check table" "$cur" ;;
     merge) _fssim_paths -d "$cur" ;;
-    check) _fssim_paths -f "$cur" ;;
+    check | table) _fssim_paths -f "$cur" ;;
     code) _fssim_add "generate analyze optimize" "$cur" ;;
     generate) _fssim_add "sinc mip random snapshot accumulation" "$cur" ;;
     analyze | spectra)

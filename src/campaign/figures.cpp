@@ -1,10 +1,11 @@
 #include "fss/campaign/figures.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <initializer_list>
+#include <cstdlib>
 #include <map>
+#include <set>
 #include <string_view>
 
 #include "campaign/campaign_text.h"
@@ -14,6 +15,8 @@
 namespace fss {
 
 namespace {
+
+using campaign_text::shortest;
 
 // One swept quantity of a campaign.
 struct Axis {
@@ -46,12 +49,14 @@ std::vector<Axis> swept_axes(const ResolvedCampaign& c) {
   return swept;
 }
 
+// The last part of a path: the file name of an image or of a code file.
+std::string file_name(const std::string& path) {
+  const auto slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
 std::string fixed_settings(const ResolvedCampaign& c, const Setting& s, const Axis& axis) {
-  using campaign_text::shortest;
-  std::string text = c.images[s.image].name;
-  const auto slash = text.rfind('/');
-  if (slash != std::string::npos) text = text.substr(slash + 1);
-  text += ", " + to_string(c.modes[s.mode]);
+  std::string text = file_name(c.images[s.image].name) + ", " + to_string(c.modes[s.mode]);
   const auto add = [&](const char* name, const char* label, const std::string& value) {
     if (std::string(axis.name) != name) text += std::string(", ") + label + " " + value;
   };
@@ -72,33 +77,67 @@ std::string fixed_settings(const ResolvedCampaign& c, const Setting& s, const Ax
   return text;
 }
 
-// A curve's name: its code, and its restoration when the campaign has several.
+// A series' name: its code (a code file by its file name), and its restoration when the
+// campaign has several.
 std::string curve_name(const ResolvedCampaign& c, const Setting& s) {
-  std::string name = c.codes[s.code].name;
+  std::string name = file_name(c.codes[s.code].name);
   if (c.restorations.size() > 1) name += ": " + describe(c.restorations[s.restoration]);
   return name;
 }
 
-// The curves of one figure: for each code, y and error at each x.
-struct FigureData {
-  std::string title;
-  std::vector<double> x;  // sorted
-  std::vector<ErrorBarSeries> series;
-  bool log_x = false;
-  std::string x_label;
-  std::string y_label;
-};
-
-// The quantity a figure plots: the mean RMSE of the trials, or, in a campaign with velocity
-// distributions, sqrt(mean MSE) of the trials, the estimate of sqrt(E[MSE]) that the prediction
-// gives (docs/method.md §13; the mean RMSE is below it, Jensen), with the same error bars.
-const char* y_quantity(const ResolvedCampaign& c) {
-  return c.has_velocity_distributions() ? "sqrt(mean MSE)" : "RMSE";
+// `text` for a file name: characters outside [A-Za-z0-9._-] become '-' (runs of them one),
+// at most `limit` characters.
+std::string file_part(std::string_view text, std::size_t limit = 40) {
+  std::string out;
+  for (const char ch : text) {
+    const bool kept =
+        std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '.' || ch == '_' || ch == '-';
+    if (kept) {
+      out += ch;
+    } else if (out.empty() || out.back() != '-') {
+      out += '-';
+    }
+  }
+  while (!out.empty() && out.back() == '-') out.pop_back();
+  return out.substr(0, limit);
 }
 
-std::string y_label(const ResolvedCampaign& c) {
-  return c.has_velocity_distributions() ? "sqrt(mean MSE) (gray levels), ± sd of the RMSE"
-                                        : "RMSE (gray levels), mean ± sd";
+// The figure's file name: the swept quantity, the image's file name without its extension, the
+// mode, then each other setting whose campaign has more than one value of it; the block of
+// curves when there are more than kMaxCurvesPerFigure.
+std::string figure_name(const ResolvedCampaign& c, const Setting& s, const Axis& axis, int block) {
+  std::string image = file_name(c.images[s.image].name);
+  if (const auto dot = image.rfind('.'); dot != std::string::npos && dot > 0) image.resize(dot);
+  std::string name = "rmse_vs_" + std::string(axis.name) + "__" + file_part(image) + "__" +
+                     file_part(to_string(c.modes[s.mode]));
+  const auto add = [&](const char* quantity, std::size_t count, const std::string& part) {
+    if (count > 1 && std::string_view(axis.name) != quantity) name += "__" + file_part(part);
+  };
+  if (s.velocity_distribution >= 0) {
+    add("", c.velocity_distributions.size(),
+        "v-" + c.velocity_distributions[s.velocity_distribution].name);
+  } else {
+    add("velocity", c.velocities.values.size(), "v" + shortest(c.velocities.values[s.velocity]));
+  }
+  if (const auto& r = c.restore_velocities[s.restore_velocity]) {
+    add("restore_velocity", c.restore_velocities.size(), "vr" + shortest(*r));
+  }
+  add("snr", c.snrs.values.size(), "snr" + shortest(c.snrs.values[s.snr]));
+  add("dt", c.dts.values.size(), "dt" + shortest(c.dts.values[s.dt]));
+  add("read_noise", c.read_noises.values.size(),
+      "rn" + shortest(c.read_noises.values[s.read_noise]));
+  if (block > 0) {
+    name += "__curves" + std::to_string(block * kMaxCurvesPerFigure + 1) + "-" +
+            std::to_string((block + 1) * kMaxCurvesPerFigure);
+  }
+  return name.substr(0, 160);
+}
+
+// `name`, or name_2, name_3, ... : the first not in `taken`, which then holds it.
+std::string unique_name(const std::string& name, std::set<std::string>& taken) {
+  std::string unique = name;
+  for (int n = 2; !taken.insert(unique).second; ++n) unique = name + "_" + std::to_string(n);
+  return unique;
 }
 
 double cell_number(const ResultRow& row, const char* column) {
@@ -107,34 +146,63 @@ double cell_number(const ResultRow& row, const char* column) {
   return std::strtod(text.c_str(), nullptr);
 }
 
-// SVG of a figure, drawn directly: axes, ticks, curves, error bars, legend.
-std::string figure_svg(const FigureData& f);
+// One ok row as a point of its figure.
+struct Point {
+  double y;          // the mean RMSE; sqrt(mean MSE) under a velocity distribution
+  double error;      // 1.96 standard errors of y; NaN with one trial
+  double predicted;  // predicted_rmse; sqrt(predicted_mse) under a velocity distribution
+  bool open;         // RMSE margin below 3B
+};
 
-}  // namespace
-
-namespace {
-
-std::string figure_title(const ResolvedCampaign& c, const Setting& s, const Axis& axis) {
-  const std::string margin =
-      c.rmse_margin_columns < 0 ? std::string("3B") : std::to_string(c.rmse_margin_columns);
-  return std::string(y_quantity(c)) + " vs " + axis.name + ": " + fixed_settings(c, s, axis) +
-         "; " + std::to_string(c.trials) + (c.trials == 1 ? " trial" : " trials") + ", margin " +
-         margin;
+// The point of an ok row. The standard error of the mean RMSE is sd / sqrt(n) over the n
+// trials; that of sqrt(mean MSE) is, to first order (delta method), the standard error of the
+// mean MSE divided by 2 sqrt(mean MSE). The rmse_margin cell holds the margin used in columns
+// (-1: 3B, the default).
+Point point_of(const ResolvedCampaign& c, const ResultRow& row) {
+  const double trials = cell_number(row, "trials");
+  const double root_n = trials > 1.0 ? std::sqrt(trials) : std::nan("");
+  Point p{};
+  if (c.has_velocity_distributions()) {
+    p.y = std::sqrt(cell_number(row, "mse_mean"));
+    p.error = 1.96 * cell_number(row, "mse_sd") / root_n / (2.0 * p.y);
+    p.predicted = std::sqrt(cell_number(row, "predicted_mse"));
+  } else {
+    p.y = cell_number(row, "rmse_mean");
+    p.error = 1.96 * cell_number(row, "rmse_sd") / root_n;
+    p.predicted = cell_number(row, "predicted_rmse");
+  }
+  const double margin = cell_number(row, "rmse_margin");
+  p.open = margin >= 0.0 && margin < 3.0 * cell_number(row, "blur_length");
+  return p;
 }
 
-// The figures of one axis, keyed by the other settings (and the block of
-// curves): each curve (a code, and a restoration when there are several)
-// gets the ok rows' mean RMSE and sd.
+// One figure being gathered: its series by curve, and the statuses of the rows of each curve
+// that is not ok.
+struct FigureData {
+  std::string title;
+  std::string name;
+  std::map<int, MeasuredSeries> series;
+  std::map<int, std::vector<std::string>> statuses;
+};
+
+std::string figure_title(const ResolvedCampaign& c, const Setting& s, const Axis& axis) {
+  const std::string margin = c.rmse_margin_columns == kRmseMarginDefault ? std::string("3B")
+                             : c.rmse_margin_columns == kRmseMarginAuto
+                                 ? std::string("auto")
+                                 : std::to_string(c.rmse_margin_columns);
+  return std::string(c.has_velocity_distributions() ? "sqrt(mean MSE)" : "RMSE") + " vs " +
+         axis.name + ": " + fixed_settings(c, s, axis) + "; " + std::to_string(c.trials) +
+         (c.trials == 1 ? " trial" : " trials") + ", margin " + margin;
+}
+
+// The figures of one axis, keyed by the other settings (and the block of curves), in the
+// order of their keys.
 std::map<std::vector<int>, FigureData> axis_figures(const ResolvedCampaign& c,
                                                     const std::vector<ResultRow>& rows,
-                                                    const Axis& axis) {
+                                                    const Axis& axis, std::vector<double>& xs) {
   const int status = campaign_column_index("status");
   std::map<std::vector<int>, FigureData> groups;
-  std::map<std::vector<int>, std::map<int, std::size_t>> curve_series;
   const int variants = static_cast<int>(c.restorations.size());
-  std::vector<double> xs = axis.values;
-  std::sort(xs.begin(), xs.end());
-  xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     Setting s = setting_at(c, static_cast<long long>(i));
     const double x = axis.values[s.*axis.field];
@@ -144,193 +212,122 @@ std::map<std::vector<int>, FigureData> axis_figures(const ResolvedCampaign& c,
         s.image, s.mode, s.velocity,   s.velocity_distribution,    s.restore_velocity,
         s.snr,   s.dt,   s.read_noise, curve / kMaxCurvesPerFigure};
     FigureData& f = groups[key];
-    if (f.x.empty()) f = {figure_title(c, s, axis), xs, {}, axis.log, axis.label, y_label(c)};
-    auto [it, added] = curve_series[key].try_emplace(curve, f.series.size());
-    if (added) {
-      f.series.push_back({curve_name(c, s), std::vector<double>(xs.size(), std::nan("")),
-                          std::vector<double>(xs.size(), std::nan(""))});
+    if (f.title.empty()) {
+      f.title = figure_title(c, s, axis);
+      f.name = figure_name(c, s, axis, key.back());
     }
     const auto j = static_cast<std::size_t>(std::lower_bound(xs.begin(), xs.end(), x) - xs.begin());
-    if (rows[i][status] == kStatusOk) {
-      f.series[it->second].y[j] = c.has_velocity_distributions()
-                                      ? std::sqrt(cell_number(rows[i], "mse_mean"))
-                                      : cell_number(rows[i], "rmse_mean");
-      f.series[it->second].error[j] = cell_number(rows[i], "rmse_sd");
+    if (rows[i][status] != kStatusOk) {
+      f.statuses[curve].push_back(rows[i][status]);
+      continue;
     }
+    auto [it, added] = f.series.try_emplace(curve);
+    MeasuredSeries& series = it->second;
+    if (added) {
+      const std::size_t n = xs.size();
+      series = {curve_name(c, s),
+                std::vector<double>(n, std::nan("")),
+                std::vector<double>(n, std::nan("")),
+                std::vector<double>(n, std::nan("")),
+                std::vector<bool>(n, false),
+                curve % kMaxCurvesPerFigure};
+    }
+    const Point p = point_of(c, rows[i]);
+    series.measured[j] = p.y;
+    series.error[j] = p.error;
+    series.predicted[j] = p.predicted;
+    series.open[j] = p.open;
   }
   return groups;
 }
 
+// The note of the series with no point: "no data: sinc, mip (code-refused); accumulation
+// (not-invertible)", the statuses of their rows; empty when every series has a point.
+std::string no_data_note(const ResolvedCampaign& c, const FigureData& f) {
+  std::vector<std::pair<std::string, std::string>> by_status;  // status, names
+  const int variants = static_cast<int>(c.restorations.size());
+  for (const auto& [curve, statuses] : f.statuses) {
+    if (f.series.count(curve) > 0) continue;
+    Setting s{};
+    s.code = curve / variants;
+    s.restoration = curve % variants;
+    std::string status = statuses.front();
+    if (std::any_of(statuses.begin(), statuses.end(),
+                    [&](const std::string& t) { return t != status; })) {
+      status = "not ok";
+    }
+    auto it = std::find_if(by_status.begin(), by_status.end(),
+                           [&](const auto& e) { return e.first == status; });
+    if (it == by_status.end()) it = by_status.insert(by_status.end(), {status, ""});
+    it->second += (it->second.empty() ? "" : ", ") + curve_name(c, s);
+  }
+  std::string note;
+  for (const auto& [status, names] : by_status) {
+    note += (note.empty() ? "no data: " : "; ") + names + " (" + status + ")";
+  }
+  return note;
+}
+
+// The figure of gathered data on the x values `xs`.
+MeasuredFigure measured_figure(const ResolvedCampaign& c, const FigureData& f, const Axis& axis,
+                               const std::vector<double>& xs) {
+  MeasuredFigure figure;
+  figure.x = xs;
+  for (const auto& entry : f.series) figure.series.push_back(entry.second);
+  figure.x_label = axis.label;
+  figure.y_label =
+      c.has_velocity_distributions() ? "sqrt(mean MSE) (gray levels)" : "RMSE (gray levels)";
+  figure.log_x = axis.log;
+  figure.points_key = std::string("measured: ") +
+                      (c.has_velocity_distributions() ? "sqrt(mean MSE)" : "mean") +
+                      (c.trials > 1 ? " ± 1.96 SE" : " (1 trial)");
+  figure.predicted_key = "predicted";
+  figure.open_key = "RMSE margin < 3B";
+  if (const std::string note = no_data_note(c, f); !note.empty()) figure.notes.push_back(note);
+  return figure;
+}
+
 }  // namespace
 
-std::vector<CampaignFigure> campaign_figures(const ResolvedCampaign& c,
-                                             const std::vector<ResultRow>& rows) {
+// The figures of a campaign: for each swept quantity, one figure per combination of the other
+// settings, with one series per code (per code and restoration when the campaign has several;
+// the same colour for one in every figure). Each point is a setting whose status is ok: its
+// mean RMSE (sqrt of the mean MSE under a velocity distribution, the estimate of sqrt E[MSE],
+// docs/method.md §13) with a bar of ± 1.96 standard errors of the trials (none with one
+// trial), an open marker when its RMSE margin is below 3B; each line its prediction. A series
+// without an ok row is left out (a note names it with its rows' status), and a figure without
+// one is not drawn. Quantities with one value have no figure; beyond kMaxCampaignFigures the
+// rest are left out, and curves beyond kMaxCurvesPerFigure start a new figure.
+std::vector<CampaignFigureData> campaign_figure_data(const ResolvedCampaign& c,
+                                                     const std::vector<ResultRow>& rows) {
   if (static_cast<long long>(rows.size()) != c.setting_count()) {
     throw_usage_error("campaign figures need every row of the campaign");
   }
-  std::vector<CampaignFigure> figures;
+  std::vector<CampaignFigureData> figures;
+  std::set<std::string> names;
   for (const Axis& axis : swept_axes(c)) {
-    int n = 0;
-    for (const auto& entry : axis_figures(c, rows, axis)) {
+    std::vector<double> xs = axis.values;
+    std::sort(xs.begin(), xs.end());
+    xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+    for (const auto& entry : axis_figures(c, rows, axis, xs)) {
       const FigureData& f = entry.second;
+      if (f.series.empty()) continue;
       if (static_cast<int>(figures.size()) >= kMaxCampaignFigures) return figures;
-      PlotOptions options;
-      options.width = 800;
-      options.height = 500;
-      options.title = f.title;
-      figures.push_back(
-          {"rmse_vs_" + std::string(axis.name) + "_" + std::to_string(++n),
-           plot_error_bar_curves_png(f.x, f.series, f.x_label, f.y_label, f.log_x, options),
-           figure_svg(f)});
+      figures.push_back({unique_name(f.name, names), f.title, measured_figure(c, f, axis, xs)});
     }
   }
   return figures;
 }
 
-namespace {
-
-constexpr double kPlotLeft = 80, kPlotRight = 780, kPlotTop = 50, kPlotBottom = 440;
-const char* const kColours[] = {"#1f5caa", "#d67814", "#28963c", "#963caa",
-                                "#14a0b4", "#c81e1e", "#8c6e28", "#6e6e6e"};
-
-std::string svg_escape(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    if (ch == '&') {
-      out += "&amp;";
-    } else if (ch == '<') {
-      out += "&lt;";
-    } else if (ch == '>') {
-      out += "&gt;";
-    } else {
-      out += ch;
-    }
+std::vector<CampaignFigure> campaign_figures(const ResolvedCampaign& c,
+                                             const std::vector<ResultRow>& rows) {
+  std::vector<CampaignFigure> figures;
+  for (const CampaignFigureData& data : campaign_figure_data(c, rows)) {
+    const PlotOptions options{800, 500, data.title};
+    figures.push_back({data.name, plot_measured_png(data.figure, options),
+                       plot_measured_svg(data.figure, options)});
   }
-  return out;
+  return figures;
 }
-
-std::string fixed(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.2f", v);
-  return buffer;
-}
-
-// "Nice" ticks over [low, high]: steps of 1, 2 or 5 times a power of ten.
-std::vector<double> ticks(double low, double high) {
-  const double span = high - low;
-  if (!(span > 0.0)) return {low};
-  const double raw = span / 6.0, power = std::pow(10.0, std::floor(std::log10(raw)));
-  const double step = raw / power < 2 ? 2 * power : raw / power < 5 ? 5 * power : 10 * power;
-  std::vector<double> t;
-  const double first = std::ceil(low / step);
-  for (int i = 0; first + i <= high / step + 1e-9 * span / step; ++i)
-    t.push_back((first + i) * step);
-  return t;
-}
-
-// The figure's coordinates: data to SVG pixels.
-class SvgFrame {
- public:
-  explicit SvgFrame(const FigureData& f) : log_x_(f.log_x) {
-    y_low_ = HUGE_VAL;
-    y_high_ = -HUGE_VAL;
-    for (const ErrorBarSeries& s : f.series) {
-      for (std::size_t j = 0; j < s.y.size(); ++j) {
-        if (!std::isfinite(s.y[j])) continue;
-        const double e = std::isfinite(s.error[j]) ? s.error[j] : 0.0;
-        y_low_ = std::min(y_low_, s.y[j] - e);
-        y_high_ = std::max(y_high_, s.y[j] + e);
-      }
-    }
-    if (!(y_low_ <= y_high_)) y_low_ = 0.0, y_high_ = 1.0;
-    const double pad = y_high_ > y_low_ ? 0.08 * (y_high_ - y_low_) : 0.1 * std::max(1.0, y_high_);
-    y_low_ = std::max(0.0, y_low_ - pad);
-    y_high_ += pad;
-    x0_ = tx(f.x.front());
-    x1_ = tx(f.x.back());
-    x_pad_ = f.x.size() > 1 ? 0.04 * (x1_ - x0_) : 0.5;
-  }
-  double x(double value) const {
-    return kPlotLeft +
-           (tx(value) - x0_ + x_pad_) / (x1_ - x0_ + 2 * x_pad_) * (kPlotRight - kPlotLeft);
-  }
-  double y(double value) const {
-    return kPlotBottom - (value - y_low_) / (y_high_ - y_low_) * (kPlotBottom - kPlotTop);
-  }
-  double y_low() const { return y_low_; }
-  double y_high() const { return y_high_; }
-
- private:
-  double tx(double value) const { return log_x_ ? std::log10(value) : value; }
-  bool log_x_;
-  double y_low_, y_high_, x0_ = 0, x1_ = 0, x_pad_ = 0;
-};
-
-void append(std::string& svg, std::initializer_list<std::string_view> parts) {
-  for (const std::string_view part : parts) svg.append(part);
-}
-
-// Frame, ticks, tick labels and axis labels.
-void svg_axes(std::string& svg, const FigureData& f, const SvgFrame& frame) {
-  append(svg, {"<text x=\"430\" y=\"25\" text-anchor=\"middle\" font-size=\"14\">",
-               svg_escape(f.title), "</text>\n",
-               "<rect x=\"80\" y=\"50\" width=\"700\" height=\"390\" fill=\"none\" "
-               "stroke=\"#222\"/>\n"});
-  for (const double t : ticks(frame.y_low(), frame.y_high())) {
-    const std::string y = fixed(frame.y(t)), label_y = fixed(frame.y(t) + 4);
-    append(svg, {"<line x1=\"76\" x2=\"80\" y1=\"", y, "\" y2=\"", y, "\" stroke=\"#222\"/>",
-                 "<text x=\"72\" y=\"", label_y, "\" text-anchor=\"end\">",
-                 campaign_text::shortest(t), "</text>\n"});
-  }
-  for (const double value : f.x) {
-    const std::string x = fixed(frame.x(value));
-    append(svg, {"<line y1=\"440\" y2=\"444\" x1=\"", x, "\" x2=\"", x, "\" stroke=\"#222\"/>",
-                 "<text y=\"458\" x=\"", x, "\" text-anchor=\"middle\">",
-                 campaign_text::shortest(value), "</text>\n"});
-  }
-  append(svg, {"<text x=\"430\" y=\"485\" text-anchor=\"middle\">", svg_escape(f.x_label),
-               f.log_x ? " (log scale)" : "", "</text>\n",
-               "<text transform=\"translate(22 245) rotate(-90)\" text-anchor=\"middle\">",
-               svg_escape(f.y_label), "</text>\n"});
-}
-
-// One code: error bars and markers, the polyline through its runs of
-// values, and its legend entry (row i).
-void svg_series(std::string& svg, const FigureData& f, const SvgFrame& frame, std::size_t i) {
-  const ErrorBarSeries& s = f.series[i];
-  const std::string colour = kColours[i % 8];
-  std::string path;
-  for (std::size_t j = 0; j < s.y.size(); ++j) {
-    if (!std::isfinite(s.y[j])) {
-      path += ' ';
-      continue;
-    }
-    const std::string x = fixed(frame.x(f.x[j])), y = fixed(frame.y(s.y[j]));
-    append(path, {path.empty() || path.back() == ' ' ? "M" : "L", x, ",", y});
-    const double e = std::isfinite(s.error[j]) ? s.error[j] : 0.0;
-    append(svg, {"<line x1=\"", x, "\" x2=\"", x, "\" y1=\"", fixed(frame.y(s.y[j] - e)),
-                 "\" y2=\"", fixed(frame.y(s.y[j] + e)), "\" stroke=\"", colour, "\"/>",
-                 "<circle cx=\"", x, "\" cy=\"", y, "\" r=\"3.5\" fill=\"", colour, "\"/>\n"});
-  }
-  const double legend_y = 70 + 18 * static_cast<double>(i);
-  append(svg,
-         {"<path d=\"", path, "\" fill=\"none\" stroke=\"", colour, "\" stroke-width=\"1.8\"/>\n",
-          "<line x1=\"95\" x2=\"120\" y1=\"", fixed(legend_y), "\" y2=\"", fixed(legend_y),
-          "\" stroke=\"", colour, "\" stroke-width=\"1.8\"/>", "<text x=\"126\" y=\"",
-          fixed(legend_y + 4), "\">", svg_escape(s.name), "</text>\n"});
-}
-
-std::string figure_svg(const FigureData& f) {
-  const SvgFrame frame(f);
-  std::string svg =
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"500\" "
-      "viewBox=\"0 0 800 500\" font-family=\"sans-serif\" font-size=\"12\">\n"
-      "<rect width=\"800\" height=\"500\" fill=\"white\"/>\n";
-  svg_axes(svg, f, frame);
-  for (std::size_t i = 0; i < f.series.size(); ++i) svg_series(svg, f, frame, i);
-  return svg + "</svg>\n";
-}
-
-}  // namespace
 
 }  // namespace fss

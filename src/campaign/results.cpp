@@ -12,6 +12,7 @@
 #include "fss/model/kernel.h"
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/metrics.h"
+#include "fss/pipeline/option_rules.h"
 
 namespace fss {
 
@@ -258,7 +259,11 @@ ResultRow setting_cells(const ResolvedCampaign& c, const Setting& s, const Simul
   }
   if (r.method == RestorationMethod::kWiener) row[kPrior] = prior_text(r);
   row[kNoise] = to_string(o.noise);
-  row[kRmseMargin] = std::to_string(o.rmse_margin_columns);
+  // The margin as given (-1: the paper's 3B); under auto, the margin used once the setting ran
+  // (run_setting), empty before.
+  if (o.rmse_margin_columns != kRmseMarginAuto) {
+    row[kRmseMargin] = std::to_string(o.rmse_margin_columns);
+  }
   row[kSeed] = std::to_string(o.seed);
   row[kTrials] = std::to_string(o.trials);
   row[kFssimVersion] = options.fssim_version;
@@ -272,7 +277,8 @@ std::string row_setting_mismatch(const ResolvedCampaign& c, long long index, con
   const ResultRow expected = setting_cells(c, s, setting_options(c, s), SettingRunOptions{});
   const std::vector<ResultColumn>& columns = all_columns();
   for (int i = 0; i < kBlurLength; ++i) {
-    if (i == kFssimVersion) continue;
+    // Under auto the margin is the one used: known once the setting ran.
+    if (i == kRmseMargin && c.rmse_margin_columns == kRmseMarginAuto) continue;
     const auto at = static_cast<std::size_t>(i);
     if (row.size() <= at || row[at] != expected[at]) return columns[at].name;
   }
@@ -447,6 +453,7 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
       const SimulationReport r = plans != nullptr
                                      ? Simulate(plans->plan(o, image.width, code), o, image, code)
                                      : Simulate(o, image, code);
+      if (o.rmse_margin_columns == kRmseMarginAuto) row[kRmseMargin] = std::to_string(r.rmse_first);
       status = result_cells(r, row);
       if (trial_rows != nullptr) *trial_rows = trial_rows_of(row, r);
     } catch (const Error& e) {

@@ -18,7 +18,7 @@
 #include "campaign/sha256.h"
 #include "campaign/user_input.h"
 #include "fss/core/error.h"
-#include "fss/io/png_io.h"
+#include "fss/io/image_io.h"
 #include "fss/model/code.h"
 #include "io/created_directories.h"
 #include "io/safe_write.h"
@@ -208,18 +208,18 @@ journal::Contents open_journal(const ResolvedCampaign& campaign, const std::stri
   return *contents;
 }
 
-// Decodes image `i` of the campaign (a PNG file of at most
-// kMaxCampaignImageBytes), checking that the file still has the digest the
-// campaign was made with.
+// Decodes image `i` of the campaign (a PNG or TIFF file of at most
+// kMaxCampaignImageBytes, read as the simulator reads it: decode_image),
+// checking that the file still has the digest the campaign was made with.
 Image load_image(const ResolvedCampaign& campaign, int i) {
   const CampaignImage& image = campaign.images[i];
   const std::string data =
-      campaign_input::read_png_file(image.path, kMaxCampaignImageBytes, "image");
+      campaign_input::read_image_file(image.path, kMaxCampaignImageBytes, "image");
   if (sha256_hex(data) != image.sha256) {
     throw_runtime_error("image " + shown_path(image.path) +
                         " changed since the campaign started (its SHA-256 differs)");
   }
-  return decode_png(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), image.path);
+  return decode_image(reinterpret_cast<const std::uint8_t*>(data.data()), data.size(), image.path);
 }
 
 // An exclusive lock on DIR/.campaign.lock for the life of the object: two

@@ -3,6 +3,7 @@
 #include <glob.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -347,9 +348,9 @@ void require_utf8(const std::string& name, const char* what) {
   }
 }
 
-// The bytes of image `path`: a PNG file of at most kMaxCampaignImageBytes.
-// A regular file: a campaign reads its images again (to run a setting, to
-// resume), which a pipe or a FIFO cannot give twice.
+// The bytes of image `path`: a PNG or TIFF file of at most
+// kMaxCampaignImageBytes. A regular file: a campaign reads its images again
+// (to run a setting, to resume), which a pipe or a FIFO cannot give twice.
 std::string read_image_bytes(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec)) {
@@ -357,21 +358,59 @@ std::string read_image_bytes(const std::string& path) {
                       "' is not a regular file: a campaign reads its images more than once (to "
                       "run and to resume); copy it to a file");
   }
-  return campaign_input::read_png_file(path, kMaxCampaignImageBytes, "image");
+  return campaign_input::read_image_file(path, kMaxCampaignImageBytes, "image");
 }
 
-// The PNG files one input stands for: itself, a directory's *.png, or a
-// glob's matches, sorted by name.
+// `name`'s extension in lower case, without the dot ("tif" for "a.TIF").
+std::string lower_extension(const std::filesystem::path& name) {
+  std::string extension = name.extension().string();
+  if (!extension.empty()) extension.erase(0, 1);
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return extension;
+}
+
+// The images of directory `dir`: its regular files named *.png, *.tif or
+// *.tiff in any case (the formats the simulator reads), hidden files left
+// out as a shell glob leaves them. A file named as an image of another
+// format (*.jpg, *.bmp, ...) is refused rather than left out silently; other
+// files (notes, results) are left out.
+std::vector<std::string> directory_images(const std::string& dir) {
+  namespace fs = std::filesystem;
+  static const std::set<std::string> kRead = {"png", "tif", "tiff"};
+  static const std::set<std::string> kOther = {"jpg",  "jpeg", "jpe",  "jp2", "bmp", "gif",
+                                               "webp", "pbm",  "pgm",  "ppm", "pnm", "exr",
+                                               "hdr",  "heic", "avif", "jxl"};
+  std::vector<std::string> paths;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path& path = it->path();
+    std::error_code kind;
+    if (path.filename().string().starts_with(".") || !it->is_regular_file(kind)) continue;
+    const std::string extension = lower_extension(path.filename());
+    if (kRead.contains(extension)) {
+      paths.push_back(path.string());
+    } else if (kOther.contains(extension)) {
+      throw_usage_error("input '" + escape_control_characters(dir) + "' holds '" +
+                        escape_control_characters(path.filename().string()) +
+                        "', an image format fssim does not read (PNG and TIFF only): convert "
+                        "it, or name the images one by one");
+    }
+  }
+  if (ec) {
+    throw_usage_error("cannot read directory '" + escape_control_characters(dir) +
+                      "': " + ec.message());
+  }
+  return paths;
+}
+
+// The image files one input stands for: itself, a directory's images
+// (directory_images), or a glob's matches, sorted by name.
 std::vector<std::string> expand_input(const std::string& input) {
   namespace fs = std::filesystem;
   std::vector<std::string> paths;
   std::error_code ec;
   if (fs::is_directory(input, ec)) {
-    for (const auto& entry : fs::directory_iterator(input, ec)) {
-      if (entry.is_regular_file() && entry.path().extension() == ".png") {
-        paths.push_back(entry.path().string());
-      }
-    }
+    paths = directory_images(input);
   } else if (input.find_first_of("*?[") != std::string::npos) {
     glob_t matches{};
     if (glob(input.c_str(), 0, nullptr, &matches) == 0) {
@@ -384,7 +423,8 @@ std::vector<std::string> expand_input(const std::string& input) {
     throw_usage_error("input '" + escape_control_characters(input) + "' does not exist");
   }
   if (paths.empty()) {
-    throw_usage_error("input '" + escape_control_characters(input) + "' matches no PNG file");
+    throw_usage_error("input '" + escape_control_characters(input) +
+                      "' matches no PNG or TIFF file (*.png, *.tif, *.tiff)");
   }
   std::sort(paths.begin(), paths.end());
   return paths;

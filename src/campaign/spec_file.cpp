@@ -153,7 +153,10 @@ bool CampaignFileReader::Scalar(const std::string& key, const Json& value,
   if (key == "trials") {
     spec.trials = Integer(value, key);
   } else if (key == "rmse_margin") {
-    spec.rmse_margin_columns = Integer(value, key);
+    // "auto" or a number of columns (-1: the paper's 3B)
+    spec.rmse_margin_columns = value.is_string() && value.get<std::string>() == "auto"
+                                   ? kRmseMarginAuto
+                                   : Integer(value, key);
   } else if (key == "seed") {
     if (!value.is_number_unsigned()) Refuse("'seed' takes an integer >= 0");
     spec.seed = value.get<std::uint64_t>();

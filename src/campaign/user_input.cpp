@@ -28,13 +28,22 @@ struct FileDescriptor {
 // Thrown by the parser callback to stop at the first level too deep.
 struct TooDeep {};
 
-// Refuses what the first bytes of a file already tell: another signature,
-// a NUL byte in a text. `checked` bytes of `bytes` passed before.
+// The signatures of the image files the simulator reads (image_io.h): PNG,
+// and TIFF or BigTIFF in either byte order (tiff_io.h).
+constexpr std::string_view kImageSignatures[] = {
+    std::string_view("\x89PNG\r\n\x1a\n", 8), std::string_view("II*\0", 4),
+    std::string_view("MM\0*", 4), std::string_view("II+\0", 4), std::string_view("MM\0+", 4)};
+
+// Refuses what the first bytes of a file already tell: none of the
+// signatures (decided once as many bytes as the longest came, or the end), a
+// NUL byte in a text. `checked` bytes of `bytes` passed before.
 void check_kind(const std::string& named, const std::string& bytes, const FileKind& kind,
                 bool at_end, std::size_t checked) {
-  const std::size_t signature = kind.signature.size();
-  if (checked < signature && (at_end || bytes.size() >= signature) &&
-      bytes.compare(0, signature, kind.signature) != 0) {
+  std::size_t longest = 0;
+  for (const std::string_view s : kind.signatures) longest = std::max(longest, s.size());
+  if (checked < longest && (at_end || bytes.size() >= longest) &&
+      std::none_of(kind.signatures.begin(), kind.signatures.end(),
+                   [&](std::string_view s) { return std::string_view(bytes).starts_with(s); })) {
     throw_runtime_error(named + " is not " + kind.expected);
   }
   if (kind.text && bytes.find('\0', checked) != std::string::npos) {
@@ -82,8 +91,9 @@ std::string read_text_file(const std::string& path, std::size_t max_bytes,
   return read_file(path, what, {max_bytes, {}, "a text file", true});
 }
 
-std::string read_png_file(const std::string& path, std::size_t max_bytes, const std::string& what) {
-  return read_file(path, what, {max_bytes, std::string_view("\x89PNG\r\n\x1a\n", 8), "a PNG file"});
+std::string read_image_file(const std::string& path, std::size_t max_bytes,
+                            const std::string& what) {
+  return read_file(path, what, {max_bytes, kImageSignatures, "a PNG or TIFF file"});
 }
 
 std::optional<Json> parse_json(std::string_view text, std::string* error) {

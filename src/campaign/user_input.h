@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -18,9 +19,10 @@ inline constexpr int kMaxJsonDepth = 64;
 // What a file read must be: at most `max_bytes` long, and its kind.
 struct FileKind {
   std::size_t max_bytes = 0;
-  std::string_view signature;  // its first bytes, when not empty
-  const char* expected = "";   // what it is, for a refusal: "a PNG file"
-  bool text = false;           // no NUL byte (a CSV or JSON text)
+  // The file starts with one of them, when not empty.
+  std::span<const std::string_view> signatures;
+  const char* expected = "";  // what it is, for a refusal: "a PNG or TIFF file"
+  bool text = false;          // no NUL byte (a CSV or JSON text)
 };
 
 // The bytes of `path`, `what` ("campaign file") naming it in messages.
@@ -28,7 +30,7 @@ struct FileKind {
 // the most a <what> may have" when longer than kind.max_bytes: a regular
 // file by its size before anything is read, any other kind (a FIFO,
 // /dev/zero) once max_bytes + 1 bytes came; also, as soon as the bytes read
-// tell, a file that does not start with kind.signature ("is not <expected>")
+// tell, a file that starts with none of kind.signatures ("is not <expected>")
 // and a text file holding a NUL byte. A directory, and a file that cannot be
 // opened or read, are refused naming `what` and `path`.
 std::string read_file(const std::string& path, const std::string& what, const FileKind& kind);
@@ -36,9 +38,10 @@ std::string read_file(const std::string& path, const std::string& what, const Fi
 // A text file (CSV, JSON) of at most `max_bytes`, as read_file.
 std::string read_text_file(const std::string& path, std::size_t max_bytes, const std::string& what);
 
-// A PNG file (its signature checked first) of at most `max_bytes`, as
-// read_file.
-std::string read_png_file(const std::string& path, std::size_t max_bytes, const std::string& what);
+// An image file the simulator reads, PNG or TIFF (its signature checked
+// first), of at most `max_bytes`, as read_file.
+std::string read_image_file(const std::string& path, std::size_t max_bytes,
+                            const std::string& what);
 
 // `text` parsed as JSON, or nullopt with *error set to a one-line reason (a
 // syntax error as the parser tells it, shortened, or nesting deeper than

@@ -10,8 +10,10 @@
 #include "cli_common.h"
 #include "fss/campaign/check.h"
 #include "fss/campaign/figures.h"
+#include "fss/campaign/gaps.h"
 #include "fss/campaign/run.h"
 #include "fss/campaign/spec.h"
+#include "fss/campaign/table.h"
 #include "fss/core/error.h"
 #include "fss/model/code.h"
 #include "io/safe_write.h"
@@ -112,6 +114,9 @@ CampaignCommand::CampaignCommand(CLI::App& parent)
       ->check(not_empty());
   merge_->add_option("parts", parts_, "the shards' directories")->required();
   merge_->add_flag("--figures", merge_figures_, "also draw the figures into DIR/figures");
+  merge_->add_flag("--skip-unrunnable", merge_skip_unrunnable_,
+                   "exit 0 even when some settings cannot run (they are listed on stderr and "
+                   "marked in results.csv)");
   check_ = app().add_subcommand(
       "check",
       "compare RESULTS.csv with EXPECTED.csv (or with its own predictions: --predicted); exit 1 "
@@ -120,25 +125,57 @@ CampaignCommand::CampaignCommand(CLI::App& parent)
   check_->add_option("expected", expected_,
                      "expected values, columns named as results.csv's (not with --predicted)");
   check_->add_flag("--predicted", predicted_,
-                   "compare each row's mean with its own prediction within --k-se K standard "
-                   "errors: mse_mean with predicted_mse under a velocity distribution, else "
-                   "rmse_mean with predicted_rmse");
+                   "compare each row's mean with its own prediction within k standard errors: "
+                   "mse_mean with predicted_mse under a velocity distribution, else rmse_mean "
+                   "with predicted_rmse");
   check_
-      ->add_option("--columns", check_columns_, "quantities to compare (default: all EXPECTED has)")
+      ->add_option("--columns", check_columns_,
+                   "quantities to compare (default: the means and exact outputs EXPECTED has)")
       ->delimiter(',');
   check_->add_option("--abs", abs_tolerance_, "absolute tolerance")->check(CLI::NonNegativeNumber);
-  check_->add_option("--rel", rel_tolerance_, "relative tolerance")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  check_->add_option("--k-se", k_se_, "tolerance in standard errors of the means")
+  check_->add_option("--rel", rel_tolerance_, "relative tolerance (default 1e-9)")
       ->check(CLI::NonNegativeNumber);
+  check_
+      ->add_option("--k-se", k_se_,
+                   "tolerance in standard errors of the means (default: Student-t k, 0.1 % false "
+                   "alarms per check; none with --abs or --rel)")
+      ->check(CLI::NonNegativeNumber);
+  check_->add_flag("--exact", exact_,
+                   "numbers equal, without the relative 1e-9 (the means still within k standard "
+                   "errors; not with --abs, --rel)");
   check_->add_option("--junit", junit_, "also write a JUnit XML report to FILE");
+  AddTableCommand();
+}
+
+void CampaignCommand::AddTableCommand() {
+  table_ = app().add_subcommand(
+      "table",
+      "print RESULTS.csv as a table for a paper: the settings that vary, mean +- standard error, "
+      "the prediction (Markdown, LaTeX or CSV)");
+  table_->add_option("results", table_results_, "results.csv of a campaign")->required();
+  table_->add_option("--format", table_format_, "markdown, latex (booktabs) or csv")
+      ->capture_default_str();
+  table_->add_option("-o,--output", table_output_, "file to write (-: standard output)")
+      ->capture_default_str()
+      ->check(not_empty());
+  table_
+      ->add_option("--columns", table_columns_,
+                   "results columns to show, in order (default: the settings that vary, "
+                   "rmse_mean, predicted_rmse, rmse_ci_mean; mse_mean, predicted_mse under "
+                   "velocity distributions)")
+      ->delimiter(',');
+  table_
+      ->add_option("--digits", table_digits_,
+                   "significant digits of each standard error (the mean to the same place)")
+      ->check(CLI::Range(fss::kMinTableDigits, fss::kMaxTableDigits))
+      ->capture_default_str();
 }
 
 void CampaignCommand::AddSpecOptions() {
   CLI::App& c = app();
   c.add_option("-f,--file", file_, "campaign file (JSON); options given override its fields");
-  c.add_option("-i,--input", inputs_, "input PNG images: files, directories, globs");
+  c.add_option("-i,--input", inputs_,
+               "input PNG or TIFF images: files, directories (their *.png, *.tif, *.tiff), globs");
   c.add_option("-c,--code", codes_, "codes: built-in names or code files");
   c.add_option("-m,--mode", modes_, "modes: numerical, analog (default numerical)");
   c.add_option("-v,--velocity", velocity_,
@@ -183,8 +220,11 @@ void CampaignCommand::AddSpecOptions() {
       ->capture_default_str();
   c.add_option("--noise", noise_, "noise model, any value of the simulation's --noise")
       ->capture_default_str();
-  c.add_option("--rmse-margin", rmse_margin_, "RMSE margin in columns (-1: 3B)")
-      ->capture_default_str();
+  c.add_option("--rmse-margin", rmse_margin_,
+               "RMSE margin in columns, -1 for the paper's 3B, or auto (the default): 3B where the "
+               "image is wide enough (W >= 9B + 1), else the largest margin leaving a window of B "
+               "columns")
+      ->transform(rmse_margin_value(true));
   c.add_flag("--per-trial", per_trial_,
              "also write one row per trial (trials.csv, trials.jsonl): its seed, RMSE, RMSE_CI "
              "and PSNR (and its velocity, under a velocity distribution)");
@@ -194,19 +234,26 @@ void CampaignCommand::AddSpecOptions() {
   c.add_option("--shard", shard_, "run part I of N (I/N) into DIR; merge with 'campaign merge'")
       ->capture_default_str();
   c.add_flag("--figures", figures_, "also draw the figures into DIR/figures (PNG and SVG)");
+  c.add_flag("--skip-unrunnable", skip_unrunnable_,
+             "exit 0 even when some settings cannot run (they are listed on stderr and marked in "
+             "results.csv)");
   c.add_flag("!--no-progress", progress_, "no progress line, even on a terminal");
 }
 
 int CampaignCommand::Run() const {
   return run_reporting_errors([this] {
-    if (merge_->parsed() || check_->parsed()) {
+    if (merge_->parsed() || check_->parsed() || table_->parsed()) {
       if (const std::string option = first_given_option(app()); !option.empty()) {
         fss::throw_usage_error(option + " is an option of 'campaign', not of 'campaign " +
-                               (merge_->parsed() ? "merge" : "check") + "'");
+                               (merge_->parsed()   ? "merge"
+                                : check_->parsed() ? "check"
+                                                   : "table") +
+                               "'");
       }
     }
     if (merge_->parsed()) return Merge();
     if (check_->parsed()) return Check();
+    if (table_->parsed()) return Table();
     return RunCampaign();
   });
 }
@@ -282,7 +329,11 @@ int CampaignCommand::RunCampaign() const {
       DrawFigures(campaign, summary.rows, output_);
     }
   }
-  return kExitSuccess;
+  if (options.shard.count > 1) {
+    // A shard records its gaps and exits 0 so that the merge runs; the merge reports them.
+    return ReportGaps(campaign, summary.rows, "shard " + shard_, true);
+  }
+  return ReportGaps(campaign, summary.rows, "campaign", skip_unrunnable_);
 }
 
 int CampaignCommand::Merge() const {
@@ -292,7 +343,34 @@ int CampaignCommand::Merge() const {
   std::printf("merged %zu parts: %zu settings of campaign %s into %s\n", parts_.size(), rows.size(),
               campaign.sha256.substr(0, 12).c_str(), merge_output_.c_str());
   if (merge_figures_) DrawFigures(campaign, rows, merge_output_);
-  return kExitSuccess;
+  return ReportGaps(campaign, rows, "campaign merge", merge_skip_unrunnable_);
+}
+
+// Lists on stderr the settings that did not run; kExitRuntime when some cannot run, unless
+// `skip` (settings that do not apply never fail).
+int CampaignCommand::ReportGaps(const fss::ResolvedCampaign& campaign,
+                                const std::vector<std::vector<std::string>>& rows,
+                                const std::string& what, bool skip) const {
+  const std::vector<fss::CampaignGap> gaps =
+      fss::campaign_gaps(rows, campaign.has_velocity_distributions());
+  std::string text;
+  for (const std::string& line : fss::gap_report_lines(gaps, static_cast<long long>(rows.size()))) {
+    text += "fssim: " + what + ": " + line + "\n";
+  }
+  const long long cannot_run = fss::count_gaps(gaps, fss::GapKind::kCannotRun);
+  if (cannot_run > 0) {
+    if (what.rfind("shard", 0) == 0) {
+      text += "fssim: " + what +
+              ": recorded; 'campaign merge' lists them again and fails unless given "
+              "--skip-unrunnable\n";
+    } else if (!skip) {
+      text += "fssim: error: " + std::to_string(cannot_run) +
+              " settings cannot run (the results of the others are written); change the "
+              "settings listed or give --skip-unrunnable\n";
+    }
+  }
+  if (!text.empty()) fss::write_stderr(text);
+  return cannot_run > 0 && !skip ? kExitRuntime : kExitSuccess;
 }
 
 void CampaignCommand::DrawFigures(const fss::ResolvedCampaign& campaign,
@@ -325,15 +403,18 @@ void CampaignCommand::DrawFigures(const fss::ResolvedCampaign& campaign,
                             std::string(f.png.begin(), f.png.end()));
     fss::write_file_durably((figure_dir / (f.name + ".svg")).string(), f.svg);
   }
-  std::printf("%zu figures in %s\n", figures.size(), figure_dir.c_str());
+  std::printf("%zu figure%s in %s\n", figures.size(), figures.size() == 1 ? "" : "s",
+              figure_dir.c_str());
 }
 
 int CampaignCommand::Check() const {
   fss::CheckOptions options;
   options.columns = check_columns_;
-  options.abs_tolerance = abs_tolerance_;
-  options.rel_tolerance = rel_tolerance_;
-  options.k_standard_errors = k_se_;
+  // Only the tolerances given: each replaces a default rule (docs/campaign.md).
+  if (check_->count("--abs") > 0) options.abs_tolerance = abs_tolerance_;
+  if (check_->count("--rel") > 0) options.rel_tolerance = rel_tolerance_;
+  if (check_->count("--k-se") > 0) options.k_standard_errors = k_se_;
+  options.exact = exact_;
   if (predicted_ && !expected_.empty()) {
     fss::throw_usage_error(
         "--predicted compares RESULTS.csv with its own predictions: give no "
@@ -341,9 +422,6 @@ int CampaignCommand::Check() const {
   }
   if (!predicted_ && expected_.empty()) {
     fss::throw_usage_error("campaign check needs EXPECTED.csv (or --predicted)");
-  }
-  if (predicted_ && !(k_se_ > 0.0)) {
-    fss::throw_usage_error("--predicted compares within --k-se K standard errors: give --k-se");
   }
   std::vector<std::string> inputs = {results_};
   if (!expected_.empty()) inputs.push_back(expected_);
@@ -354,12 +432,29 @@ int CampaignCommand::Check() const {
   for (const fss::CheckCase& c : report.cases) {
     if (!c.passed) std::printf("%s\n", c.message.c_str());
   }
+  for (const std::string& line : report.summary) std::printf("%s\n", line.c_str());
   if (!junit_.empty()) {
-    fss::write_file_safely(junit_, fss::check_junit_xml(report, "fssim campaign check"), inputs);
+    fss::write_file_in_folders(junit_, fss::check_junit_xml(report, "fssim campaign check"),
+                               inputs);
   }
   std::printf("campaign check: %zu comparisons, %d deviations\n", report.cases.size(),
               report.failures());
   return report.failures() > 0 ? kExitRuntime : kExitSuccess;
+}
+
+int CampaignCommand::Table() const {
+  fss::TableOptions options;
+  const std::optional<fss::TableFormat> format = fss::table_format_from_string(table_format_);
+  if (!format) {
+    fss::throw_usage_error("--format " + shown_path(table_format_) +
+                           ": expected markdown, latex or csv");
+  }
+  options.format = *format;
+  options.columns = table_columns_;
+  options.digits = table_digits_;
+  if (!is_stdout(table_output_)) refuse_output_over_inputs("-o", table_output_, {table_results_});
+  write_output(table_output_, fss::campaign_table_file(table_results_, options), {table_results_});
+  return kExitSuccess;
 }
 
 }  // namespace fssim

@@ -1,6 +1,7 @@
 // `fssim campaign`: images x codes x settings into a directory of tidy
-// results (fss/campaign/run.h), `campaign merge` of shards and `campaign
-// check` of results against expectations.
+// results (fss/campaign/run.h), `campaign merge` of shards, `campaign
+// check` of results against expectations and `campaign table` of results for
+// a paper.
 #pragma once
 
 #include <string>
@@ -8,12 +9,13 @@
 
 #include "command.h"
 #include "fss/campaign/spec.h"
+#include "fss/pipeline/option_rules.h"
 
 namespace fssim {
 
 class CampaignCommand : public Command {
  public:
-  // Adds `campaign`, with `merge` and `check` under it, to `parent`.
+  // Adds `campaign`, with `merge`, `check` and `table` under it, to `parent`.
   explicit CampaignCommand(CLI::App& parent);
   int Run() const override;
 
@@ -25,11 +27,17 @@ class CampaignCommand : public Command {
   int RunCampaign() const;
   int Merge() const;
   int Check() const;
+  void AddTableCommand();
+  int Table() const;
+  int ReportGaps(const fss::ResolvedCampaign& campaign,
+                 const std::vector<std::vector<std::string>>& rows, const std::string& what,
+                 bool skip) const;
   void DrawFigures(const fss::ResolvedCampaign& campaign,
                    const std::vector<std::vector<std::string>>& rows, const std::string& dir) const;
 
   CLI::App* merge_ = nullptr;
   CLI::App* check_ = nullptr;
+  CLI::App* table_ = nullptr;
 
   // campaign
   std::string file_;
@@ -38,7 +46,7 @@ class CampaignCommand : public Command {
   int trials_ = 1;
   std::uint64_t seed_ = 0;
   std::string noise_ = "poisson";
-  int rmse_margin_ = -1;
+  int rmse_margin_ = fss::kRmseMarginAuto;
   bool per_trial_ = false;
   std::string read_noise_ = "0";
   std::vector<std::string> restorations_, regularization_, priors_;
@@ -49,18 +57,26 @@ class CampaignCommand : public Command {
   std::string output_;
   std::string shard_ = "1/1";
   bool figures_ = false;
+  bool skip_unrunnable_ = false;
   bool progress_ = true;
 
   // merge
   std::string merge_output_;
   std::vector<std::string> parts_;
   bool merge_figures_ = false;
+  bool merge_skip_unrunnable_ = false;
 
   // check
   std::string results_, expected_, junit_;
   std::vector<std::string> check_columns_;
-  double abs_tolerance_ = 0.0, rel_tolerance_ = 1e-9, k_se_ = 0.0;
+  double abs_tolerance_ = 0.0, rel_tolerance_ = 0.0, k_se_ = 0.0;
   bool predicted_ = false;
+  bool exact_ = false;
+
+  // table
+  std::string table_results_, table_format_ = "markdown", table_output_ = "-";
+  std::vector<std::string> table_columns_;
+  int table_digits_ = 2;
 };
 
 }  // namespace fssim

@@ -99,6 +99,26 @@ CLI::Validator seed_value() {
       "UINT64", "seed");
 }
 
+CLI::Validator rmse_margin_value(bool allow_default) {
+  const long long lowest = allow_default ? fss::kRmseMarginDefault : 0;
+  const std::string rule = "auto or an integer in [" + std::to_string(lowest) + ", " +
+                           std::to_string(fss::kMaxMarginColumns) + "]";
+  return CLI::Validator(
+      [lowest, rule](std::string& text) -> std::string {
+        if (text == "auto") {
+          text = std::to_string(fss::kRmseMarginAuto);
+          return {};
+        }
+        long long value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || value < lowest ||
+            value > fss::kMaxMarginColumns) {
+          return "value " + text + " must be " + rule;
+        }
+        return {};
+      },
+      "auto|COLUMNS", "rmse margin");
+}
+
 CLI::Validator not_empty() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
@@ -190,7 +210,7 @@ void report_error(std::string_view message) {
 void write_output(const std::string& path, std::string_view bytes,
                   const std::vector<std::string>& inputs) {
   if (!is_stdout(path)) {
-    fss::write_file_safely(path, bytes, inputs);
+    fss::write_file_in_folders(path, bytes, inputs);
     return;
   }
   std::cout.flush();

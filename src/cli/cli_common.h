@@ -38,6 +38,9 @@ CLI::Validator integer_in(long long minimum, long long maximum);
 // Decimal digits of an unsigned 64-bit integer (CLI11 itself wraps "-1" and
 // saturates values above 2^64 - 1 without a word).
 CLI::Validator seed_value();
+// --rmse-margin: a number of columns in [0, kMaxMarginColumns], or "auto" (rewritten to
+// kRmseMarginAuto); with allow_default, also -1 (the paper's 3B, kRmseMarginDefault).
+CLI::Validator rmse_margin_value(bool allow_default);
 // A path that is not empty.
 CLI::Validator not_empty();
 

@@ -116,10 +116,11 @@ void SimulationFlags::AddNoise(CLI::App& app) {
 }
 
 void SimulationFlags::AddRmseMargin(CLI::App& app) {
-  app.add_option(
-         "--rmse-margin", options_.rmse_margin_columns,
-         "columns left out at each side of the output for the RMSE (default 3B, B the blur length)")
-      ->check(integer_in(0, fss::kMaxMarginColumns));
+  app.add_option("--rmse-margin", options_.rmse_margin_columns,
+                 "columns left out at each side of the output for the RMSE (default 3B, B the blur "
+                 "length), or auto: 3B where the image is wide enough (W >= 9B + 1), else the "
+                 "largest margin leaving a window of B columns")
+      ->transform(rmse_margin_value(false));
 }
 
 void SimulationFlags::AddTrials(CLI::App& app) {

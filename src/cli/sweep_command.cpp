@@ -65,9 +65,12 @@ class SweepRows {
  private:
   std::string TooNarrowRow(double velocity, double snr, const fss::ResultRow& row);
   // The console line of a setting that ran, and its curves' point: the mean RMSE against the
-  // predicted RMSE; under a distribution, the trials' mean MSE against E[MSE].
+  // predicted RMSE; under a distribution, sqrt of the trials' mean MSE against sqrt E[MSE].
   void VelocityLine(double velocity, double snr, const fss::ResultRow& row, bool invertible);
   void DistributionLine(double snr, const fss::ResultRow& row, bool invertible);
+  // The curves' point at x: `y` with a bar of 1.96 standard errors `se` of the row's trials
+  // (none with one trial), the prediction, and whether the RMSE margin is below 3B.
+  void AddPoint(double x, const fss::ResultRow& row, double y, double se, double predicted);
   // The line's end: the restoration's cells (with restoration_columns_), the distribution's
   // (with distribution_) and the newline.
   std::string LineEnd(const fss::ResultRow& row) const;
@@ -113,14 +116,26 @@ std::string SweepRows::LineEnd(const fss::ResultRow& row) const {
   return end + "\n";
 }
 
+// The rmse_margin cell holds the margin used, in columns (-1: 3B).
+void SweepRows::AddPoint(double x, const fss::ResultRow& row, double y, double se,
+                         double predicted) {
+  const int trials = std::stoi(cell(row, "trials"));
+  const double margin = number(row, "rmse_margin");
+  curves_.x.push_back(x);
+  curves_.measured.push_back(y);
+  curves_.error.push_back(trials > 1 ? 1.96 * se : std::nan(""));
+  curves_.predicted.push_back(std::isfinite(predicted) ? predicted : std::nan(""));
+  curves_.open.push_back(margin >= 0.0 && margin < 3.0 * number(row, "blur_length"));
+}
+
 void SweepRows::VelocityLine(double velocity, double snr, const fss::ResultRow& row,
                              bool invertible) {
   const double mean = number(row, "rmse_mean"), sd = number(row, "rmse_sd");
   const double predicted = number(row, "predicted_rmse");
   const int trials = std::stoi(cell(row, "trials"));
-  curves_.x.push_back(by_velocity_ ? velocity : snr);
-  curves_.measured.push_back(mean);
-  curves_.predicted.push_back(invertible ? predicted : std::nan(""));
+  // The standard error of the mean RMSE: sd / sqrt(trials).
+  AddPoint(by_velocity_ ? velocity : snr, row, mean, sd / std::sqrt(trials),
+           invertible ? predicted : std::nan(""));
   if (invertible) {
     // A sensor that clips readouts makes the prediction approximate (method.md §10).
     const bool exact = cell(row, "predicted_exact") != "false";
@@ -137,9 +152,11 @@ void SweepRows::DistributionLine(double snr, const fss::ResultRow& row, bool inv
   const double mse = number(row, "mse_mean");
   const double predicted = number(row, "predicted_mse");
   const int trials = std::stoi(cell(row, "trials"));
-  curves_.x.push_back(snr);
-  curves_.measured.push_back(mse);
-  curves_.predicted.push_back(std::isfinite(predicted) ? predicted : std::nan(""));
+  // sqrt(mean MSE) against sqrt(E[MSE]) (docs/method.md §13); the standard error of
+  // sqrt(mean MSE) to first order (delta method): that of the mean MSE over 2 sqrt(mean MSE).
+  AddPoint(snr, row, std::sqrt(mse),
+           number(row, "mse_sd") / std::sqrt(trials) / (2.0 * std::sqrt(mse)),
+           std::sqrt(predicted));
   const std::string name = cell(row, "velocity_distribution");
   const std::string rmse = " (RMSE mean " + format_number(number(row, "rmse_mean")) + ", " +
                            std::to_string(trials) + (trials == 1 ? " trial)" : " trials)");
@@ -161,8 +178,11 @@ std::string SweepRows::TooNarrowRow(double velocity, double snr, const fss::Resu
                     (distribution_ ? distribution : format_exact(velocity)) + ": " +
                     cell(row, "message") + "; row marked too-narrow\n");
   curves_.x.push_back(by_velocity_ ? velocity : snr);
+  curves_.too_narrow.push_back(format_number(by_velocity_ ? velocity : snr));
   curves_.measured.push_back(std::nan(""));
+  curves_.error.push_back(std::nan(""));
   curves_.predicted.push_back(std::nan(""));
+  curves_.open.push_back(false);
   if (distribution_) {
     std::fprintf(console_, "velocity %s, snr %g: too narrow\n", distribution.c_str(), snr);
   } else {
@@ -237,8 +257,10 @@ SweepCommand::SweepCommand(CLI::App& parent)
   flags_.AddRestoration(sweep);
   sweep.add_option("-o,--output", output_, "CSV file to write (-: standard output)")->required();
   sweep.add_option("--plot", plot_,
-                   "also draw measured and predicted RMSE against the swept parameter into "
-                   "this PNG (one of --velocity, --snr must be a range)");
+                   "also draw the measured RMSE (bars of 1.96 standard errors) and the "
+                   "predicted curve against the swept parameter into this PNG, with an SVG "
+                   "beside it (FILE.svg: the SVG alone; one of --velocity, --snr must be a "
+                   "range)");
 }
 
 int SweepCommand::Run() const {
@@ -279,6 +301,19 @@ void SweepCommand::CheckPaths() const {
     fss::throw_usage_error("--plot '" + plot_ + "' and --output '" + output_ +
                            "' are the same file: give two");
   }
+  // The SVG written beside the PNG.
+  if (const std::string svg = PlotPaths().second; !svg.empty() && svg != plot_) {
+    for (const std::string& input : inputs) {
+      if (fss::same_file(svg, input)) {
+        fss::throw_runtime_error("--plot '" + plot_ + "' writes its SVG to '" + svg +
+                                 "', the input '" + input + "': refusing to write over it");
+      }
+    }
+    if (!is_stdout(output_) && fss::same_file(svg, output_)) {
+      fss::throw_usage_error("--plot '" + plot_ + "' writes its SVG to '" + svg +
+                             "', the same file as --output: give another");
+    }
+  }
 }
 
 // The sweep as a campaign of one image and one code over the grid, every
@@ -311,36 +346,73 @@ fss::ResolvedCampaign SweepCommand::Campaign(const Grid& grid, const fss::Shutte
   return c;
 }
 
-// The PNG of --plot: measured and predicted RMSE against the swept parameter; under a velocity
-// distribution, the trials' mean MSE and E[MSE] (docs/method.md §13).
-std::vector<std::uint8_t> SweepCommand::Plot(const Grid& grid, const fss::ShutterCode& code,
-                                             const fss::SimulationOptions& options,
-                                             const Curves& c) const {
-  const std::string trials =
-      std::to_string(options.trials) + (options.trials == 1 ? " realization" : " realizations");
+// The figure of --plot: the measured RMSE with bars of 1.96 standard errors against the
+// predicted curve over the swept parameter; under a velocity distribution, sqrt(mean MSE)
+// against sqrt(E[MSE]) (docs/method.md §13). Open markers: RMSE margin below 3B.
+SweepCommand::PlotPictures SweepCommand::Plot(const Grid& grid, const fss::ShutterCode& code,
+                                              const fss::SimulationOptions& options,
+                                              const Curves& c) const {
   const auto& distribution = options.velocity_distribution;
   const std::string velocity =
       distribution ? distribution->text() : format_number(grid.velocities.front());
   fss::PlotOptions plot_options;
-  plot_options.title = (distribution ? "MSE" : "RMSE") + std::string(" of code ") + code.name +
-                       " on " + std::filesystem::path(input_).filename().string() + ", " +
-                       fss::to_string(options.mode) +
+  const std::string code_name = std::filesystem::path(code.name).filename().string();
+  plot_options.title = (distribution ? "sqrt(mean MSE)" : "RMSE") + std::string(" of code ") +
+                       code_name + " on " + std::filesystem::path(input_).filename().string() +
+                       ", " + fss::to_string(options.mode) +
                        (grid.by_velocity() ? ", snr " + format_number(grid.snrs.front())
                                            : ", velocity " + velocity) +
                        (options.restoration.method != fss::RestorationMethod::kInverse
                             ? ", " + fss::describe(options.restoration)
                             : "");
-  if (distribution) {
-    return fss::plot_curves_png(c.x,
-                                {{"measured (mean MSE of " + trials + ")", c.measured, false, true},
-                                 {"predicted (expected MSE)", c.predicted, true, false}},
-                                "snr", "MSE (gray levels squared)", plot_options);
+  fss::MeasuredFigure figure;
+  figure.x = c.x;
+  figure.series = {{code_name, c.measured, c.error, c.predicted, c.open, 0}};
+  figure.x_label = grid.by_velocity() ? "velocity (pixels per time slot)" : "snr";
+  figure.log_x = !grid.by_velocity();
+  figure.y_label = distribution ? "sqrt(mean MSE) (gray levels)" : "RMSE (gray levels)";
+  const std::string trials =
+      std::to_string(options.trials) + (options.trials == 1 ? " trial" : " trials");
+  figure.points_key = std::string("measured: ") + (distribution ? "sqrt(mean MSE)" : "mean") +
+                      " of " + trials + (options.trials > 1 ? " ± 1.96 SE" : "");
+  figure.predicted_key = distribution ? "predicted: sqrt(E[MSE])" : "predicted";
+  figure.open_key = "RMSE margin < 3B";
+  if (!c.too_narrow.empty()) {
+    std::string values;
+    for (const std::string& value : c.too_narrow) values += (values.empty() ? "" : ", ") + value;
+    figure.notes = {"no result: " + figure.x_label.substr(0, figure.x_label.find(' ')) + " " +
+                    values + " (too-narrow)"};
   }
-  return fss::plot_curves_png(c.x,
-                              {{"measured (mean of " + trials + ")", c.measured, false, true},
-                               {"predicted (exact expectation)", c.predicted, true, false}},
-                              grid.by_velocity() ? "velocity (pixels per time slot)" : "snr",
-                              "RMSE (gray levels)", plot_options);
+  return {fss::plot_measured_png(figure, plot_options),
+          fss::plot_measured_svg(figure, plot_options)};
+}
+
+// --plot X.svg writes the SVG alone; --plot - the PNG alone (on standard output); any other
+// --plot X the PNG and, beside it, the SVG (X with its extension replaced by .svg).
+std::pair<std::string, std::string> SweepCommand::PlotPaths() const {
+  if (plot_.empty() || is_stdout(plot_)) return {plot_, ""};
+  std::filesystem::path svg(plot_);
+  std::string extension = svg.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  if (extension == ".svg") return {"", plot_};
+  return {plot_, svg.replace_extension(".svg").string()};
+}
+
+void SweepCommand::WritePlot(const PlotPictures& pictures, const std::vector<std::string>& inputs,
+                             std::FILE* console) const {
+  const auto [png, svg] = PlotPaths();
+  if (!png.empty()) {
+    write_output(
+        png,
+        std::string_view(reinterpret_cast<const char*>(pictures.png.data()), pictures.png.size()),
+        inputs);
+    std::fprintf(console, "Plot: %s\n", png.c_str());
+  }
+  if (!svg.empty()) {
+    write_output(svg, pictures.svg, inputs);
+    std::fprintf(console, "Plot: %s\n", svg.c_str());
+  }
 }
 
 int SweepCommand::Sweep() const {
@@ -376,8 +448,15 @@ int SweepCommand::Sweep() const {
     csv += rows.Row(grid.velocities[s.velocity], grid.snrs[s.snr],
                     fss::run_setting(campaign, s, image, run, &plans));
   }
-  const std::vector<std::uint8_t> png =
-      plot_.empty() ? std::vector<std::uint8_t>() : Plot(grid, code, options, rows.curves());
+  const Curves& curves = rows.curves();
+  const bool drawn = std::any_of(curves.measured.begin(), curves.measured.end(),
+                                 [](double v) { return std::isfinite(v); });
+  if (!plot_.empty() && !drawn) {
+    fss::write_stderr("fssim: warning: --plot '" + plot_ +
+                      "': no setting has a result to draw; no plot written\n");
+  }
+  const PlotPictures pictures =
+      plot_.empty() || !drawn ? PlotPictures{} : Plot(grid, code, options, curves);
   std::vector<std::string> inputs = {input_, flags_.code_name()};
   if (const std::string file = flags_.velocity_distribution_file(options); !file.empty()) {
     inputs.push_back(file);
@@ -386,11 +465,7 @@ int SweepCommand::Sweep() const {
   write_output(output_, csv, inputs);
   std::fprintf(console, "Wrote %lld row%s to %s\n", settings, settings == 1 ? "" : "s",
                output_.c_str());
-  if (!plot_.empty()) {
-    write_output(plot_, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
-                 inputs);
-    std::fprintf(console, "Plot: %s\n", plot_.c_str());
-  }
+  if (!plot_.empty() && drawn) WritePlot(pictures, inputs, console);
   return kExitSuccess;
 }
 

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "command.h"
@@ -20,9 +22,18 @@ class SweepCommand : public Command {
   explicit SweepCommand(CLI::App& parent);
   int Run() const override;
 
-  // The swept values and the results, for --plot (NaN where a setting has none).
+  // The swept values and the results, for --plot (NaN where a setting has none): the measured
+  // value, its error bar (1.96 standard errors), the prediction, and whether the RMSE margin
+  // is below 3B.
   struct Curves {
-    std::vector<double> x, measured, predicted;
+    std::vector<double> x, measured, error, predicted;
+    std::vector<bool> open;
+    std::vector<std::string> too_narrow;  // the swept values of the too-narrow settings
+  };
+  // The pictures of --plot: a PNG and the same figure as SVG.
+  struct PlotPictures {
+    std::vector<std::uint8_t> png;
+    std::string svg;
   };
 
  private:
@@ -37,8 +48,12 @@ class SweepCommand : public Command {
   fss::ResolvedCampaign Campaign(const Grid& grid, const fss::ShutterCode& code,
                                  const fss::SimulationOptions& options) const;
   int Sweep() const;
-  std::vector<std::uint8_t> Plot(const Grid& grid, const fss::ShutterCode& code,
-                                 const fss::SimulationOptions& options, const Curves& c) const;
+  PlotPictures Plot(const Grid& grid, const fss::ShutterCode& code,
+                    const fss::SimulationOptions& options, const Curves& c) const;
+  // Where --plot's pictures go: the PNG (empty: none) and the SVG (empty: none).
+  std::pair<std::string, std::string> PlotPaths() const;
+  void WritePlot(const PlotPictures& pictures, const std::vector<std::string>& inputs,
+                 std::FILE* console) const;
 
   SimulationFlags flags_;
   std::string input_;
@@ -46,7 +61,7 @@ class SweepCommand : public Command {
   CLI::Option* velocity_option_ = nullptr;
   std::string snr_ = "100";
   std::string output_;
-  std::string plot_;  // --plot: PNG of measured and predicted RMSE, or empty
+  std::string plot_;  // --plot: PNG (and SVG beside it) or SVG of the RMSE, or empty
 };
 
 }  // namespace fssim

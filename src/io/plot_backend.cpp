@@ -108,6 +108,11 @@ class PlplotStream {
 
 }  // namespace
 
+std::array<int, 3> palette_rgb(PLINT colour) {
+  const PLINT* rgb = kPalette[colour >= 0 && colour < kPaletteSize ? colour : kInk];
+  return {rgb[0], rgb[1], rgb[2]};
+}
+
 void render(int width, int height, std::vector<std::uint8_t>& rgba,
             const std::function<void()>& draw) {
   std::lock_guard<std::mutex> lock(g_plplot_mutex);

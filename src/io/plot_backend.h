@@ -4,6 +4,7 @@
 
 #include <plplot/plplot.h>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -24,6 +25,9 @@ enum Colour : PLINT {
 };
 inline constexpr int kPaletteSize = 16;
 inline constexpr int kMaxSeries = kPaletteSize - kSeries;
+
+// The red, green and blue (0 .. 255) of a Colour, for pictures drawn without PLplot (SVG).
+std::array<int, 3> palette_rgb(PLINT colour);
 
 // The cairo driver draws at 72 dots per inch; PLplot sizes text in mm.
 inline constexpr double kPixelsPerMm = 72.0 / 25.4;

@@ -91,6 +91,30 @@ void draw_frequency_grid(double y_min, double y_max) {
   for (int i = -1; i <= 1; ++i) pljoin(i * M_PI / 2.0, y_min, i * M_PI / 2.0, y_max);
 }
 
+// log10 `value` on a log axis starting at `y_low` (smaller values at its edge).
+double log_on_axis(double value, double y_low) {
+  return std::log10(std::max(value, std::pow(10.0, y_low)));
+}
+
+// Curves of |K| on a logarithmic axis (both |K| plots): each value becomes
+// log10 |K|; the axis runs from the decade at or below the smallest value
+// above 1e-4 `top` (`top` the largest value; smaller ones, zeros, are drawn at
+// the bottom edge) to 0.08 above log10 `top`, at least one decade high, so
+// that two decades at least are labelled.
+std::pair<double, double> to_log_axis(std::vector<std::vector<double>>& curves, double top) {
+  double bottom = top;
+  for (const auto& curve : curves) {
+    for (const double value : curve) {
+      if (value > top * 1e-4) bottom = std::min(bottom, value);
+    }
+  }
+  const double y_low = std::floor(std::log10(bottom));
+  for (auto& curve : curves) {
+    for (double& value : curve) value = log_on_axis(value, y_low);
+  }
+  return {y_low, std::max(std::log10(top) + 0.08, y_low + 1.0)};
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> plot_code_png(const std::vector<double>& gains, const std::string& name,
@@ -150,12 +174,20 @@ std::vector<std::uint8_t> plot_spectrum_png(const std::vector<double>& gains,
   check_motion(velocity, dt);
   check_size(options);
   const std::vector<double> xi = frequencies(options.width);
-  const std::vector<double> code = abs_k(gains, velocity, dt, xi);
-  const std::vector<double> snapshot = abs_k({1.0}, velocity, dt, xi);
+  // The code's curve and the snapshot's, with the minimum of |K| as a third
+  // "curve" of one point so that the axis reaches down to it.
+  std::vector<std::vector<double>> curves = {
+      abs_k(gains, velocity, dt, xi), abs_k({1.0}, velocity, dt, xi), {kernel.min_abs}};
   double top = 0.0;
-  for (std::size_t j = 0; j < xi.size(); ++j) top = std::max({top, code[j], snapshot[j]});
+  for (const auto& curve : curves) {
+    top = std::max(top, *std::max_element(curve.begin(), curve.end()));
+  }
   if (!(top > 0.0)) top = 1.0;
-  top *= 1.06;
+  const std::pair<double, double> y_range = to_log_axis(curves, top);
+  const double y_low = y_range.first, y_high = y_range.second;
+  const std::vector<double>& code = curves[0];
+  const std::vector<double>& snapshot = curves[1];
+  const double minimum_y = curves[2][0];
   const std::string short_name(detail::base_name(name));
   const std::string title =
       options.title.empty()
@@ -173,8 +205,8 @@ std::vector<std::uint8_t> plot_spectrum_png(const std::vector<double>& gains,
     canvas.text((kLeft + canvas.width() - kRight) / 2.0, 44.0, 0.5, kLabelSize,
                 kernel.invertible ? kInk : kWarning, note);
     canvas.viewport(kLeft, kRight, 88.0, kBottom);
-    plwind(-M_PI, M_PI, 0.0, top);
-    draw_frequency_grid(0.0, top);
+    plwind(-M_PI, M_PI, y_low, y_high);
+    draw_frequency_grid(y_low, y_high);
     const auto n = static_cast<PLINT>(xi.size());
     // The reference on top, so that it stays visible where the curves meet.
     plcol0(kCode);
@@ -185,9 +217,10 @@ std::vector<std::uint8_t> plot_spectrum_png(const std::vector<double>& gains,
     pllsty(2);
     plline(n, xi.data(), snapshot.data());
     pllsty(1);
-    draw_dot(canvas, kernel.min_abs_xi, kernel.min_abs, 4.5, kMarker);
-    if (kernel.min_abs_xi > 0.0) draw_dot(canvas, -kernel.min_abs_xi, kernel.min_abs, 4.5, kMarker);
-    draw_axes(canvas, "bcst", M_PI / 2.0, "bcnstv", "ξ (radians per pixel)", "|K(ξ)|");
+    draw_dot(canvas, kernel.min_abs_xi, minimum_y, 4.5, kMarker);
+    if (kernel.min_abs_xi > 0.0) draw_dot(canvas, -kernel.min_abs_xi, minimum_y, 4.5, kMarker);
+    draw_axes(canvas, "bcst", M_PI / 2.0, "bcnstvl", "ξ (radians per pixel)",
+              "|K(ξ)|  (log scale)");
     draw_frequency_labels(canvas);
     draw_legend(canvas,
                 {{ellipsize(short_name, 16), kCode, 1, 2.0},
@@ -226,21 +259,11 @@ OverlayCurves overlay_curves(const std::vector<ShutterCode>& codes, double veloc
   return o;
 }
 
-// The y range of an overlay; on a log scale, the curves become log10 |K|,
-// zeros (below 1e-4 of the top) drawn at the bottom edge.
+// The y range of an overlay; on a log scale, the curves become log10 |K|
+// (to_log_axis).
 std::pair<double, double> overlay_y_range(OverlayCurves& o, bool log_scale) {
   if (!log_scale) return {0.0, o.top * 1.06};
-  double bottom = HUGE_VAL;
-  for (const auto& curve : o.curves) {
-    for (const double value : curve) {
-      if (value > o.top * 1e-4) bottom = std::min(bottom, value);
-    }
-  }
-  const double y_low = std::floor(std::log10(bottom));
-  for (auto& curve : o.curves) {
-    for (double& value : curve) value = std::log10(std::max(value, std::pow(10.0, y_low)));
-  }
-  return {y_low, std::log10(o.top) + 0.08};
+  return to_log_axis(o.curves, o.top);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "fss/core/error.h"
+#include "io/created_directories.h"
 #include "io/write_all.h"
 
 namespace fss {
@@ -145,6 +146,27 @@ void write_file_safely(const fs::path& path, std::string_view bytes,
   std::error_code ec;
   const fs::path target = fs::canonical(path, ec);  // a symbolic link stays one
   replace_atomically(ec ? path : target, bytes, true, st.st_mode);
+}
+
+// write_file_safely, with the missing folders of `path` created first and removed again when
+// the write fails.
+void write_file_in_folders(const fs::path& path, std::string_view bytes,
+                           const std::vector<std::string>& inputs) {
+  if (path.empty() || !path.has_parent_path()) {
+    write_file_safely(path, bytes, inputs);
+    return;
+  }
+  std::error_code ec;
+  const std::vector<fs::path> created = detail::create_directories_listed(path.parent_path(), ec);
+  try {
+    if (ec) {
+      fail(path, "cannot create its folder '" + path.parent_path().string() + "': " + ec.message());
+    }
+    write_file_safely(path, bytes, inputs);
+  } catch (...) {
+    detail::remove_created_directories(created);
+    throw;
+  }
 }
 
 }  // namespace fss

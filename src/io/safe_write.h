@@ -30,4 +30,9 @@ bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);
 void write_file_safely(const std::filesystem::path& path, std::string_view bytes,
                        const std::vector<std::string>& inputs = {});
 
+// write_file_safely into folders created when missing (removed again if the write fails): the
+// single-file outputs of the command line (sweep -o out/runs/x.csv).
+void write_file_in_folders(const std::filesystem::path& path, std::string_view bytes,
+                           const std::vector<std::string>& inputs = {});
+
 }  // namespace fss

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fss/core/error.h"
+#include "fss/pipeline/option_rules.h"
 
 namespace fss {
 
@@ -37,7 +38,7 @@ std::string compute_geometry(int width, int code_length, double velocity, double
 // Fills *w; returns why a window is empty, or "".
 std::string compute_windows(const Geometry& g, int margin_columns, MetricWindows* w) {
   const int b = g.blur_length;
-  const int margin = margin_columns < 0 ? 3 * b : margin_columns;
+  const int margin = rmse_margin(g, margin_columns);
   *w = {margin, g.output_width - margin, b, g.output_width - b};
   // The RMSE_CI window [B, Wo - B) needs W > 5B whatever the margin.
   if (w->ci_first >= w->ci_end) {
@@ -52,12 +53,24 @@ std::string compute_windows(const Geometry& g, int margin_columns, MetricWindows
            " is too narrow for the RMSE window: blur length B = " + std::to_string(b) +
            " and margin " + std::to_string(margin) + " need a width of at least " +
            std::to_string(needed) + " (3B + 2 margin + 1); choose a margin below " +
-           std::to_string((g.output_width + 1) / 2) + " with --rmse-margin";
+           std::to_string((g.output_width + 1) / 2) + " with --rmse-margin, or --rmse-margin auto";
   }
   return {};
 }
 
 }  // namespace
+
+// auto: 3B while the window [3B, Wo - 3B) keeps a column (W >= 9B + 1, the paper's rule and
+// bytes), else floor((Wo - B) / 2), whose window is B or B + 1 columns; a width with an RMSE_CI
+// window (Wo >= 2B + 1) always has one.
+int rmse_margin(const Geometry& geometry, int margin_columns) {
+  const int b = geometry.blur_length;
+  if (margin_columns == kRmseMarginDefault) return 3 * b;
+  if (margin_columns != kRmseMarginAuto) return margin_columns;
+  const int wo = geometry.output_width;
+  if (wo - 6 * b >= 1) return 3 * b;
+  return std::max(0, (wo - b) / 2);
+}
 
 Geometry Geometry::compute(int width, int code_length, double velocity, double dt) {
   Geometry g;

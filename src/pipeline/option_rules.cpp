@@ -23,7 +23,7 @@ std::string scale_rule(double value) {
 
 std::string margin_rule(long long columns) {
   if (columns > kMaxMarginColumns) return "must be at most " + std::to_string(kMaxMarginColumns);
-  if (columns < -1) return "must be >= 0 (or -1 for the default 3B)";
+  if (columns < kRmseMarginAuto) return "must be >= 0 (or -1 for the default 3B, -2 for auto)";
   return {};
 }
 

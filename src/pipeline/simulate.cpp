@@ -15,6 +15,7 @@
 #include "fss/model/transfer.h"
 #include "fss/pipeline/memory_estimate.h"
 #include "fss/pipeline/metrics.h"
+#include "fss/pipeline/option_rules.h"
 #include "pipeline/finite_checks.h"
 #include "pipeline/fitted_restoration.h"
 #include "pipeline/plan_core.h"
@@ -141,6 +142,13 @@ SimulationReport planned_report(const PlanCore& plan, const SimulationOptions& o
   report.kernel = plan.kernel();
   report.observed_divisor = plan.observed_divisor();
   report.warnings = plan.warnings();
+  const int b = report.geometry.blur_length;
+  if (options.rmse_margin_columns == kRmseMarginAuto && report.rmse_first < 3 * b) {
+    report.warnings.push_back("RMSE margin auto: " + std::to_string(report.rmse_first) +
+                              " columns, below the paper's 3B = " + std::to_string(3 * b) +
+                              " (the image is narrower than 9B + 1 = " + std::to_string(9 * b + 1) +
+                              ")");
+  }
   return report;
 }
 

@@ -117,7 +117,7 @@ TEST(Campaign, InputsAreFilesDirectoriesAndGlobs) {
   EXPECT_NE(c.images[0].sha256, c.images[1].sha256);
   spec.inputs = {(tmp / "images" / "*.jpg").string()};
   EXPECT_TRUE(test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage,
-                                 {"matches no PNG file"}));
+                                 {"matches no PNG or TIFF file"}));
   spec.inputs = {(tmp / "missing.png").string()};
   EXPECT_TRUE(
       test::throws_error([&] { resolve_campaign(spec); }, ErrorKind::kUsage, {"does not exist"}));
@@ -683,14 +683,16 @@ TEST(Check, PassesWithinTolerancesAndReportsDeviations) {
   // With a loose absolute tolerance mip passes too.
   options.abs_tolerance = 0.1;
   EXPECT_EQ(CheckCampaignResults(kResults, "r", expected, "e", options).failures(), 1);
-  // Without tolerances only equal values pass.
+  // Without options, the default rules (tests/campaign/check_test.cpp): a file passes itself.
   EXPECT_EQ(CheckCampaignResults(kResults, "r", kResults, "e", {}).failures(), 0);
 }
 
 TEST(Check, RefusesMalformedInput) {
   EXPECT_TRUE(test::throws_error(
-      [&] { CheckCampaignResults(kResults, "r.csv", "code,psnr_mean\nraskar,1\n", "e.csv", {}); },
-      ErrorKind::kUsage, {"psnr_mean", "r.csv"}));
+      [&] {
+        CheckCampaignResults(kResults, "r.csv", "code,predicted_rmse\nraskar,1\n", "e.csv", {});
+      },
+      ErrorKind::kUsage, {"predicted_rmse", "r.csv"}));
   EXPECT_TRUE(test::throws_error([&] { parse_csv("a,b\n1\n", "x.csv"); }, ErrorKind::kUsage,
                                  {"x.csv", "line 2"}));
   EXPECT_TRUE(test::throws_error([&] { parse_csv("a\n\"1\n", "x.csv"); }, ErrorKind::kUsage,
@@ -706,6 +708,8 @@ TEST(Check, RefusesExpectationsWithoutSettingColumns) {
 // A check that would check nothing, or the wrong rows, is refused: a
 // misspelt or repeated column, no quantity, settings matching two rows.
 TEST(Check, RefusesExpectationsThatCheckNothingOrTheWrongRows) {
+  CheckOptions abs;  // EXPECTED without rmse_sd: a given tolerance
+  abs.abs_tolerance = 0.0;
   EXPECT_TRUE(test::throws_error(
       [&] { CheckCampaignResults(kResults, "r.csv", "code,rmse_maen\nraskar,9\n", "e.csv", {}); },
       ErrorKind::kUsage, {"'e.csv': column 'rmse_maen' is not a column of campaign results"}));
@@ -721,7 +725,7 @@ TEST(Check, RefusesExpectationsThatCheckNothingOrTheWrongRows) {
   EXPECT_TRUE(test::throws_error(
       [&] {
         CheckCampaignResults(kResults, "r.csv", "image,rmse_mean\ndata/camera.png,2.36\n", "e.csv",
-                             {});
+                             abs);
       },
       ErrorKind::kUsage, {"matches lines 2 and 3 of 'r.csv'"}));
 }
@@ -779,7 +783,9 @@ TEST(Check, MessagesNameTheOptionsAndAreOneLineWithoutNaN) {
   // A cell holding a line break, and a result with no number.
   const std::string results = "code,rmse_mean,status\n\"rask\nar\",,\"o\nk\"\nmip,inf,okay\n";
   const std::string expected = "code,rmse_mean,status\n\"rask\nar\",2,ok\nmip,2,ok\n";
-  const CheckReport report = CheckCampaignResults(results, "r", expected, "e", {});
+  CheckOptions abs;  // no rmse_sd: a given tolerance, not the default k standard errors
+  abs.abs_tolerance = 0.0;
+  const CheckReport report = CheckCampaignResults(results, "r", expected, "e", abs);
   ASSERT_EQ(report.cases.size(), 4u);
   for (const CheckCase& c : report.cases) {
     EXPECT_FALSE(c.passed);
@@ -795,13 +801,13 @@ TEST(Figures, OneFigurePerSweptQuantityAndFixedSetting) {
   const std::vector<CampaignFigure> figures = campaign_figures(c, run.rows);
   // velocity (2 values): one per snr (3); snr (3 values, log axis): one per velocity (2).
   ASSERT_EQ(figures.size(), 5u);
-  EXPECT_EQ(figures[0].name, "rmse_vs_velocity_1");
-  EXPECT_EQ(figures[3].name, "rmse_vs_snr_1");
+  EXPECT_EQ(figures[0].name, "rmse_vs_velocity__crop__numerical__snr50");
+  EXPECT_EQ(figures[3].name, "rmse_vs_snr__crop__numerical__v0.5");
   for (const CampaignFigure& f : figures) {
     EXPECT_GT(f.png.size(), 1000u);
     EXPECT_NE(f.svg.find("<svg"), std::string::npos);
   }
-  EXPECT_NE(figures[3].svg.find("(log scale)"), std::string::npos);
+  EXPECT_NE(figures[3].svg.find(">200</text>"), std::string::npos);  // the log snr axis
   EXPECT_NE(figures[3].svg.find("2 trials"), std::string::npos);
 }
 

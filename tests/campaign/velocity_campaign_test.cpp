@@ -385,8 +385,8 @@ TEST(VelocityCampaign, FiguresPlotTheRootOfTheMeanMse) {
   EXPECT_NE(figures[0].svg.find("sqrt(mean MSE) vs snr"), std::string::npos);
   EXPECT_NE(figures[0].svg.find("v ~ uniform:0.5:1.5"), std::string::npos);
   EXPECT_NE(figures[1].svg.find("v ~ " + c.velocity_distributions[1].name), std::string::npos);
-  EXPECT_NE(figures[0].svg.find("sqrt(mean MSE) (gray levels), ± sd of the RMSE"),
-            std::string::npos);
+  EXPECT_NE(figures[0].svg.find(">sqrt(mean MSE) (gray levels)<"), std::string::npos);
+  EXPECT_NE(figures[0].svg.find(">measured: sqrt(mean MSE) ± 1.96 SE<"), std::string::npos);
   EXPECT_EQ(figures[0].svg.find("RMSE vs"), std::string::npos);
 }
 

@@ -16,6 +16,7 @@
 
 #include "fss/core/image.h"
 #include "fss/io/outputs.h"
+#include "fss/io/plot.h"
 #include "fss/io/png_io.h"
 #include "support/test_util.h"
 
@@ -602,7 +603,8 @@ TEST_F(CliRuns, ReportAndSheetAreWrittenWithTheOtherOutputs) {
   }
   const Image sheet = read_png(dir_ / "out/sheet.png");
   const Image observed = read_png(dir_ / "out/observed.png");
-  EXPECT_EQ(sheet.height, observed.height + 60);  // header 52, margin 8
+  // header 52, margin 8, the residual's scale 58 (fss/io/plot.h)
+  EXPECT_EQ(sheet.height, observed.height + kSheetHeaderHeight + kSheetMargin + kSheetScaleHeight);
   EXPECT_EQ(sheet.width, 3 * observed.width + 32);
 }
 

@@ -168,6 +168,8 @@ TEST_F(FaultInjection, SigkillAtEverySystemCallLeavesOneSet) {
 
 // A kill at random moments of the whole run, without strace.
 TEST_F(FaultInjection, SigkillAtRandomMomentsLeavesOneSetAfterTheNextRun) {
+  // Its kill moments (0 to 55 ms) span a Release run; an instrumented one is still starting.
+  if (test::kAddressSanitizer) GTEST_SKIP() << "kill moments timed for a Release run";
   const std::string binary = FSSIM_BINARY_PATH;
   for (int i = 0; i < 12; ++i) {
     reset_to_a();
@@ -266,12 +268,11 @@ TEST(SingleFileWrite, FailedSyncKeepsTheOldFile) {
   const fs::path out = dir / "out" / "file";
   const std::string results = quote(campaign / "results.csv");
   const std::vector<std::string> commands = {
-      "code generate sinc -L 16 -o OUT",
-      "code analyze raskar --json OUT",
+      "code generate sinc -L 16 -o OUT", "code analyze raskar --json OUT",
       "code optimize -L 6 -v 1 --restarts 1 --iterations 5 -o OUT",
-      "sweep -i " + quote(input) + " --noise none -v 1:2:1 -o OUT",
-      "spectra raskar -o OUT",
-      "campaign check " + results + " " + results + " --junit OUT"};
+      "sweep -i " + quote(input) + " --noise none -v 1:2:1 -o OUT", "spectra raskar -o OUT",
+      // One trial: no standard error, so a given tolerance.
+      "campaign check " + results + " " + results + " --abs 0 --junit OUT"};
   for (std::string command : commands) {
     command.replace(command.find("OUT"), 3, quote(out));
     fs::remove_all(out.parent_path());

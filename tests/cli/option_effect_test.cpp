@@ -115,13 +115,16 @@ class OptionEffect : public ::testing::Test {
     for (const OptionCase& o : c.options) declared.insert(o.option);
     EXPECT_EQ(listed, declared) << "fssim " << c.command
                                 << ": declare the effect of each option --help lists";
+    std::map<std::string, Results> references;  // each reference command runs once
     for (const OptionCase& o : c.options) {
       if (o.effect == Effect::kPath) continue;
       const std::string what = "fssim " + c.command + " " + o.arguments;
-      const Results before = run(c.command, c.base + " " + o.reference);
+      const std::string reference = c.base + " " + o.reference;
+      if (!references.contains(reference)) references[reference] = run(c.command, reference);
+      const Results& before = references[reference];
       const int worst = c.verdicts ? 1 : 0;
       ASSERT_LE(before.exit_code, worst) << what << ": the reference run failed: " << before.err;
-      const Results after = run(c.command, with_option(c.base + " " + o.reference, o));
+      const Results after = run(c.command, with_option(reference, o));
       if (o.effect == Effect::kRefused) {
         EXPECT_TRUE(after.exit_code == 1 || after.exit_code == 2) << what << ": not refused";
         EXPECT_EQ(test::lines_of(after.err).size(), 1u) << what << ": " << after.err;
@@ -302,6 +305,8 @@ TEST_F(OptionEffect, Campaign) {
       {"--shard", "--shard 1/2", Effect::kChanges, "--velocity 1,1.5"},
       {"--figures", "--figures", Effect::kChanges, "--velocity 1,1.5"},
       {"--no-progress", "--no-progress", Effect::kSame},
+      // Where every setting runs; its exit status over one that cannot: campaign_gaps_cli_test.
+      {"--skip-unrunnable", "--skip-unrunnable", Effect::kSame},
       {"--restoration", "--restoration inverse,wiener", Effect::kChanges},
       {"--regularization", "--regularization 0.01", Effect::kChanges, "--restoration tikhonov"},
       {"--prior", "--prior oracle", Effect::kChanges, "--restoration wiener"},
@@ -322,12 +327,14 @@ TEST_F(OptionEffect, CampaignMerge) {
   }
   check({"campaign merge",
          quote(parts / "1") + " " + quote(parts / "2") + " -o {W}/m",
-         {{"--output", "", Effect::kPath}, {"--figures", "--figures", Effect::kChanges}}});
+         {{"--output", "", Effect::kPath},
+          {"--figures", "--figures", Effect::kChanges},
+          {"--skip-unrunnable", "--skip-unrunnable", Effect::kSame}}});
 }
 
-// check: a campaign against the same campaign with another seed: the
-// default tolerance finds a deviation (exit 1), each tolerance option
-// passes it (exit 0).
+// check: a campaign against the same campaign with another seed: zero
+// standard errors find a deviation (exit 1), each tolerance option passes
+// it (exit 0); --exact changes the tolerance the summary states.
 TEST_F(OptionEffect, CampaignCheck) {
   for (const char* seed : {"0", "1"}) {
     ASSERT_EQ(test::run_fssim("campaign -i " + quote(input_) + " -c raskar --trials 3 --seed " +
@@ -338,16 +345,31 @@ TEST_F(OptionEffect, CampaignCheck) {
   const std::string results = quote(dir_ / "1" / "results.csv");
   const std::string expected = quote(dir_ / "0" / "results.csv");
   CommandCase c{"campaign check",
-                results + " " + expected + " --columns rmse_mean,predicted_rmse",
+                results + " " + expected + " --columns rmse_mean,predicted_rmse --k-se 0",
                 {{"--junit", "--junit {W}/junit.xml", Effect::kChanges},
                  {"--columns", "--columns predicted_rmse", Effect::kChanges},
                  {"--abs", "--abs 2", Effect::kChanges},
                  {"--rel", "--rel 0.5", Effect::kChanges},
                  {"--k-se", "--k-se 40", Effect::kChanges},
+                 {"--exact", "--exact", Effect::kChanges},
                  // It compares RESULTS.csv with its own predictions, not with EXPECTED.csv.
                  {"--predicted", "--predicted --k-se 3", Effect::kRefused}}};
   c.verdicts = true;
   check(c);
+}
+
+// table: the results of a campaign of two velocities, 3 trials, as a table.
+TEST_F(OptionEffect, CampaignTable) {
+  ASSERT_EQ(test::run_fssim("campaign -i " + quote(input_) + " -c raskar -v 1,1.5 --trials 3 -o " +
+                            quote(dir_ / "t"))
+                .exit_code,
+            0);
+  check({"campaign table",
+         quote(dir_ / "t" / "results.csv"),
+         {{"--output", "", Effect::kPath},
+          {"--format", "--format latex", Effect::kChanges},
+          {"--columns", "--columns velocity,rmse_mean", Effect::kChanges},
+          {"--digits", "--digits 4", Effect::kChanges}}});
 }
 
 // The sweep's rows are the simulator's runs: with a sensor, the same

@@ -78,6 +78,30 @@ TEST_F(SubcommandOutput, SweepOutputAndPlotMustBeTwoFiles) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("same file"));
   EXPECT_FALSE(fs::exists(dir_ / "x.csv"));
+  // The SVG that --plot writes beside its PNG: never over an input, nor over --output.
+  test::write_file(dir_ / "c.svg", kCode);
+  const CommandResult code = fssim("sweep --input in.png --code c.svg -o x.csv --plot c.png");
+  EXPECT_EQ(code.exit_code, 1) << code.err;
+  EXPECT_THAT(code.err, HasSubstr("writes its SVG to 'c.svg', the input 'c.svg'"));
+  EXPECT_EQ(test::read_file(dir_ / "c.svg"), kCode);
+  const CommandResult output = fssim("sweep --input in.png -o x.svg --plot x.png");
+  EXPECT_EQ(output.exit_code, 2) << output.err;
+  EXPECT_THAT(output.err, HasSubstr("the same file as --output"));
+  EXPECT_FALSE(fs::exists(dir_ / "x.svg"));
+}
+
+// --plot FILE.png writes FILE.svg beside it; --plot FILE.svg the SVG alone.
+TEST_F(SubcommandOutput, SweepPlotWritesAnSvgBesideItsPng) {
+  const std::string sweep = "sweep --input in.png --code c.txt --velocity 0.5:1:0.5 --trials 2 ";
+  const CommandResult both = fssim(sweep + "-o a.csv --plot a.png");
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  EXPECT_THAT(both.out, HasSubstr("Plot: a.png\nPlot: a.svg\n"));
+  EXPECT_EQ(test::read_file(dir_ / "a.png").substr(1, 3), "PNG");
+  EXPECT_EQ(test::read_file(dir_ / "a.svg").rfind("<svg", 0), 0u);
+  const CommandResult svg = fssim(sweep + "-o b.csv --plot b.SVG");
+  ASSERT_EQ(svg.exit_code, 0) << svg.err;
+  EXPECT_EQ(test::read_file(dir_ / "b.SVG"), test::read_file(dir_ / "a.svg"));
+  EXPECT_FALSE(fs::exists(dir_ / "b.png"));
 }
 
 TEST_F(SubcommandOutput, DashIsStandardOutput) {
@@ -289,6 +313,24 @@ TEST(SafeWrite, RefusesDirectoriesAndDanglingLinksAndKeepsPermissions) {
       test::throws_error([&] { write_file_safely(file, "x", {(dir / "." / "f").string()}); },
                          ErrorKind::kRuntime, {"refusing"}));
   EXPECT_EQ(test::read_file(file), "new");
+}
+
+// A file in missing folders (sweep -o out/runs/x.csv) creates them; a failure removes them again.
+TEST(SafeWrite, CreatesMissingFoldersAndRemovesThemOnAFailure) {
+  const test::TempDir dir;
+  EXPECT_TRUE(test::throws_error([&] { write_file_safely(dir / "out" / "x.csv", "x"); },
+                                 ErrorKind::kRuntime, {"x.csv"}));
+  write_file_in_folders(dir / "out" / "runs" / "x.csv", "a,b\n");
+  EXPECT_EQ(test::read_file(dir / "out" / "runs" / "x.csv"), "a,b\n");
+  test::write_file(dir / "file", "not a folder");
+  EXPECT_TRUE(test::throws_error([&] { write_file_in_folders(dir / "file" / "x.csv", "x"); },
+                                 ErrorKind::kRuntime, {"file/x.csv"}));
+  // A name that fits but whose temporary (".NAME.fssim-PID-N.tmp") does not: the write fails
+  // after the folders were made.
+  const std::string name(240, 'n');
+  EXPECT_TRUE(test::throws_error([&] { write_file_in_folders(dir / "new" / "deeper" / name, "x"); },
+                                 ErrorKind::kRuntime, {"cannot create a file in"}));
+  EXPECT_FALSE(fs::exists(dir / "new"));
 }
 
 TEST(SafeWrite, SameFileComparesFilesNotSpellings) {

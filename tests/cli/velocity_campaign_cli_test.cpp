@@ -134,13 +134,13 @@ TEST_F(VelocityCampaignCli, RefusesBadInputWithOneLine) {
                    "{\"velocity\": \"1,2\", \"velocity_distribution\": \"uniform:0.5:1\"}");
   ExpectRefused("campaign -f " + quote(tmp_ / "both.json"), 2,
                 {"both.json", "'velocity' and 'velocity_distribution'"});
-  // campaign check --predicted: no EXPECTED.csv, and --k-se.
+  // campaign check --predicted: no EXPECTED.csv, and no --exact.
   const fs::path results = tmp_ / "r.csv";
   test::write_file(results,
                    "code,trials,rmse_mean,rmse_sd,predicted_rmse,status\nx,2,1,0.1,1,ok\n");
   for (const auto& [arguments, part] : std::vector<std::pair<std::string, std::string>>{
            {" --predicted --k-se 3 " + quote(results), "give no EXPECTED.csv"},
-           {" --predicted", "give --k-se"},
+           {" --predicted --exact", "--exact compares the exact columns of EXPECTED.csv"},
            {"", "needs EXPECTED.csv (or --predicted)"}}) {
     const auto r = run_fssim("campaign check " + quote(results) + arguments);
     EXPECT_EQ(r.exit_code, 2) << arguments << r.err;
@@ -207,10 +207,10 @@ TEST_F(VelocityCampaignCli, CheckComparesTheTrialsWithThePrediction) {
   EXPECT_EQ(off.exit_code, 1) << off.out;
   EXPECT_NE(off.out.find("4 comparisons, 4 deviations"), std::string::npos) << off.out;
   // The figures: sqrt(mean MSE) against snr, one per distribution.
-  EXPECT_TRUE(fs::exists(dir / "figures" / "rmse_vs_snr_1.svg"));
-  EXPECT_TRUE(fs::exists(dir / "figures" / "rmse_vs_snr_2.png"));
-  EXPECT_NE(test::read_file(dir / "figures" / "rmse_vs_snr_2.svg").find("v ~ normal:1:0.1"),
-            std::string::npos);
+  const fs::path normal = dir / "figures" / "rmse_vs_snr__crop__numerical__v-normal-1-0.1";
+  EXPECT_TRUE(fs::exists(dir / "figures" / "rmse_vs_snr__crop__numerical__v-uniform-0.8-1.svg"));
+  EXPECT_TRUE(fs::exists(normal.string() + ".png"));
+  EXPECT_NE(test::read_file(normal.string() + ".svg").find("v ~ normal:1:0.1"), std::string::npos);
 }
 
 // Shards of a campaign under distributions merge into the bytes of one run.

@@ -21,10 +21,12 @@ constexpr std::size_t kMaxCaseMessage = 4096;
 
 fss::CheckOptions options_of(std::uint8_t choice) {
   fss::CheckOptions options;
-  options.abs_tolerance = (choice & 1) ? 0.01 : 0.0;
-  options.rel_tolerance = (choice & 2) ? 0.1 : 0.0;
-  options.k_standard_errors = (choice & 4) ? 3.0 : 0.0;
+  // Each tolerance given or not (none: the default rules), or --exact.
+  if (choice & 1) options.abs_tolerance = 0.01;
+  if (choice & 2) options.rel_tolerance = 0.1;
+  if (choice & 4) options.k_standard_errors = 3.0;
   if (choice & 8) options.columns = {"rmse_mean", "status"};
+  options.exact = (choice & 16) != 0 && (choice & 3) == 0;
   return options;
 }
 

@@ -250,11 +250,11 @@ TEST(FigureSheetOfARun, ObservedRestoredAndResidualSideBySide) {
   const std::vector<std::uint8_t> png = figure_sheet_png(report, small_input());
   const Image sheet = decode_png(png.data(), png.size(), "sheet");
   ASSERT_EQ(sheet.width, kSheetMargin + 3 * (52 + kSheetMargin));
-  ASSERT_EQ(sheet.height, kSheetHeaderHeight + 8 + kSheetMargin);
+  // The residual's scale under the panels.
+  ASSERT_EQ(sheet.height, kSheetHeaderHeight + 8 + kSheetMargin + kSheetScaleHeight);
   ASSERT_EQ(sheet.channels, 1);
-  const Image residual = residual_image(small_input(), report);
-  const Image* panels[] = {&report.observed, &report.restored, &residual};
-  for (int i = 0; i < 3; ++i) {
+  const Image* panels[] = {&report.observed, &report.restored};
+  for (int i = 0; i < 2; ++i) {
     const int left = kSheetMargin + i * (52 + kSheetMargin);
     for (int y = 0; y < 8; ++y) {
       for (int x = 0; x < 52; ++x) {
@@ -262,6 +262,40 @@ TEST(FigureSheetOfARun, ObservedRestoredAndResidualSideBySide) {
                   std::clamp(std::round(panels[i]->at(0, y, x)), 0.0, 255.0))
             << "panel " << i << " x " << x << " y " << y;
       }
+    }
+  }
+}
+
+// The residual panel shows d = ground truth - restored as 127.5 + 127.5 d / R:
+// 0 at mid-gray, linear, symmetric, nothing clipped (R >= max |d|), and R a
+// round number (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6 or 8 times a power of ten)
+// within a factor 4/3 of max |d|.
+TEST(FigureSheetOfARun, ResidualOnASymmetricScale) {
+  const SimulationReport report = small_report();
+  const std::vector<std::uint8_t> png = figure_sheet_png(report, small_input());
+  const Image sheet = decode_png(png.data(), png.size(), "sheet");
+  const Image truth = groundtruth_image(small_input(), report);
+  const int left = kSheetMargin + 2 * (52 + kSheetMargin);
+  double dd = 0.0, dg = 0.0, largest = 0.0;
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 52; ++x) {
+      const double d = truth.at(0, y, x) - report.restored.at(0, y, x);
+      dd += d * d;
+      dg += d * (sheet.at(0, kSheetHeaderHeight + y, left + x) - 127.5);
+      largest = std::max(largest, std::abs(d));
+    }
+  }
+  ASSERT_GT(largest, 0.0);
+  const double range = 127.5 * dd / dg;  // least squares: gray - 127.5 = 127.5 d / R
+  EXPECT_GE(range, largest * 0.99);
+  EXPECT_LT(range, largest * 4.0 / 3.0 * 1.01);
+  const double step = range / std::pow(10.0, std::floor(std::log10(range)));
+  EXPECT_NEAR(step, std::round(step * 10.0) / 10.0, 0.02) << "R = " << range;
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 52; ++x) {
+      const double d = truth.at(0, y, x) - report.restored.at(0, y, x);
+      EXPECT_NEAR(sheet.at(0, kSheetHeaderHeight + y, left + x), 127.5 + 127.5 * d / range, 0.6)
+          << "x " << x << " y " << y;
     }
   }
 }

@@ -230,6 +230,38 @@ TEST(PlotSpectrum, SnapshotLineIsDashed) {
   EXPECT_GE(runs, 5) << "row " << best_row;
 }
 
+// The axis is logarithmic, as in `fssim spectra`: raskar's peak of 26 does
+// not flatten the snapshot's |K| (0.64 to 1) against the bottom of the plot.
+// On a linear axis its dashed line would lie within 5 % of the plot area's
+// height above the bottom edge; on the log axis from 0.1 it lies above 20 %.
+TEST(PlotSpectrum, LogAxisKeepsTheSnapshotClearOfTheBottom) {
+  const Image image = decode(spectrum("raskar"));
+  const int top = 88, bottom = kPlotHeight - 58;  // the plot area (plot_code.cpp)
+  double sum = 0.0;
+  int count = 0;
+  for (int y = top; y < bottom; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      if (pixel(image, x, y) == kReference) {
+        sum += y;
+        ++count;
+      }
+    }
+  }
+  ASSERT_GT(count, 100);
+  const double height_above_bottom = (bottom - sum / count) / (bottom - top);
+  EXPECT_GT(height_above_bottom, 0.2);
+  EXPECT_LT(height_above_bottom, 0.6);
+}
+
+// A code without zeros whose |K| stays within one decade still gets a
+// labelled decade below and above it, and a code with zeros is drawn with
+// them at the bottom edge.
+TEST(PlotSpectrum, FlatAndVanishingSpectraAreDrawn) {
+  expect_drawn_plot(spectrum("sinc"), kPlotWidth, kPlotHeight);
+  expect_drawn_plot(spectrum("snapshot", 0.5), kPlotWidth, kPlotHeight);
+  expect_drawn_plot(spectrum("accumulation"), kPlotWidth, kPlotHeight);
+}
+
 // ---------------------------------------------------------------------------
 // Overlay of spectra
 
@@ -327,6 +359,52 @@ TEST(FigureSheet, MismatchedPanelsAreRefused) {
         std::vector<SheetPanel>{{nullptr, "a"}}}) {
     EXPECT_TRUE(test::throws_error([&] { figure_sheet_png(panels, "t"); }, ErrorKind::kUsage,
                                    {"figure sheet"}));
+  }
+}
+
+// A panel with a scale gets a gray bar under it, black to white from left
+// to right, with its values below; the sheet grows by kSheetScaleHeight.
+TEST(FigureSheet, AScaleIsAGrayBarUnderItsPanel) {
+  const Image a = test::make_test_image(300, 40, 1, 1);
+  const Image sheet = decode(figure_sheet_png(
+      {{&a, "plain"}, {&a, "scaled", SheetScale{-10.0, 10.0, "gray levels"}}}, "t"));
+  ASSERT_EQ(sheet.height, kSheetHeaderHeight + 40 + kSheetMargin + kSheetScaleHeight);
+  const int bar_row = kSheetHeaderHeight + 40 + kSheetMargin + 10;
+  const int panel_left = 2 * kSheetMargin + 300;
+  // The longest non-decreasing run of gray along the bar's row, under the
+  // second panel.
+  int best_first = 0, best_length = 0, first = panel_left;
+  for (int x = panel_left + 1; x < panel_left + 300; ++x) {
+    if (sheet.at(0, bar_row, x) < sheet.at(0, bar_row, x - 1)) first = x;
+    if (x - first + 1 > best_length) {
+      best_length = x - first + 1;
+      best_first = first;
+    }
+  }
+  EXPECT_GE(best_length, 200);
+  EXPECT_LE(sheet.at(0, bar_row, best_first + 2), 8.0);
+  EXPECT_GE(sheet.at(0, bar_row, best_first + best_length - 3), 247.0);
+  // Nothing under the first panel; the values and the unit under the second.
+  int dark_first = 0, dark_second = 0;
+  for (int y = kSheetHeaderHeight + 40 + kSheetMargin + 20; y < sheet.height; ++y) {
+    for (int x = 0; x < 300; ++x) {
+      dark_first += sheet.at(0, y, kSheetMargin + x) < 128.0;
+      dark_second += sheet.at(0, y, panel_left + x) < 128.0;
+    }
+  }
+  EXPECT_EQ(dark_first, 0);
+  EXPECT_GT(dark_second, 100);
+}
+
+TEST(FigureSheet, AScaleNeedsTwoFiniteValues) {
+  const Image a = test::make_test_image(60, 20, 1, 1);
+  for (const SheetScale& scale : {SheetScale{1.0, 1.0, "u"}, SheetScale{0.0, std::nan(""), "u"},
+                                  SheetScale{-HUGE_VAL, 1.0, "u"}}) {
+    EXPECT_TRUE(test::throws_error(
+        [&] {
+          figure_sheet_png({{&a, "x", scale}}, "t");
+        },
+        ErrorKind::kUsage, {"scale", "finite, different values"}));
   }
 }
 

@@ -304,7 +304,7 @@ TEST_P(TrialMeans, AgreeWithThePerFrameSampler) {
   static const Image input = camera_crop();
   SimulationOptions options;
   options.snr = c.snr;
-  options.trials = 100;
+  options.trials = test::kAddressSanitizer ? 20 : 100;  // ASan: the same paths, fewer trials
   options.rmse_margin_columns = 20;
   options.seed = 1000;
   const ShutterCode code{c.code, test::paper_gains(c.code)};

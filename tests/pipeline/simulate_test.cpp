@@ -114,9 +114,8 @@ INSTANTIATE_TEST_SUITE_P(
         InvalidCase{"TrialsZero", [](SimulationOptions* o) { o->trials = 0; }, "trials", "0"},
         InvalidCase{"ThreadsNegative", [](SimulationOptions* o) { o->threads = -1; }, "threads",
                     "-1"},
-        InvalidCase{"MarginBelowMinusOne",
-                    [](SimulationOptions* o) { o->rmse_margin_columns = -2; }, "rmse_margin",
-                    "-2"}),
+        InvalidCase{"MarginBelowAuto", [](SimulationOptions* o) { o->rmse_margin_columns = -3; },
+                    "rmse_margin", "-3"}),
     [](const ::testing::TestParamInfo<InvalidCase>& info) { return info.param.name; });
 
 // ---------------------------------------------------------------------------
@@ -833,7 +832,8 @@ TEST(OptionRules, BrokenRulesAreNamed) {
   }
   EXPECT_EQ(margin_rule(kMaxMarginColumns + 1LL), "must be at most 65536");
   EXPECT_EQ(margin_rule(1LL << 40), "must be at most 65536");
-  EXPECT_EQ(margin_rule(-2), "must be >= 0 (or -1 for the default 3B)");
+  EXPECT_EQ(margin_rule(-3), "must be >= 0 (or -1 for the default 3B, -2 for auto)");
+  EXPECT_EQ(margin_rule(kRmseMarginAuto), "");
   EXPECT_EQ(trials_rule(0), "must be >= 1");
   EXPECT_EQ(threads_rule(-1), "must be >= 0 (0: all)");
 }
@@ -849,8 +849,8 @@ TEST(OptionRules, IsValidSaysFieldValueAndRule) {
   options.restore_velocity_px_per_slot = std::numeric_limits<double>::infinity();
   EXPECT_EQ(message(options), "restore_velocity_px_per_slot = inf: must be a finite number");
   options = SimulationOptions();
-  options.rmse_margin_columns = -2;
-  EXPECT_EQ(message(options), "rmse_margin_columns = -2: " + margin_rule(-2));
+  options.rmse_margin_columns = -3;
+  EXPECT_EQ(message(options), "rmse_margin_columns = -3: " + margin_rule(-3));
   options = SimulationOptions();
   options.trials = 0;
   EXPECT_EQ(message(options), "trials = 0: must be >= 1");

@@ -14,6 +14,7 @@
 #include "fss/model/code.h"
 #include "fss/model/restoration.h"
 #include "fss/model/velocity_distribution.h"
+#include "fss/pipeline/option_rules.h"
 #include "fss/pipeline/simulate.h"
 
 namespace fss {
@@ -50,8 +51,11 @@ struct CampaignSpec {
   int trials = 1;
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
-  int rmse_margin_columns = -1;  // -1: 3 B
-  bool per_trial = false;        // also one row per trial (trials.csv, trials.jsonl)
+  // The RMSE margin: kRmseMarginAuto (3B where the image is wide enough, else the largest margin
+  // leaving a window of B columns: no setting lost to a narrow image), kRmseMarginDefault (3B) or
+  // a number of columns (option_rules.h).
+  int rmse_margin_columns = kRmseMarginAuto;
+  bool per_trial = false;  // also one row per trial (trials.csv, trials.jsonl)
   // The sensor (docs/method.md §10): the read noise is an axis (a value list, electrons RMS per
   // readout), the other parts are fixed; sensor.read_noise_electrons is not used.
   std::string read_noise = "0";
@@ -123,7 +127,7 @@ struct ResolvedCampaign {
   int trials = 1;
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
-  int rmse_margin_columns = -1;
+  int rmse_margin_columns = kRmseMarginAuto;
   bool per_trial = false;
   ValueList read_noises = {{0.0}, false};  // the read noise axis
   SensorModel sensor;                      // the fixed parts; its read noise unused

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,20 +85,79 @@ std::vector<std::uint8_t> plot_error_bar_curves_png(const std::vector<double>& x
                                                     const std::string& y_label, bool log_x,
                                                     const PlotOptions& options = {});
 
+// What the gray levels of a sheet panel stand for: gray 0 is `black`, 255 is
+// `white`, linearly in between; drawn as a labelled gray bar under the panel.
+struct SheetScale {
+  double black = 0.0;
+  double white = 255.0;
+  std::string unit;  // under the bar: "gray levels of ground truth − restored"
+};
+
+// One series of a figure of measurements and their prediction: points with
+// error bars and the predicted curve, in one colour.
+struct MeasuredSeries {
+  std::string name;               // in the legend
+  std::vector<double> measured;   // one value per x; NaN or infinite: no point
+  std::vector<double> error;      // half-height of each bar (empty, 0 or NaN: no bar)
+  std::vector<double> predicted;  // one value per x (empty: no curve); NaN or inf: a gap
+  std::vector<bool> open;         // an open marker at that x (empty: every marker filled)
+  int colour = -1;                // 0 .. 7 of the series' palette; -1: the series' index
+};
+
+enum class AxisScale { kAuto, kLinear, kLog };
+
+// A figure of MeasuredSeries over shared x values (plot_measured_png/svg).
+// The legend has one entry per series, then a key of the marks in ink:
+// `points_key` beside a marker with its bar, `predicted_key` beside a line
+// (when a series has a prediction), `open_key` beside an open marker (when a
+// point is open), under the plot. The legend sits in a corner of the plot
+// area that no point, bar or curve reaches, else to the right of it (under
+// it, in columns, when it is wide); on a picture too small for either, over
+// the plot area's top right corner. `notes` are lines under the key; on a
+// small picture the key and the notes are left out.
+struct MeasuredFigure {
+  std::vector<double> x;               // finite and increasing; > 0 when log_x
+  std::vector<MeasuredSeries> series;  // 1 to 8
+  std::string x_label;
+  std::string y_label;
+  bool log_x = false;
+  // kAuto: logarithmic when every value is > 0 and they span a decade or more, else linear
+  // from 0 (from below 0 when a value is negative).
+  AxisScale y_scale = AxisScale::kAuto;
+  std::string points_key = "measured";
+  std::string predicted_key = "predicted";
+  std::string open_key;
+  std::vector<std::string> notes;
+};
+
+// The figure as PNG bytes, and as an SVG document of the same layout. The
+// title (options.title; "Y against X" when empty) is kept on one line, else
+// wrapped onto two, in a smaller font if need be, cut short in its middle
+// only past that. On a log axis every power of ten is labelled 10^k, and 2
+// and 5 times them when fewer than 3 would show (else plain steps). A usage
+// fss::Error for data it cannot draw (no x, x not increasing or <= 0 on a log
+// axis, lengths unlike x's, 0 or more than 8 series, no point).
+std::vector<std::uint8_t> plot_measured_png(const MeasuredFigure& figure,
+                                            const PlotOptions& options = {});
+std::string plot_measured_svg(const MeasuredFigure& figure, const PlotOptions& options = {});
+
 struct SheetPanel {
   const Image* image = nullptr;  // 1 or 3 channels, 0..255 scale
   std::string caption;
+  std::optional<SheetScale> scale = std::nullopt;  // none: no bar
 };
 
 // The panels left to right with a gap between them, each under its caption,
 // below a title line (text too long for its place is cut short with an
-// ellipsis). Panels must have equal heights and channel counts; the sheet is
-// gray when they are gray, RGB otherwise.
+// ellipsis), and a gray bar with its values under each panel that has a scale.
+// Panels must have equal heights and channel counts; the sheet is gray when
+// they are gray, RGB otherwise.
 std::vector<std::uint8_t> figure_sheet_png(const std::vector<SheetPanel>& panels,
                                            const std::string& title);
 
 // Sizes of a figure sheet (for tests and page layouts).
 inline constexpr int kSheetMargin = 8;         // around the panels and between them
 inline constexpr int kSheetHeaderHeight = 52;  // title and caption lines above the panels
+inline constexpr int kSheetScaleHeight = 58;   // below the panels when a panel has a scale
 
 }  // namespace fss

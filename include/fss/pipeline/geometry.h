@@ -27,8 +27,13 @@ struct MetricWindows {
   int ci_end = 0;
 };
 
-// margin_columns < 0 means 3B. Throws a usage fss::Error, giving the width
-// needed, when a window is empty.
+// The RMSE margin a run uses, in columns: margin_columns itself, 3B for kRmseMarginDefault, and
+// for kRmseMarginAuto 3B where the image is wide enough for it, else the largest margin that
+// leaves an RMSE window of B columns (option_rules.h; docs/method.md §5).
+int rmse_margin(const Geometry& geometry, int margin_columns);
+
+// The windows with rmse_margin(geometry, margin_columns). Throws a usage fss::Error, giving the
+// width needed, when a window is empty.
 MetricWindows metric_windows(const Geometry& geometry, int margin_columns);
 
 // Why a run cannot have its outputs and both windows: the message Simulate would throw from

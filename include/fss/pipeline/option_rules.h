@@ -11,6 +11,9 @@ namespace fss {
 inline constexpr double kMinScale = 1e-100;
 inline constexpr double kMaxScale = 1e100;
 inline constexpr int kMaxMarginColumns = 1 << 16;
+// Special values of rmse_margin_columns: the paper's 3B, and auto (geometry.h, rmse_margin).
+inline constexpr int kRmseMarginDefault = -1;
+inline constexpr int kRmseMarginAuto = -2;
 
 // velocity_px_per_slot, restore_velocity_px_per_slot: any finite number.
 // "must be a finite number".
@@ -21,8 +24,8 @@ std::string velocity_rule(double velocity);
 std::string scale_rule(double value);
 bool scale_is_positive(double value);  // finite and > 0, whatever the range
 
-// rmse_margin_columns: -1 (the default 3B) or [0, kMaxMarginColumns].
-// "must be at most 65536" or "must be >= 0 (or -1 for the default 3B)".
+// rmse_margin_columns: kRmseMarginDefault (3B), kRmseMarginAuto or [0, kMaxMarginColumns].
+// "must be at most 65536" or "must be >= 0 (or -1 for the default 3B, -2 for auto)".
 std::string margin_rule(long long columns);
 
 // noise: not aggregated in analog mode ("must be poisson or none in analog mode ...").

@@ -331,9 +331,10 @@ int CampaignCommand::RunCampaign() const {
   }
   if (options.shard.count > 1) {
     // A shard records its gaps and exits 0 so that the merge runs; the merge reports them.
-    return ReportGaps(campaign, summary.rows, "shard " + shard_, true);
+    return ReportGaps(campaign, summary.rows, "shard " + shard_, GapExit::kShard);
   }
-  return ReportGaps(campaign, summary.rows, "campaign", skip_unrunnable_);
+  return ReportGaps(campaign, summary.rows, "campaign",
+                    skip_unrunnable_ ? GapExit::kSkip : GapExit::kFail);
 }
 
 int CampaignCommand::Merge() const {
@@ -343,14 +344,15 @@ int CampaignCommand::Merge() const {
   std::printf("merged %zu parts: %zu settings of campaign %s into %s\n", parts_.size(), rows.size(),
               campaign.sha256.substr(0, 12).c_str(), merge_output_.c_str());
   if (merge_figures_) DrawFigures(campaign, rows, merge_output_);
-  return ReportGaps(campaign, rows, "campaign merge", merge_skip_unrunnable_);
+  return ReportGaps(campaign, rows, "campaign merge",
+                    merge_skip_unrunnable_ ? GapExit::kSkip : GapExit::kFail);
 }
 
-// Lists on stderr the settings that did not run; kExitRuntime when some cannot run, unless
-// `skip` (settings that do not apply never fail).
+// Lists on stderr the settings that did not run; kExitRuntime when some cannot run and `exit`
+// is kFail (settings that do not apply never fail).
 int CampaignCommand::ReportGaps(const fss::ResolvedCampaign& campaign,
                                 const std::vector<std::vector<std::string>>& rows,
-                                const std::string& what, bool skip) const {
+                                const std::string& what, GapExit exit) const {
   const std::vector<fss::CampaignGap> gaps =
       fss::campaign_gaps(rows, campaign.has_velocity_distributions());
   std::string text;
@@ -359,18 +361,18 @@ int CampaignCommand::ReportGaps(const fss::ResolvedCampaign& campaign,
   }
   const long long cannot_run = fss::count_gaps(gaps, fss::GapKind::kCannotRun);
   if (cannot_run > 0) {
-    if (what.rfind("shard", 0) == 0) {
+    if (exit == GapExit::kShard) {
       text += "fssim: " + what +
               ": recorded; 'campaign merge' lists them again and fails unless given "
               "--skip-unrunnable\n";
-    } else if (!skip) {
+    } else if (exit == GapExit::kFail) {
       text += "fssim: error: " + std::to_string(cannot_run) +
               " settings cannot run (the results of the others are written); change the "
               "settings listed or give --skip-unrunnable\n";
     }
   }
   if (!text.empty()) fss::write_stderr(text);
-  return cannot_run > 0 && !skip ? kExitRuntime : kExitSuccess;
+  return cannot_run > 0 && exit == GapExit::kFail ? kExitRuntime : kExitSuccess;
 }
 
 void CampaignCommand::DrawFigures(const fss::ResolvedCampaign& campaign,

@@ -29,9 +29,12 @@ class CampaignCommand : public Command {
   int Check() const;
   void AddTableCommand();
   int Table() const;
+  // What settings that cannot run do to the exit status: fail it, not (--skip-unrunnable), or
+  // not and say that the merge will (a shard).
+  enum class GapExit { kFail, kSkip, kShard };
   int ReportGaps(const fss::ResolvedCampaign& campaign,
                  const std::vector<std::vector<std::string>>& rows, const std::string& what,
-                 bool skip) const;
+                 GapExit exit) const;
   void DrawFigures(const fss::ResolvedCampaign& campaign,
                    const std::vector<std::vector<std::string>>& rows, const std::string& dir) const;
 

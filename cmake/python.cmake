@@ -60,9 +60,21 @@ message(STATUS "Python module: built for ${Python3_EXECUTABLE} (${Python3_VERSIO
 # A static libfss goes into a shared module.
 set_target_properties(fss PROPERTIES POSITION_INDEPENDENT_CODE ON)
 # NO_EXTRAS: no link-time optimization (it only slows the link down here).
-pybind11_add_module(fss_python MODULE NO_EXTRAS python/fss_module.cpp python/arguments.cpp)
-set_target_properties(fss_python PROPERTIES OUTPUT_NAME fss LIBRARY_OUTPUT_DIRECTORY
-                                            ${PROJECT_BINARY_DIR}/python)
+pybind11_add_module(fss_python MODULE NO_EXTRAS python/module.cpp python/convert.cpp
+                    python/simulate_bindings.cpp python/code_bindings.cpp
+                    python/image_bindings.cpp python/arguments.cpp)
+# The package fss: the compiled fss._fss and the files of python/fss/, in
+# build/python/fss as in the install.
+set_target_properties(fss_python PROPERTIES OUTPUT_NAME _fss LIBRARY_OUTPUT_DIRECTORY
+                                            ${PROJECT_BINARY_DIR}/python/fss)
+file(GLOB _fss_package_files CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/python/fss/*.py
+     ${PROJECT_SOURCE_DIR}/python/fss/*.pyi ${PROJECT_SOURCE_DIR}/python/fss/py.typed)
+foreach(_fss_file IN LISTS _fss_package_files)
+  get_filename_component(_fss_name "${_fss_file}" NAME)
+  add_custom_command(TARGET fss_python POST_BUILD
+                     COMMAND ${CMAKE_COMMAND} -E copy_if_different "${_fss_file}"
+                             "${PROJECT_BINARY_DIR}/python/fss/${_fss_name}")
+endforeach()
 target_link_libraries(fss_python PRIVATE fss_internal)
 target_compile_options(fss_python PRIVATE -Wall -Wextra)
 target_compile_definitions(fss_python PRIVATE FSS_VERSION_FULL="${FSS_VERSION_FULL}")
@@ -80,12 +92,13 @@ endif()
 include(GNUInstallDirs)
 get_target_property(_fss_library_type fss TYPE)
 if(_fss_library_type STREQUAL "SHARED_LIBRARY")
-  get_filename_component(_fss_python_dir "${FSS_PYTHON_INSTALL_DIR}" ABSOLUTE
+  get_filename_component(_fss_python_dir "${FSS_PYTHON_INSTALL_DIR}/fss" ABSOLUTE
                          BASE_DIR "${CMAKE_INSTALL_PREFIX}")
   file(RELATIVE_PATH _fss_python_to_lib "${_fss_python_dir}" "${CMAKE_INSTALL_FULL_LIBDIR}")
   set_target_properties(fss_python PROPERTIES INSTALL_RPATH "$ORIGIN/${_fss_python_to_lib}")
 endif()
-install(TARGETS fss_python LIBRARY DESTINATION ${FSS_PYTHON_INSTALL_DIR})
+install(TARGETS fss_python LIBRARY DESTINATION ${FSS_PYTHON_INSTALL_DIR}/fss)
+install(FILES ${_fss_package_files} DESTINATION ${FSS_PYTHON_INSTALL_DIR}/fss)
 
 if(FSS_BUILD_TESTS)
   add_test(NAME python

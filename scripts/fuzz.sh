@@ -27,7 +27,9 @@ if ! command -v clang++ >/dev/null; then
   echo "fuzz: clang++ not found (scripts/install-deps.sh installs it)" >&2
   exit 1
 fi
+source scripts/build-flags.sh
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" "${fast_link[@]}" \
   -DFSS_FUZZ=ON -DFSS_BUILD_TESTS=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target fuzz_png fuzz_tiff fuzz_code fuzz_campaign_file \
   fuzz_campaign_journal fuzz_campaign_check fuzz_range fuzz_python_arguments

@@ -21,6 +21,8 @@ if command -v ccache >/dev/null; then
     trap 'rm -rf "$CCACHE_DIR"' EXIT
   fi
 fi
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DFSS_BUILD_TESTS=ON "${launcher[@]}" >/dev/null
+source scripts/build-flags.sh
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DFSS_BUILD_TESTS=ON "${launcher[@]}" \
+  "${fast_link[@]}" >/dev/null
 cmake --build "$build" -j "$jobs"
 ctest --test-dir "$build" --output-on-failure -j "$jobs"

@@ -19,6 +19,7 @@ packages=(
   strace  # fault injection into output publishing (tests/cli/fault_injection_test.cpp)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)
   clang libclang-rt-14-dev  # sanitizer and libFuzzer builds (scripts/test-sanitize.sh, fuzz.sh)
+  lld  # links the test builds faster (scripts/build-flags.sh)
   clang-format clang-tidy  # scripts/lint.sh (version 14, with run-clang-tidy)
   slurmctld slurmd slurm-client munge  # the campaign's single-node Slurm cluster test (label slurm)
   parallel  # the GNU parallel recipe of docs/campaign.md for campaign shards

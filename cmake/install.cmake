@@ -8,7 +8,7 @@
 #   lib/pkgconfig/fss.pc
 #   share/fssim/codes/*.txt                  the paper's six codes
 #   share/man/man1/fssim.1                   docs/fssim.1, version and date made true
-#   lib/python3.X/site-packages/fss*.so      the Python module (cmake/python.cmake)
+#   lib/python3.X/site-packages/fss/         the Python package (cmake/python.cmake)
 #   share/bash-completion/completions/fssim
 #
 # (lib is CMAKE_INSTALL_LIBDIR: lib/x86_64-linux-gnu under /usr on Debian.)

@@ -247,25 +247,40 @@ std::string index_text(const std::vector<std::int64_t>& index) {
   return shape_text(index);
 }
 
+// The refusal of the value at row y, column x: not finite, or (`scaled`) its
+// gray level value x 255 / data_range is not.
+[[noreturn]] void throw_not_finite(std::string_view argument, double value, int y, int x,
+                                   bool scaled, double data_range) {
+  throw_usage_error(std::string(argument) + ": value " + format_number(value) + " at row " +
+                    std::to_string(y) + ", column " + std::to_string(x) +
+                    (scaled ? " has no finite gray level (value x 255 / data_range, data_range = " +
+                                  format_exact(data_range) + ")"
+                            : " is not finite"));
+}
+
+// Gray level = value x 255 / data_range, the value itself for a data_range of
+// 255 (docs/python.md): (v 255) / 65535 is v / 257 to the bit for a 16-bit v,
+// as fssim reads a 16-bit PNG, both being the correctly rounded v / 257.
 template <typename T>
-void fill_image(const ArrayView& view, Image& image) {
+void fill_image(const ArrayView& view, double data_range, std::string_view argument, Image& image) {
   const auto* base = static_cast<const unsigned char*>(view.data);
   const std::int64_t row_stride = view.strides[0];
   const std::int64_t column_stride = view.strides[1];
   const std::int64_t channel_stride = view.strides.size() == 3 ? view.strides[2] : 0;
+  const bool scaled = data_range != 255.0;
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) {
       const unsigned char* pixel = base + y * row_stride + x * column_stride;
       for (int c = 0; c < image.channels; ++c) {
         const double value = read_value<T>(pixel + c * channel_stride);
         if constexpr (std::is_floating_point_v<T>) {
-          if (!std::isfinite(value)) {
-            throw_usage_error("image: value " + format_number(value) + " at row " +
-                              std::to_string(y) + ", column " + std::to_string(x) +
-                              " is not finite");
-          }
+          if (!std::isfinite(value)) throw_not_finite(argument, value, y, x, false, data_range);
         }
-        image.at(c, y, x) = value;
+        const double gray = scaled ? value * 255.0 / data_range : value;
+        if (scaled && !std::isfinite(gray)) {
+          throw_not_finite(argument, value, y, x, true, data_range);
+        }
+        image.at(c, y, x) = gray;
       }
     }
   }
@@ -319,27 +334,28 @@ std::string shape_text(std::span<const std::int64_t> shape) {
   return text + (shape.size() == 1 ? ",)" : ")");
 }
 
-ImageSize image_size(std::span<const std::int64_t> shape) {
+ImageSize image_size(std::span<const std::int64_t> shape, std::string_view argument) {
   const bool layout_ok =
       shape.size() == 2 || (shape.size() == 3 && (shape[2] == 1 || shape[2] == 3));
   if (!layout_ok) {
-    throw_usage_error("image: shape " + shape_text(shape) +
+    throw_usage_error(std::string(argument) + ": shape " + shape_text(shape) +
                       " is not H x W (gray) or H x W x 3 (RGB)");
   }
   if (shape[0] < 1 || shape[1] < 1 || shape[0] > kMaxImageSide || shape[1] > kMaxImageSide) {
-    throw_usage_error("image: shape " + shape_text(shape) + " must have 1 to " +
+    throw_usage_error(std::string(argument) + ": shape " + shape_text(shape) + " must have 1 to " +
                       std::to_string(kMaxImageSide) + " rows and columns");
   }
   return {static_cast<int>(shape[1]), static_cast<int>(shape[0]),
           shape.size() == 3 ? static_cast<int>(shape[2]) : 1};
 }
 
-Image image_from_view(const ArrayView& view) {
-  check_real_dtype(view, "image");
-  const ImageSize size = image_size(view.shape);
+Image image_from_view(const ArrayView& view, double data_range, std::string_view argument) {
+  check_real_dtype(view, argument);
+  const ImageSize size = image_size(view.shape, argument);
   Image image(size.width, size.height, size.channels);
-  const bool read = visit_dtype(view, [&](auto type) { fill_image<decltype(type)>(view, image); });
-  if (!read) throw_unreadable(view, "image");
+  const bool read = visit_dtype(
+      view, [&](auto type) { fill_image<decltype(type)>(view, data_range, argument, image); });
+  if (!read) throw_unreadable(view, argument);
   return image;
 }
 

@@ -139,14 +139,17 @@ struct ImageSize {
 };
 
 // H x W (gray) or H x W x C, C = 1 or 3, sides in [1, kMaxImageSide];
-// otherwise a usage error naming "image" and the shape.
-ImageSize image_size(std::span<const std::int64_t> shape);
+// otherwise a usage error naming `argument` and the shape.
+ImageSize image_size(std::span<const std::int64_t> shape, std::string_view argument = "image");
 
-// The array as a planar image, data[(c H + y) W + x] = array[y, x, c], every
-// value as a gray level as it is. Usage errors: the shape (image_size), a
-// dtype that is not readable, a value that is not finite ("image: value nan
-// at row 3, column 5 is not finite").
-fss::Image image_from_view(const ArrayView& view);
+// The array as a planar image, data[(c H + y) W + x] = array[y, x, c] on the
+// gray-level scale: value x 255 / data_range (the value itself, bit for bit,
+// for a data_range of 255). Usage errors naming `argument`: the shape
+// (image_size), a dtype that is not readable, a value that is not finite
+// ("image: value nan at row 3, column 5 is not finite") or whose gray level
+// is not.
+fss::Image image_from_view(const ArrayView& view, double data_range = 255.0,
+                           std::string_view argument = "image");
 
 // Every value of an array of any shape, in C order, checked finite
 // ("xi: value nan at index (0, 3) is not finite"); a usage error for a dtype

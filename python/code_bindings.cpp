@@ -1,25 +1,22 @@
 // The code tools: fss.analyze_code, generate_code, optimize_code,
-// transfer_function, read_code, builtin_codes.
+// transfer_function, read_code, builtin_codes (their docstrings: code_docs.h).
 #include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <algorithm>
 #include <cmath>
 #include <complex>
-#include <cstddef>
 #include <cstdint>
-#include <new>
 #include <optional>
-#include <stdexcept>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "arguments.h"
 #include "bindings.h"
+#include "code_docs.h"
 #include "convert.h"
+#include "design_arguments.h"
 #include "fss/core/error.h"
 #include "fss/design/analyze.h"
 #include "fss/design/generate.h"
@@ -33,108 +30,210 @@ namespace {
 namespace args = fss::python;
 
 // ---------------------------------------------------------------------------
-// Codes
+// Analyses as dicts: the names of `fssim code analyze --json`, every number a float (inf and nan
+// included), None only where a value does not apply.
 
-// Under a velocity distribution (docs/method.md §13), the names `fssim code analyze --json` gives
-// them: the distribution (its parameters.velocity_distribution) in place of the velocity (None),
-// and the analysis's kernel_velocity, restoration_error, worst velocity and quadrature.
+// Under a velocity distribution (docs/method.md §13): the distribution (its
+// parameters.velocity_distribution) in place of the velocity (None), and the analysis's
+// kernel_velocity, restoration_error, worst velocity and quadrature.
 void add_distribution(const fss::CodeAnalysis& a, py::dict& d) {
   if (!a.velocity_distribution) return;
   const fss::VelocityDistribution& v = *a.velocity_distribution;
   py::dict distribution;
   distribution["spec"] = v.text();
   distribution["description"] = v.describe();
-  distribution["low"] = v.low;
-  distribution["high"] = v.high;
+  distribution["low"] = float_object(v.low);
+  distribution["high"] = float_object(v.high);
   if (v.kind == fss::VelocityDistributionKind::kNormal) {
-    distribution["mean"] = v.mean;
-    distribution["sd"] = v.sd;
+    distribution["mean"] = float_object(v.mean);
+    distribution["sd"] = float_object(v.sd);
   }
   const bool exact = v.kind == fss::VelocityDistributionKind::kDiscrete || v.is_point();
   if (v.kind == fss::VelocityDistributionKind::kDiscrete) {
     py::list points;
     for (const fss::VelocityPoint& p : v.points) {
       py::list point;  // [velocity, weight], as in the JSON
-      point.append(p.velocity);
-      point.append(p.weight);
+      point.append(float_object(p.velocity));
+      point.append(float_object(p.weight));
       points.append(point);
     }
     distribution["points"] = points;
   }
   py::dict quadrature;
   quadrature["rule"] = exact ? "exact sum" : "adaptive gauss-kronrod 7/15";
-  quadrature["relative_tolerance"] = fss::kVelocityQuadratureTolerance;
+  quadrature["relative_tolerance"] = float_object(fss::kVelocityQuadratureTolerance);
   quadrature["evaluations"] = a.quadrature_evaluations;
   quadrature["intervals"] = a.quadrature_intervals;
-  quadrature["error_estimate"] = a.quadrature_error_estimate;
+  quadrature["error_estimate"] = float_object(a.quadrature_error_estimate);
   quadrature["converged"] = a.quadrature_converged;
   d["velocity"] = py::none();
   d["velocity_distribution"] = distribution;
-  d["kernel_velocity"] = a.velocity;
-  d["restoration_error"] = std::isfinite(a.restoration_error)
-                               ? py::object(py::float_(a.restoration_error))
-                               : py::object(py::none());
-  d["worst_velocity"] = a.worst_velocity;
-  d["worst_snr_level100"] = a.worst_snr_level100;
+  d["kernel_velocity"] = float_object(a.velocity);
+  d["restoration_error"] = float_object(a.restoration_error);
+  d["worst_velocity"] = float_object(a.worst_velocity);
+  d["worst_snr_level100"] = float_object(a.worst_snr_level100);
   d["quadrature"] = quadrature;
 }
 
-// A CodeAnalysis as a dict: the names of `fssim code analyze --json`'s
-// "analysis" section, and the setting it was made for.
+// With a sensor (docs/method.md §10): parameters.sensor as "sensor", and the analysis's readouts,
+// readout variance and effective Q and noise figure.
+void add_sensor(const fss::CodeAnalysis& a, py::dict& d) {
+  if (!a.sensor.enabled()) return;
+  py::dict sensor;
+  sensor["read_noise_electrons"] = float_object(a.sensor.read_noise_electrons);
+  sensor["dark_current_electrons_per_slot"] =
+      float_object(a.sensor.dark_current_electrons_per_slot);
+  sensor["adc_bits"] = a.sensor.adc_bits;
+  if (a.sensor.adc_bits != 0) {
+    sensor["adc_gain_electrons_per_count"] = float_object(a.sensor.adc_gain_electrons_per_count);
+  }
+  d["sensor"] = sensor;
+  d["readouts"] = float_object(a.readouts);
+  d["readout_variance_electrons2"] = float_object(a.readout_variance_electrons2);
+  d["effective_q"] = float_object(a.effective_q);
+  d["effective_noise_figure"] = float_object(a.effective_noise_figure);
+}
+
+// Under a Wiener or Tikhonov restoration (docs/method.md §12): parameters.restoration as
+// "restoration" (Tikhonov's lambda None where E is infinite: it has none), and the analysis's
+// restoration_error and snapshot_regularization.
+void add_restoration(const fss::CodeAnalysis& a, py::dict& d) {
+  const fss::RestorationOptions& r = a.restoration;
+  if (r.method == fss::RestorationMethod::kInverse) return;
+  py::dict restoration;
+  restoration["method"] = fss::to_string(r.method);
+  restoration["prior"] = "power-law";
+  restoration["gamma"] = float_object(r.prior_exponent);
+  restoration["C"] = float_object(r.prior_level.value_or(fss::kDefaultPriorLevel));
+  if (r.method == fss::RestorationMethod::kTikhonov) {
+    restoration["lambda"] = std::isfinite(a.restoration_error)
+                                ? py::object(float_object(a.regularization))
+                                : py::object(py::none());
+    restoration["lambda_optimal"] = !r.regularization.has_value();
+    d["snapshot_regularization"] = float_object(a.snapshot_regularization);
+  }
+  d["restoration"] = restoration;
+  d["restoration_error"] = float_object(a.restoration_error);
+}
+
+// A CodeAnalysis as a dict: the setting it was made for (length, mode, velocity, dt, snr, grid),
+// `fssim code analyze --json`'s "analysis" section, and the parts above.
 py::dict analysis_dict(const fss::CodeAnalysis& a) {
-  const auto finite_or_none = [](double value) -> py::object {
-    return std::isfinite(value) ? py::object(py::float_(value)) : py::object(py::none());
-  };
   py::dict d;
   d["length"] = a.length;
   d["mode"] = fss::to_string(a.mode);
-  d["velocity"] = a.velocity;
-  d["dt"] = a.dt;
-  d["snr"] = a.snr;
+  d["velocity"] = float_object(a.velocity);
+  d["dt"] = float_object(a.dt);
+  d["snr"] = float_object(a.snr);
   d["grid"] = a.grid;
-  d["sum"] = a.sum;
-  d["square_sum"] = a.square_sum;
-  d["normalized_l1"] = a.normalized_l1;
-  d["k0"] = a.k0;
-  d["min_abs"] = a.min_abs;
-  d["min_abs_xi"] = a.min_abs_xi;
+  d["sum"] = float_object(a.sum);
+  d["square_sum"] = float_object(a.square_sum);
+  d["normalized_l1"] = float_object(a.normalized_l1);
+  d["k0"] = float_object(a.k0);
+  d["min_abs"] = float_object(a.min_abs);
+  d["min_abs_xi"] = float_object(a.min_abs_xi);
   d["invertible"] = a.invertible;
-  d["q"] = a.q;
-  d["m"] = finite_or_none(a.m);
-  d["noise_figure"] = finite_or_none(a.noise_figure);
-  d["snr_level100"] = a.snr_level100;
-  d["snapshot_snr_level100"] = a.snapshot_snr_level100;
-  d["ratio_to_snapshot"] = a.ratio_to_snapshot;
-  d["snr_level100_bound"] = finite_or_none(a.snr_level100_bound);
+  d["q"] = float_object(a.q);
+  d["m"] = float_object(a.m);
+  d["noise_figure"] = float_object(a.noise_figure);
+  d["snr_level100"] = float_object(a.snr_level100);
+  d["snapshot_snr_level100"] = float_object(a.snapshot_snr_level100);
+  d["ratio_to_snapshot"] = float_object(a.ratio_to_snapshot);
+  d["snr_level100_bound"] = float_object(a.snr_level100_bound);
+  add_sensor(a, d);
+  add_restoration(a, d);
   add_distribution(a, d);
+  d["warnings"] = py::list();  // analyze_code adds fssim's warnings
   return d;
 }
 
-py::dict analyze(const py::object& code_object, const py::object& velocity_object,
-                 const py::object& dt_object, const py::object& snr_object,
-                 const py::object& mode_object, const py::object& grid_object,
-                 const py::object& distribution_object) {
-  const bool velocity_given = !velocity_object.is_none();
-  const double velocity = velocity_given ? float_argument(velocity_object, "velocity") : 1.0;
-  const double dt = float_argument(dt_object, "dt");
-  const double snr = float_argument(snr_object, "snr");
-  const fss::ShutterMode mode = args::mode_argument(string_argument(mode_object, "mode"));
-  const int grid =
-      args::int_argument("grid", int_argument(grid_object, "grid"), 0, fss::kMaxAnalysisGridPoints);
-  args::check_analysis_arguments(velocity, dt, snr);
-  std::optional<fss::VelocityDistribution> distribution;
-  if (!distribution_object.is_none()) {
-    distribution = args::design_distribution(
-        path_argument(distribution_object, "velocity_distribution"), velocity_given, velocity);
+// ---------------------------------------------------------------------------
+// The sensor and restoration keywords of analyze_code and optimize_code
+
+struct DesignCall {
+  py::object read_noise, dark_current, adc_bits, adc_gain, full_well, restoration, regularization,
+      prior;
+};
+
+fss::SensorModel sensor_of(const DesignCall& c) {
+  DesignSensorArguments a;
+  a.read_noise = float_argument(c.read_noise, "read_noise");
+  a.dark_current = float_argument(c.dark_current, "dark_current");
+  a.adc_bits = int_argument(c.adc_bits, "adc_bits");
+  a.adc_gain = optional_float(c.adc_gain, "adc_gain");
+  a.full_well = optional_float(c.full_well, "full_well");
+  return design_sensor(a);
+}
+
+fss::RestorationOptions restoration_of(const DesignCall& c) {
+  DesignRestorationArguments a;
+  a.method = string_argument(c.restoration, "restoration");
+  if (py::isinstance<py::str>(c.regularization)) {
+    const std::string word = string_argument(c.regularization, "regularization");
+    if (word != "optimal") {
+      throw py::value_error("regularization = '" + fss::shorten_for_message(word) +
+                            "': expected a number or 'optimal'");
+    }
+    a.regularization_optimal = true;
+  } else {
+    a.regularization = optional_float(c.regularization, "regularization");
   }
-  const fss::ShutterCode code = code_from_object(code_object);
+  if (!c.prior.is_none()) a.prior = string_argument(c.prior, "prior");
+  return design_restoration(a);
+}
+
+// ---------------------------------------------------------------------------
+// analyze_code
+
+struct AnalyzeCall {
+  py::object code, velocity, dt, snr, mode, grid, velocity_distribution;
+  DesignCall design;
+};
+
+py::dict analyze(const AnalyzeCall& c) {
+  const bool velocity_given = !c.velocity.is_none();
+  const double velocity = velocity_given ? float_argument(c.velocity, "velocity") : 1.0;
+  const double dt = float_argument(c.dt, "dt");
+  const double snr = float_argument(c.snr, "snr");
+  const fss::ShutterMode mode = args::mode_argument(string_argument(c.mode, "mode"));
+  const int grid =
+      args::int_argument("grid", int_argument(c.grid, "grid"), 0, fss::kMaxAnalysisGridPoints);
+  args::check_analysis_arguments(velocity, dt, snr);
+  const fss::SensorModel sensor = sensor_of(c.design);
+  const fss::RestorationOptions restoration = restoration_of(c.design);
+  check_design_grid(grid, restoration);
+  std::optional<fss::VelocityDistribution> distribution;
+  if (!c.velocity_distribution.is_none()) {
+    distribution = args::design_distribution(
+        path_argument(c.velocity_distribution, "velocity_distribution"), velocity_given, velocity);
+  }
+  const fss::ShutterCode code = code_from_object(c.code);
   fss::CodeAnalysis analysis;
   {
     py::gil_scoped_release release;
-    analysis = distribution ? fss::analyze_code(code, *distribution, dt, snr, mode, grid)
-                            : fss::analyze_code(code, velocity, dt, snr, mode, grid);
+    analysis =
+        distribution
+            ? fss::analyze_code(code, *distribution, dt, snr, mode, grid, sensor, restoration)
+            : fss::analyze_code(code, velocity, dt, snr, mode, grid, sensor, restoration);
   }
-  return analysis_dict(analysis);
+  py::dict d = analysis_dict(analysis);
+  if (const std::string warning = fss::adc_range_warning(analysis); !warning.empty()) {
+    warn(warning);
+    d["warnings"].cast<py::list>().append(warning);
+  }
+  return d;
+}
+
+// ---------------------------------------------------------------------------
+// generate_code
+
+// Refuses a keyword `family` does not use, as `fssim code generate` refuses the option.
+void check_family_keyword(const py::object& value, const char* keyword, bool used,
+                          const std::string& family) {
+  if (value.is_none() || used) return;
+  throw py::value_error(std::string(keyword) + ": the " + fss::shorten_for_message(family) +
+                        " code does not use it (velocity and dt are for sinc and mip, seed and "
+                        "analog for random)");
 }
 
 py::array_t<double> generate(const py::object& family, const py::object& length,
@@ -142,8 +241,19 @@ py::array_t<double> generate(const py::object& family, const py::object& length,
                              const py::object& seed, const py::object& analog) {
   const fss::GenerateOptions options =
       args::generate_options(string_argument(family, "family"), int_argument(length, "length"),
-                             float_argument(velocity, "velocity"), float_argument(dt, "dt"),
-                             uint64_argument(seed, "seed"), bool_argument(analog, "analog"));
+                             velocity.is_none() ? 1.0 : float_argument(velocity, "velocity"),
+                             dt.is_none() ? 1.0 : float_argument(dt, "dt"),
+                             seed.is_none() ? 0 : uint64_argument(seed, "seed"),
+                             !analog.is_none() && bool_argument(analog, "analog"));
+  // The values first (their own errors), then whether the family uses them.
+  const bool band =
+      options.family == fss::CodeFamily::kSinc || options.family == fss::CodeFamily::kMip;
+  const bool random = options.family == fss::CodeFamily::kRandom;
+  const std::string name = fss::to_string(options.family);
+  check_family_keyword(velocity, "velocity", band, name);
+  check_family_keyword(dt, "dt", band, name);
+  check_family_keyword(seed, "seed", random, name);
+  check_family_keyword(analog, "analog", random, name);
   fss::ShutterCode code;
   {
     py::gil_scoped_release release;
@@ -152,13 +262,16 @@ py::array_t<double> generate(const py::object& family, const py::object& length,
   return array_from_vector(code.gains);
 }
 
-// The keywords of fss.optimize_code, as Python objects.
+// ---------------------------------------------------------------------------
+// optimize_code
+
 struct OptimizeCall {
-  py::object length, velocity, dt, snr, mode, binary, min_light, restarts, iterations, seed,
-      grid_points, velocity_distribution;
+  py::object length, velocity, velocity_distribution, dt, snr, mode, binary, min_light, restarts,
+      iterations, seed, grid_points;
+  DesignCall design;
 };
 
-py::dict optimize(const OptimizeCall& c) {
+fss::OptimizeOptions optimize_options_of(const OptimizeCall& c) {
   args::OptimizeArguments a;
   a.length = int_argument(c.length, "length");
   a.velocity_given = !c.velocity.is_none();
@@ -175,7 +288,16 @@ py::dict optimize(const OptimizeCall& c) {
   a.iterations = int_argument(c.iterations, "iterations");
   a.seed = uint64_argument(c.seed, "seed");
   a.grid_points = int_argument(c.grid_points, "grid_points");
-  const fss::OptimizeOptions options = args::optimize_options(a);
+  fss::OptimizeOptions options = args::optimize_options(a);
+  options.sensor = sensor_of(c.design);
+  options.restoration = restoration_of(c.design);
+  std::string error;  // the sensor's readout noise at this snr, length and dt
+  if (!options.IsValid(&error)) fss::throw_usage_error(design_field_names(error));
+  return options;
+}
+
+py::dict optimize(const OptimizeCall& c) {
+  const fss::OptimizeOptions options = optimize_options_of(c);
   fss::OptimizationResult result;
   {
     py::gil_scoped_release release;
@@ -190,6 +312,9 @@ py::dict optimize(const OptimizeCall& c) {
   d["evaluations"] = result.evaluations;
   return d;
 }
+
+// ---------------------------------------------------------------------------
+// transfer_function, read_code
 
 // K(xi) at every frequency of `xi` (radians per pixel), same shape.
 py::object transfer(const py::object& code_object, const py::object& xi,
@@ -215,120 +340,82 @@ py::array_t<double> read_code(const py::object& name_or_path) {
   return array_from_vector(code_from_object(name_or_path).gains);
 }
 
-constexpr const char* kAnalyzeDoc =
-    R"(Figures of merit of a code without an image, as ``fssim code analyze``.
+void define_analyze(py::module_& m) {
+  m.def(
+      "analyze_code",
+      [](const py::object& code, const py::object& velocity, const py::object& dt,
+         const py::object& snr, const py::object& mode, const py::object& grid,
+         const py::object& velocity_distribution, const py::object& read_noise,
+         const py::object& dark_current, const py::object& adc_bits, const py::object& adc_gain,
+         const py::object& full_well, const py::object& restoration,
+         const py::object& regularization, const py::object& prior) {
+        return analyze({code,
+                        velocity,
+                        dt,
+                        snr,
+                        mode,
+                        grid,
+                        velocity_distribution,
+                        {read_noise, dark_current, adc_bits, adc_gain, full_well, restoration,
+                         regularization, prior}});
+      },
+      py::arg("code"), py::kw_only(), py::arg("velocity") = py::none(), py::arg("dt") = 1.0,
+      py::arg("snr") = 100.0, py::arg("mode") = "numerical", py::arg("grid") = 0,
+      py::arg("velocity_distribution") = py::none(), py::arg("read_noise") = 0.0,
+      py::arg("dark_current") = 0.0, py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(),
+      py::arg("full_well") = py::none(), py::arg("restoration") = "inverse",
+      py::arg("regularization") = py::none(), py::arg("prior") = py::none(), kAnalyzeDoc);
+}
 
-Parameters
-----------
-code : str, path or sequence of float
-    A built-in code name, a code file, or the gains.
-velocity : float, optional
-    Pixels per time slot; None is 1. Refused together with `velocity_distribution`.
-dt : float, default 1
-snr : float, default 100
-mode : {"numerical", "analog"}, default "numerical"
-grid : int, default 0
-    Frequencies of M's midpoint rule (0: fssim's default).
-velocity_distribution : str or path, optional
-    A distribution of velocities (docs/method.md §13), as ``fssim code analyze
-    --velocity-distribution``: "uniform:LO:HI", "normal:MEAN:SD" (truncated at MEAN +/- 4 SD
-    and renormalised), "normal:MEAN:SD:LO:HI", or the path of a file of "velocity weight"
-    lines. The figure of merit is then the expected error over it, each velocity restored at
-    itself (adaptive Gauss-Kronrod quadrature to 1e-4 relative; a discrete distribution's exact
-    sum), with the worst velocity of the support. Code design needs |v| dt < 2 over the
-    support (a ValueError otherwise). Refused with `velocity`.
-
-Returns
--------
-dict
-    The names of ``fssim code analyze --json``'s "analysis" section, plus the setting (length,
-    mode, velocity, dt, snr, grid). Under a distribution, velocity is None and the dict also
-    holds velocity_distribution (spec, description, low, high; mean and sd, or points),
-    kernel_velocity (the support's largest |v|, where min_abs and invertible are measured),
-    restoration_error (the averaged error), worst_velocity, worst_snr_level100 and quadrature.
-
-Raises
-------
-ValueError
-    An argument out of range, a distribution that does not parse or is given with `velocity`,
-    a support beyond |v| dt < 2; one line naming the keyword.
-TypeError
-    An argument of the wrong type.
-RuntimeError
-    A code or velocity file that cannot be read.
-)";
-
-constexpr const char* kOptimizeDoc =
-    R"(The code maximizing the SNR at level 100, as ``fssim code optimize``.
-
-Parameters
-----------
-length : int
-velocity : float, optional
-    Pixels per time slot, 0 < |velocity| dt < 2. Give it or `velocity_distribution`.
-dt : float, default 1
-snr : float, default 100
-mode : {"numerical", "analog"}, default "numerical"
-binary : bool, default False
-min_light : float, default 0
-    The light budget, sum of gains (analog or binary codes).
-restarts, iterations, seed, grid_points : int
-    The search's restarts, iterations per start, seed and frequency grid.
-velocity_distribution : str or path, optional
-    A distribution of velocities (docs/method.md §13), as ``fssim code optimize
-    --velocity-distribution``: the search maximizes the SNR of the expected error over it,
-    averaged with a fixed composite Gauss-Legendre rule (8 panels of 4 nodes over the support;
-    a discrete distribution's own velocities), and the result's analysis is
-    ``analyze_code(gains, velocity_distribution=...)``. Refused with `velocity`.
-
-Returns
--------
-dict
-    gains (float64 array), analysis (as analyze_code), starts, best_start, iterations,
-    evaluations.
-
-Raises
-------
-ValueError
-    An argument out of range, neither or both of `velocity` and `velocity_distribution`, a
-    distribution that does not parse; one line naming the keyword.
-TypeError
-    An argument of the wrong type.
-RuntimeError
-    A velocity file that cannot be read.
-)";
+void define_optimize(py::module_& m) {
+  m.def(
+      "optimize_code",
+      [](const py::object& length, const py::object& velocity,
+         const py::object& velocity_distribution, const py::object& dt, const py::object& snr,
+         const py::object& mode, const py::object& binary, const py::object& min_light,
+         const py::object& restarts, const py::object& iterations, const py::object& seed,
+         const py::object& grid_points, const py::object& read_noise,
+         const py::object& dark_current, const py::object& adc_bits, const py::object& adc_gain,
+         const py::object& full_well, const py::object& restoration,
+         const py::object& regularization, const py::object& prior) {
+        return optimize({length,
+                         velocity,
+                         velocity_distribution,
+                         dt,
+                         snr,
+                         mode,
+                         binary,
+                         min_light,
+                         restarts,
+                         iterations,
+                         seed,
+                         grid_points,
+                         {read_noise, dark_current, adc_bits, adc_gain, full_well, restoration,
+                          regularization, prior}});
+      },
+      py::kw_only(), py::arg("length"), py::arg("velocity") = py::none(),
+      py::arg("velocity_distribution") = py::none(), py::arg("dt") = 1.0, py::arg("snr") = 100.0,
+      py::arg("mode") = "numerical", py::arg("binary") = false, py::arg("min_light") = 0.0,
+      py::arg("restarts") = 24, py::arg("iterations") = 300, py::arg("seed") = 0,
+      py::arg("grid_points") = 2048, py::arg("read_noise") = 0.0, py::arg("dark_current") = 0.0,
+      py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(), py::arg("full_well") = py::none(),
+      py::arg("restoration") = "inverse", py::arg("regularization") = py::none(),
+      py::arg("prior") = py::none(), kOptimizeDoc);
+}
 
 }  // namespace
 
 void define_codes(py::module_& m) {
-  m.def("analyze_code", &analyze, py::arg("code"), py::kw_only(), py::arg("velocity") = py::none(),
-        py::arg("dt") = 1.0, py::arg("snr") = 100.0, py::arg("mode") = "numerical",
-        py::arg("grid") = 0, py::arg("velocity_distribution") = py::none(), kAnalyzeDoc);
+  define_analyze(m);
+  define_optimize(m);
   m.def("generate_code", &generate, py::arg("family"), py::kw_only(), py::arg("length"),
-        py::arg("velocity") = 1.0, py::arg("dt") = 1.0, py::arg("seed") = 0,
-        py::arg("analog") = false,
-        "Gains of a sinc, mip, random, snapshot or accumulation code, as `fssim code generate`.");
-  m.def(
-      "optimize_code",
-      [](const py::object& length, const py::object& velocity, const py::object& dt,
-         const py::object& snr, const py::object& mode, const py::object& binary,
-         const py::object& min_light, const py::object& restarts, const py::object& iterations,
-         const py::object& seed, const py::object& grid_points,
-         const py::object& velocity_distribution) {
-        return optimize({length, velocity, dt, snr, mode, binary, min_light, restarts, iterations,
-                         seed, grid_points, velocity_distribution});
-      },
-      py::kw_only(), py::arg("length"), py::arg("velocity") = py::none(), py::arg("dt") = 1.0,
-      py::arg("snr") = 100.0, py::arg("mode") = "numerical", py::arg("binary") = false,
-      py::arg("min_light") = 0.0, py::arg("restarts") = 24, py::arg("iterations") = 300,
-      py::arg("seed") = 0, py::arg("grid_points") = 2048,
-      py::arg("velocity_distribution") = py::none(), kOptimizeDoc);
+        py::arg("velocity") = py::none(), py::arg("dt") = py::none(), py::arg("seed") = py::none(),
+        py::arg("analog") = py::none(), kGenerateDoc);
   m.def("transfer_function", &transfer, py::arg("code"), py::arg("xi"), py::kw_only(),
-        py::arg("velocity") = 1.0, py::arg("dt") = 1.0,
-        "K(xi) of a code (complex), xi in radians per pixel: a number or an array.");
-  m.def("read_code", &read_code, py::arg("code"),
-        "Gains of a built-in code or a code file (float64 array).");
-  m.def("builtin_codes", &fss::builtin_code_names, "Names of the built-in codes.");
+        py::arg("velocity") = 1.0, py::arg("dt") = 1.0, kTransferDoc);
+  m.def("read_code", &read_code, py::arg("code"), kReadCodeDoc);
+  m.def(
+      "builtin_codes", [] { return fss::builtin_code_names(); }, kBuiltinCodesDoc);
 }
 
 }  // namespace fss::python

@@ -4,11 +4,16 @@
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <exception>
+#include <iterator>
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "arguments.h"
@@ -35,13 +40,36 @@ std::string short_repr(py::handle value) {
   return fss::shorten_for_message(py::repr(value).cast<std::string>());
 }
 
-// A real number: float, int, numpy scalars and size-1 arrays (anything
-// float() takes but complex numbers and text).
+namespace {
+
+// numpy's dtype.kind of a numpy scalar or array ('b', 'i', 'u', 'f', 'c', ...),
+// '\0' for another object.
+char numpy_kind(py::handle value) {
+  if (!py::hasattr(value, "dtype")) return '\0';
+  const py::object dtype = py::getattr(value, "dtype");
+  if (!py::hasattr(dtype, "kind")) return '\0';
+  return dtype.attr("kind").cast<std::string>().front();
+}
+
+// True for an array of one or more dimensions (never a number, even of size 1).
+bool is_shaped_array(py::handle value) {
+  return py::isinstance<py::array>(value) && py::reinterpret_borrow<py::array>(value).ndim() > 0;
+}
+
+bool is_bool(py::handle value) {
+  return PyBool_Check(value.ptr()) != 0 || numpy_kind(value) == 'b';
+}
+
+}  // namespace
+
+// A real number: float, int, numpy's real scalars and 0-d arrays, anything
+// float() takes (Fraction, Decimal) but bool, complex numbers and text.
 double float_argument(py::handle value, const char* argument) {
-  const bool complex = PyComplex_Check(value.ptr()) != 0 ||
-                       (py::hasattr(value, "dtype") &&
-                        py::getattr(value, "dtype").attr("kind").cast<std::string>() == "c");
-  if (complex || PyUnicode_Check(value.ptr()) != 0 || PyBytes_Check(value.ptr()) != 0) {
+  const char kind = numpy_kind(value);
+  const bool numpy_refused = kind != '\0' && kind != 'i' && kind != 'u' && kind != 'f';
+  if (numpy_refused || is_bool(value) || is_shaped_array(value) ||
+      PyComplex_Check(value.ptr()) != 0 || PyUnicode_Check(value.ptr()) != 0 ||
+      PyBytes_Check(value.ptr()) != 0) {
     throw_type_error(argument, "a real number", value);
   }
   const double result = PyFloat_AsDouble(value.ptr());
@@ -65,20 +93,26 @@ std::optional<double> optional_float(py::handle value, const char* argument) {
   return float_argument(value, argument);
 }
 
-// An integer (int, numpy integers, bool: what operator.index takes but
-// numpy.bool_) as a Python int.
+// An integer as a Python int: what operator.index takes (int, numpy integers,
+// 0-d integer arrays), or a real number that is an integer (3.0, numpy.float32(3));
+// "seed = 3.5: must be an integer" for another number; bool is a TypeError.
 py::int_ python_int(py::handle value, const char* argument) {
-  // numpy.bool_ as an index is deprecated by numpy itself.
-  if (py::isinstance(value, py::module_::import("numpy").attr("bool_"))) {
-    throw_type_error(argument, "an integer", value);
-  }
+  if (is_bool(value) || is_shaped_array(value)) throw_type_error(argument, "an integer", value);
   PyObject* index = PyNumber_Index(value.ptr());
-  if (index == nullptr) {
-    if (PyErr_ExceptionMatches(PyExc_TypeError) == 0) throw py::error_already_set();
-    PyErr_Clear();
+  if (index != nullptr) return py::reinterpret_steal<py::int_>(index);
+  if (PyErr_ExceptionMatches(PyExc_TypeError) == 0) throw py::error_already_set();
+  PyErr_Clear();
+  double number = 0.0;
+  try {
+    number = float_argument(value, argument);
+  } catch (const py::type_error&) {
     throw_type_error(argument, "an integer", value);
   }
-  return py::reinterpret_steal<py::int_>(index);
+  if (!std::isfinite(number) || number != std::trunc(number)) {
+    throw py::value_error(std::string(argument) + " = " + fss::format_exact(number) +
+                          ": must be an integer");
+  }
+  return py::reinterpret_steal<py::int_>(PyLong_FromDouble(number));
 }
 
 long long int_argument(py::handle value, const char* argument) {
@@ -171,6 +205,52 @@ py::array readable(const py::array& array) {
   return array.attr("astype")("float64");
 }
 
+// ---------------------------------------------------------------------------
+// Images
+
+// data_range= (docs/python.md): given, a finite number > 0; None, 255 for
+// uint8 and 65535 for uint16 (so v x 255 / 65535 = v / 257, as fssim reads a
+// 16-bit PNG); no default for another dtype, whose scale is the user's to state.
+double data_range_argument(py::handle data_range, const py::array& array, const char* argument) {
+  if (data_range.is_none()) {
+    const char kind = array.dtype().kind();
+    const py::ssize_t size = array.dtype().itemsize();
+    if (kind == 'u' && size == 1) return 255.0;
+    if (kind == 'u' && size == 2) return 65535.0;
+    throw py::value_error(
+        std::string(argument) + ": dtype " +
+        fss::shorten_for_message(py::str(array.dtype()).cast<std::string>()) +
+        " needs data_range= (255 for gray levels 0..255, 1 for floats on [0, 1])");
+  }
+  const double value = float_argument(data_range, "data_range");
+  if (!(std::isfinite(value) && value > 0.0)) {
+    throw py::value_error("data_range = " + fss::format_exact(value) +
+                          ": must be a finite number > 0 (the value of gray level 255)");
+  }
+  return value;
+}
+
+ImageArgument image_array_argument(py::handle value, py::handle data_range, const char* argument) {
+  ImageArgument image;
+  image.array = array_argument(value, argument, "an array, H x W or H x W x 3");
+  const args::ArrayView view = view_of(image.array);
+  args::check_real_dtype(view, argument);
+  image.size = args::image_size(view.shape, argument);
+  image.data_range = data_range_argument(data_range, image.array, argument);
+  return image;
+}
+
+fss::Image image_from_argument(const ImageArgument& image, const char* argument) {
+  return args::image_from_view(view_of(readable(image.array)), image.data_range, argument);
+}
+
+fss::Image image_argument(py::handle value, py::handle data_range, const char* argument) {
+  return image_from_argument(image_array_argument(value, data_range, argument), argument);
+}
+
+// ---------------------------------------------------------------------------
+// Outputs
+
 // A planar image as an H x W (one channel) or H x W x 3 float64 array.
 py::array_t<double> array_from_image(const fss::Image& image) {
   std::vector<py::ssize_t> shape = {image.height, image.width};
@@ -191,6 +271,12 @@ py::array_t<double> array_from_vector(const std::vector<double>& values) {
   return array;
 }
 
+py::float_ float_object(double value) { return py::float_(value); }
+
+py::object optional_float_object(const std::optional<double>& value) {
+  return value ? py::object(float_object(*value)) : py::object(py::none());
+}
+
 // `code=`: a built-in name or a code file (str, bytes or os.PathLike), or a
 // sequence of gains (named "array" in the report).
 fss::ShutterCode code_from_object(const py::object& code) {
@@ -209,21 +295,84 @@ fss::ShutterCode code_from_object(const py::object& code) {
   return args::code_from_view(view_of(readable(array)));
 }
 
+// ---------------------------------------------------------------------------
+// Errors and warnings
+
 namespace {
 
-// Sets a Python exception of `type` with `message` on one line, as fssim
-// writes its errors: control bytes (a newline in a file name) and bytes that
-// are not UTF-8 as \xNN.
-void set_error(PyObject* type, const char* message) {
-  const std::string line = fss::escape_control_characters(message);
-  PyObject* text =
-      PyUnicode_DecodeUTF8(line.data(), static_cast<Py_ssize_t>(line.size()), "backslashreplace");
-  if (text == nullptr) return;  // the decoding's own error stays set
-  PyErr_SetObject(type, text);
-  Py_DECREF(text);
+// The CLI's phrases that say more than an option's name, as Python keywords.
+constexpr std::pair<std::string_view, std::string_view> kCliPhrases[] = {
+    {"--mode numerical", "mode='numerical'"},
+    {"--mode analog", "mode='analog'"},
+    {"--rmse-margin auto", "rmse_margin='auto'"},
+    {"--no-plots", "plots=False"},
+};
+
+// "--some-option" (after a space, a parenthesis or a quote, or at the start)
+// as "some_option"; the phrases of kCliPhrases first.
+std::string python_words(const std::string& message) {
+  std::string out;
+  out.reserve(message.size());
+  for (std::size_t i = 0; i < message.size();) {
+    const std::string_view rest = std::string_view(message).substr(i);
+    const bool starts_word =
+        i == 0 || std::string_view(" (\"'[,").find(message[i - 1]) != std::string_view::npos;
+    const bool option = starts_word && rest.size() > 2 && rest.substr(0, 2) == "--" &&
+                        std::islower(static_cast<unsigned char>(rest[2])) != 0;
+    if (!option) {
+      out += message[i++];
+      continue;
+    }
+    const auto phrase = std::find_if(std::begin(kCliPhrases), std::end(kCliPhrases),
+                                     [&](const auto& p) { return rest.starts_with(p.first); });
+    if (phrase != std::end(kCliPhrases)) {
+      out += phrase->second;
+      i += phrase->first.size();
+      continue;
+    }
+    for (i += 2; i < message.size() &&
+                 (std::islower(static_cast<unsigned char>(message[i])) != 0 ||
+                  std::isdigit(static_cast<unsigned char>(message[i])) != 0 || message[i] == '-');
+         ++i) {
+      out += message[i] == '-' ? '_' : message[i];
+    }
+  }
+  return out;
 }
 
+// A Python str of UTF-8 `text`, bytes that are not UTF-8 as \xNN.
+py::str decoded(const std::string& text) {
+  PyObject* object =
+      PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()), "backslashreplace");
+  if (object == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(object);
+}
+
+// Sets a Python exception of `type` with python_message(message).
+void set_error(PyObject* type, const char* message) {
+  try {
+    PyErr_SetObject(type, decoded(python_message(message)).ptr());
+  } catch (py::error_already_set& e) {
+    e.restore();  // the decoding's own error
+  }
+}
+
+PyObject* warning_category = nullptr;  // fss.FssimWarning, created once
+
 }  // namespace
+
+// One line (control bytes as \xNN), in Python words, cut after
+// kMaxMessageLength characters with "..." (never inside a UTF-8 sequence).
+std::string python_message(const std::string& message) {
+  std::string text = python_words(fss::escape_control_characters(message));
+  if (text.size() <= kMaxMessageLength) return text;
+  std::size_t end = kMaxMessageLength - 3;
+  for (int back = 0; back < 3 && (static_cast<unsigned char>(text[end]) & 0xC0U) == 0x80U; ++back) {
+    --end;
+  }
+  text.resize(end);
+  return text + "...";
+}
 
 // pybind11 calls the translator with every C++ exception an exposed function
 // lets out (its signature takes the exception_ptr by value).
@@ -246,6 +395,29 @@ void register_errors() {
                 "out of memory: a buffer larger than the address space was asked for");
     }
   });
+}
+
+void register_warnings(py::module_& m) {
+  if (warning_category == nullptr) {
+    warning_category = PyErr_NewExceptionWithDoc(
+        "fss.FssimWarning",
+        "A warning of fssim (the text fssim prints after \"fssim: warning: \"): the run "
+        "went through but a result may not mean what it usually does.",
+        PyExc_UserWarning, nullptr);
+    if (warning_category == nullptr) throw py::error_already_set();
+  }
+  m.attr("FssimWarning") = py::handle(warning_category);
+}
+
+// Stack level 2: the caller of the public function, which fss/__init__.py
+// wraps in a Python function.
+void warn(const std::string& message) {
+  if (warning_category == nullptr) throw std::logic_error("fss.FssimWarning is not registered");
+  const py::str text = decoded(python_words(fss::escape_control_characters(message)));
+  const char* utf8 = PyUnicode_AsUTF8(text.ptr());
+  if (utf8 == nullptr || PyErr_WarnEx(warning_category, utf8, 2) != 0) {
+    throw py::error_already_set();
+  }
 }
 
 }  // namespace fss::python

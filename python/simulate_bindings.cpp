@@ -25,7 +25,9 @@
 #include "fss/io/report_json.h"
 #include "fss/io/simulate_to_folder.h"
 #include "fss/model/code.h"
+#include "fss/model/velocity_distribution.h"
 #include "fss/pipeline/simulate.h"
+#include "simulate_docs.h"
 
 namespace fss::python {
 namespace {
@@ -41,7 +43,112 @@ struct SimulationResult {
   py::dict report;  // report.json as a dict
   py::object metrics, prediction, geometry, trials, parameters, code, kernel, warnings;
   py::object trial_velocities;  // float64 array, empty without a velocity distribution
+  py::dict trial_metrics;       // name -> float64 array, one value a trial
+  std::string summary;          // for __repr__
 };
+
+void set_number(py::dict& section, const char* key, double value) {
+  section[key] = float_object(value);
+}
+
+void set_optional(py::dict& section, const char* key, const std::optional<double>& value) {
+  if (section.contains(key)) section[key] = optional_float_object(value);
+}
+
+// report.json's numbers that JSON writes as null when infinite or NaN, as
+// Python floats (inf, nan); None stays where a value does not apply
+// (docs/report-schema.md): snr_level100 of a restoration other than the
+// inverse filter, an SSIM without pixels, a section's optional field.
+void restore_non_finite(const fss::SimulationReport& r, py::dict& d) {
+  py::dict metrics = d["metrics"];
+  set_number(metrics, "rmse", r.metrics.rmse);
+  set_number(metrics, "psnr", r.metrics.psnr);
+  set_number(metrics, "rmse_ci", r.metrics.rmse_ci);
+  set_number(metrics, "psnr_ci", r.metrics.psnr_ci);
+  set_optional(metrics, "ssim", r.metrics.ssim);
+  py::dict prediction = d["prediction"];
+  const fss::Prediction& p = r.prediction;
+  set_number(prediction, "rmse_noise_free", p.rmse_noise_free);
+  set_number(prediction, "noise", p.noise);
+  set_number(prediction, "rmse", p.rmse);
+  set_number(prediction, "sigma", p.sigma);
+  set_number(prediction, "rmse_stationary", p.rmse_stationary);
+  set_number(prediction, "m", p.m_amplification);
+  if (r.options.restoration.method == fss::RestorationMethod::kInverse) {
+    set_number(prediction, "snr_level100", p.snr_level100);
+  }
+  set_optional(prediction, "mse", p.mse);
+  py::dict trials = d["trials"];
+  set_number(trials, "rmse_mean", r.trials.rmse_mean);
+  set_number(trials, "rmse_sd", r.trials.rmse_sd);
+  set_number(trials, "rmse_ci_mean", r.trials.rmse_ci_mean);
+  set_number(trials, "rmse_ci_sd", r.trials.rmse_ci_sd);
+  set_optional(trials, "ssim_mean", r.trials.ssim_mean);
+  set_optional(trials, "ssim_sd", r.trials.ssim_sd);
+  set_optional(trials, "mse_mean", r.trials.mse_mean);
+  set_optional(trials, "mse_sd", r.trials.mse_sd);
+  if (d.contains("restoration")) {
+    py::dict restoration = d["restoration"];
+    set_optional(restoration, "regularization", r.restoration.regularization);
+    set_optional(restoration, "prior_level", r.restoration.prior_level);
+    set_optional(restoration, "noise_variance", r.restoration.noise_variance);
+  }
+}
+
+// report.json as a dict, its non-finite numbers as floats.
+py::dict report_dict(const fss::SimulationReport& report, const std::string& json_text) {
+  py::dict d = py::module_::import("json").attr("loads")(json_text);
+  restore_non_finite(report, d);
+  return d;
+}
+
+// Each trial's metrics (trial t, seed + t, at index t) as float64 arrays:
+// rmse, psnr, rmse_ci, psnr_ci, mse (rmse squared), and ssim when every trial has one.
+py::dict trial_metrics_dict(const std::vector<fss::Metrics>& trials) {
+  const std::size_t n = trials.size();
+  std::vector<double> rmse(n), psnr(n), rmse_ci(n), psnr_ci(n), mse(n), ssim(n);
+  bool has_ssim = n > 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    rmse[t] = trials[t].rmse;
+    psnr[t] = trials[t].psnr;
+    rmse_ci[t] = trials[t].rmse_ci;
+    psnr_ci[t] = trials[t].psnr_ci;
+    mse[t] = trials[t].rmse * trials[t].rmse;
+    has_ssim = has_ssim && trials[t].ssim.has_value();
+    ssim[t] = trials[t].ssim.value_or(0.0);
+  }
+  py::dict d;
+  d["rmse"] = array_from_vector(rmse);
+  d["psnr"] = array_from_vector(psnr);
+  d["rmse_ci"] = array_from_vector(rmse_ci);
+  d["psnr_ci"] = array_from_vector(psnr_ci);
+  d["mse"] = array_from_vector(mse);
+  if (has_ssim) d["ssim"] = array_from_vector(ssim);
+  return d;
+}
+
+// One line for __repr__: "<fss.SimulationResult code 'raskar', velocity 1, snr 100, 1 trial:
+// rmse 4.904 (predicted 4.873), psnr 34.32 dB, restored 64 x 324, 0 warnings>".
+std::string result_summary(const fss::SimulationReport& r) {
+  const fss::SimulationOptions& o = r.options;
+  const std::string velocity = o.velocity_distribution
+                                   ? "velocity ~ " + o.velocity_distribution->text()
+                                   : "velocity " + fss::format_number(o.velocity_px_per_slot);
+  return "<fss.SimulationResult code '" + fss::shorten_for_message(r.code_name) + "', " + velocity +
+         ", snr " + fss::format_number(o.snr) + ", " + std::to_string(o.trials) +
+         (o.trials == 1 ? " trial" : " trials") + ": rmse " +
+         fss::format_number(r.metrics.rmse, 4) + " (predicted " +
+         fss::format_number(r.prediction.rmse, 4) + "), psnr " +
+         fss::format_number(r.metrics.psnr, 4) + " dB, restored " +
+         std::to_string(r.restored.height) + " x " + std::to_string(r.restored.width) +
+         (r.channels == 3 ? " x 3" : "") + ", " + std::to_string(r.warnings.size()) +
+         (r.warnings.size() == 1 ? " warning>" : " warnings>");
+}
+
+// Every warning of the run as an fss.FssimWarning, as fssim prints them.
+void warn_all(const fss::SimulationReport& report) {
+  for (const std::string& warning : report.warnings) warn(warning);
+}
 
 SimulationResult make_result(const fss::SimulationReport& report, const fss::Image& input) {
   fss::Image groundtruth;
@@ -55,7 +162,7 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
   result.observed = array_from_image(report.observed);
   result.restored = array_from_image(report.restored);
   result.groundtruth = array_from_image(groundtruth);
-  result.report = py::module_::import("json").attr("loads")(json_text);
+  result.report = report_dict(report, json_text);
   result.metrics = result.report["metrics"];
   result.prediction = result.report["prediction"];
   result.geometry = result.report["geometry"];
@@ -65,14 +172,16 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
   result.kernel = result.report["kernel"];
   result.warnings = result.report["warnings"];
   result.trial_velocities = array_from_vector(report.trial_velocities);
+  result.trial_metrics = trial_metrics_dict(report.trial_metrics);
+  result.summary = result_summary(report);
   return result;
 }
 
 // The keywords of fss.simulate, as Python objects.
 struct SimulateCall {
-  py::object image, code, mode, velocity, snr, dt, seed, trials, noise, restore_velocity, threads,
-      rmse_margin, max_memory, read_noise, dark_current, full_well, adc_bits, adc_gain, restoration,
-      regularization, prior, velocity_distribution;
+  py::object image, data_range, code, mode, velocity, snr, dt, seed, trials, noise,
+      restore_velocity, threads, rmse_margin, max_memory, read_noise, dark_current, full_well,
+      adc_bits, adc_gain, restoration, regularization, prior, velocity_distribution;
 };
 
 args::SimulateArguments simulate_arguments(const SimulateCall& c) {
@@ -122,28 +231,27 @@ args::SimulateArguments simulate_arguments(const SimulateCall& c) {
 // float64 copy of an array of another dtype (readable) is freed before the
 // run starts: with the image it takes 16 bytes a sample, less than the run
 // itself (the image and at least two outputs).
-SimulationResult run_simulation(const py::array& array, const fss::SimulationOptions& options,
+SimulationResult run_simulation(const ImageArgument& image, const fss::SimulationOptions& options,
                                 const fss::ShutterCode& code) {
-  fss::Image input = args::image_from_view(view_of(readable(array)));
+  fss::Image input = image_from_argument(image, "image");
   fss::SimulationReport report;
   {
     py::gil_scoped_release release;
     report = fss::Simulate(options, input, code);
   }
-  return make_result(report, input);
+  SimulationResult result = make_result(report, input);
+  warn_all(report);
+  return result;
 }
 
 SimulationResult simulate(const SimulateCall& call) {
   const fss::SimulationOptions options = args::simulation_options(simulate_arguments(call));
   const fss::ShutterCode code = code_from_object(call.code);
-  const py::array array =
-      array_argument(call.image, "image", "an array of gray levels, H x W or H x W x 3");
-  const args::ArrayView view = view_of(array);
-  args::check_real_dtype(view, "image");
-  const args::ImageSize size = args::image_size(view.shape);
+  const ImageArgument image = image_array_argument(call.image, call.data_range, "image");
+  const args::ImageSize size = image.size;
   args::check_simulation_memory(options, code, size);  // before any copy of the array
   try {
-    return run_simulation(array, options, code);
+    return run_simulation(image, options, code);
   } catch (const std::bad_alloc&) {
     throw OutOfMemory(
         "out of memory while simulating a " + std::to_string(size.width) + " x " +
@@ -190,195 +298,104 @@ fss::FolderRunOptions folder_run_options(const FolderCall& c, const py::object& 
 
 // The run of `fssim --input` from a file into a folder (SimulateToFolder);
 // returns report.json as a dict.
-py::object simulate_to_folder(const SimulateCall& call, const FolderCall& folder) {
+py::dict simulate_to_folder(const SimulateCall& call, const FolderCall& folder) {
   const fss::SimulationOptions options = args::simulation_options(simulate_arguments(call));
   const std::string input = path_argument(call.image, "input");
   const std::string outdir = path_argument(folder.outdir, "outdir");
   const fss::FolderRunOptions run = folder_run_options(folder, call.code);
   const fss::ShutterCode code = code_from_object(call.code);
   std::string json_text;
+  fss::SimulationReport report;
   {
     py::gil_scoped_release release;
-    const fss::SimulationReport report = fss::SimulateToFolder(input, code, outdir, options, run);
+    report = fss::SimulateToFolder(input, code, outdir, options, run);
     json_text = fss::report_json_text(report, input);
   }
-  return py::module_::import("json").attr("loads")(json_text);
+  py::dict result = report_dict(report, json_text);
+  warn_all(report);
+  return result;
 }
 
 void define_result(py::module_& m) {
-  py::class_<SimulationResult>(m, "SimulationResult",
-                               "What fss.simulate returns: the images as float64 arrays and "
-                               "report.json's sections as dicts.")
-      .def_readonly("observed", &SimulationResult::observed,
-                    "observation divided by K(0), output crop (H x Wo [x 3])")
-      .def_readonly("restored", &SimulationResult::restored, "restoration, output crop")
-      .def_readonly("groundtruth", &SimulationResult::groundtruth, "the input, same crop")
-      .def_readonly("report", &SimulationResult::report, "all of report.json")
-      .def_readonly("metrics", &SimulationResult::metrics, "report.json's metrics")
-      .def_readonly("prediction", &SimulationResult::prediction, "report.json's prediction")
-      .def_readonly("geometry", &SimulationResult::geometry, "report.json's geometry")
-      .def_readonly("trials", &SimulationResult::trials, "report.json's trials")
-      .def_readonly("parameters", &SimulationResult::parameters, "report.json's parameters")
-      .def_readonly("code", &SimulationResult::code, "report.json's code")
-      .def_readonly("kernel", &SimulationResult::kernel, "report.json's kernel")
-      .def_readonly("warnings", &SimulationResult::warnings, "report.json's warnings")
-      .def_readonly("trial_velocities", &SimulationResult::trial_velocities,
-                    "each trial's velocity under a velocity distribution (float64 array; empty "
-                    "without one)")
-      .def("__repr__", [](const SimulationResult& r) {
-        return "<fss.SimulationResult rmse=" + py::repr(r.metrics["rmse"]).cast<std::string>() +
-               " restored shape " + py::repr(r.restored.attr("shape")).cast<std::string>() + ">";
-      });
-}
-
-// The numpydoc Parameters entries the simulations share (fss.simulate, fss.simulate_to_folder).
-constexpr const char* kSimulationParameters =
-    R"(code : str, path or sequence of float, default "raskar"
-    A built-in code name, a code file, or the gains.
-mode : {"numerical", "analog"}, default "numerical"
-velocity : float, optional
-    The velocity in pixels per time slot (any sign); None is 1. Refused together with
-    `velocity_distribution`.
-snr : float, default 100
-dt : float, default 1
-    The time slot length.
-seed : int, default 0
-    Trial t draws its noise (and, under a distribution, its velocity) from seed + t.
-trials : int, default 1
-noise : {"poisson", "aggregated", "none"}, default "poisson"
-restore_velocity : float, optional
-    The velocity the restoration assumes; None: the true one (each trial's under a
-    distribution).
-threads : int, default 0
-    0: all hardware threads; never changes a result.
-rmse_margin : int or 'auto', optional
-    Columns left out at each side for the RMSE; None: 3 B; 'auto': 3 B where the image is
-    wide enough (W >= 9 B + 1), else the largest margin leaving a window of B columns.
-max_memory : int, default 0
-    Bytes; refuses, before allocating, a run estimated to need more (0: no limit).
-read_noise, dark_current : float, default 0
-    The sensor (docs/method.md §10): electrons RMS per readout, electrons per slot.
-full_well : float, optional
-    Electrons; None: none.
-adc_bits : int, default 0
-    0: no ADC.
-adc_gain : float, optional
-    Electrons per count (default 1); only with `adc_bits`.
-restoration : {"inverse", "tikhonov", "wiener"}, default "inverse"
-    docs/method.md §12; ``report["restoration"]`` says what was applied.
-regularization : float or "optimal", optional
-    Tikhonov's lambda in [1e-8, 1e2]; None or "optimal": the lambda minimising the run's exact
-    expected error. `restoration` "tikhonov" only.
-prior : str, optional
-    Wiener's prior: "power-law", "power-law:GAMMA" or "oracle" (None: "power-law:2").
-    `restoration` "wiener" only.
-velocity_distribution : str or path, optional
-    A distribution of velocities (docs/method.md §13), as ``fssim --velocity-distribution``:
-    "uniform:LO:HI", "normal:MEAN:SD" (truncated at MEAN +/- 4 SD and renormalised),
-    "normal:MEAN:SD:LO:HI" (truncated), or the path of a file of "velocity weight" lines (a
-    discrete distribution, weights normalised). Each trial draws its velocity from it, from
-    `seed` and its index only (never from `threads`); the restoration uses the drawn velocity
-    unless `restore_velocity` is given; the geometry is that of the support's largest
-    |velocity|, the same for every trial. The restorations a distribution allows are the
-    library's (SimulationOptions::IsValid): a refused one is a ValueError. Refused with
-    `velocity`.
-)";
-
-constexpr const char* kSimulationRaises = R"(
-Raises
-------
-ValueError
-    A usage error of the library (an option out of range, a code the mode cannot use, an
-    image too narrow, a velocity distribution that does not parse or is given with
-    `velocity`), one line naming the keyword.
-TypeError
-    An argument of the wrong type.
-RuntimeError
-    A file that cannot be read (a velocity file that does not parse included), the memory
-    limit.
-MemoryError
-    A failed allocation.
-)";
-
-std::string simulate_doc() {
-  return std::string(R"(Simulate a flutter shutter run on `image`, as ``fssim --input`` does.
-
-Every number is checked as fssim checks its option (a ValueError naming the keyword).
-
-Parameters
-----------
-image : array_like
-    H x W (gray) or H x W x 3 (RGB), any real dtype; every value is a gray level on the
-    0..255 scale, as it is.
-)") + kSimulationParameters +
-         R"(
-Returns
--------
-SimulationResult
-    The observed, restored and ground truth crops (float64) and the sections of report.json
-    as dicts. Under a velocity distribution, ``trial_velocities`` holds each trial's velocity,
-    ``trials["mse_mean"]`` and ``trials["mse_sd"]`` the trials' mean and sample sd of MSE,
-    and ``prediction["mse"]`` the exact E[MSE] over the distribution, which ``mse_mean``
-    estimates (``prediction["rmse"]`` is its square root, above the mean RMSE).
-)" + kSimulationRaises;
-}
-
-std::string simulate_to_folder_doc() {
-  return std::string(R"(Run ``fssim --input INPUT --outdir OUTDIR`` from Python.
-
-Reads the image file, simulates and writes the same files, byte for byte, all of them or
-none. `max_memory` refuses a run from the PNG header, before decoding.
-
-Parameters
-----------
-input : str or path
-    A PNG or TIFF file.
-outdir : str or path
-    The output folder.
-)") + kSimulationParameters +
-         R"(plots, sheet, report, save_float : bool
-    As --no-plots (negated), --sheet, --report and --save-float.
-png_depth : {"8", "16", "auto"}, default "8"
-
-Returns
--------
-dict
-    report.json (under a velocity distribution with the distribution, each trial's velocity,
-    ``trials["mse_mean"]``, ``trials["mse_sd"]`` and ``prediction["mse"]``).
-)" + kSimulationRaises;
+  using R = SimulationResult;
+  py::class_<R>(m, "SimulationResult", kSimulationResultDoc)
+      .def_readonly("observed", &R::observed,
+                    "The first trial's observation divided by K(0), float64 gray levels.")
+      .def_readonly("restored", &R::restored, "The first trial's restoration, float64 gray levels.")
+      .def_readonly("groundtruth", &R::groundtruth, "The input on the output crop, float64.")
+      .def_readonly("report", &R::report, "All of report.json as a dict.")
+      .def_readonly("metrics", &R::metrics,
+                    "The first trial's 'rmse', 'psnr', 'rmse_ci', 'psnr_ci', 'ssim'.")
+      .def_readonly("prediction", &R::prediction,
+                    "The predicted error: 'finite', 'rmse', 'rmse_noise_free', 'noise', "
+                    "'sigma', 'rmse_stationary', 'snr_level100', 'window_mean', 'q', 'm', ...")
+      .def_readonly("geometry", &R::geometry,
+                    "'blur_length', 'observed_width', 'mirror_width', 'output_width', "
+                    "'output_first_input_column', 'rmse_columns', 'rmse_ci_columns'.")
+      .def_readonly("trials", &R::trials,
+                    "Over the trials: 'n', 'rmse_mean', 'rmse_sd', 'rmse_ci_mean', "
+                    "'rmse_ci_sd', 'ssim_mean', 'ssim_sd' (+ 'mse_mean', 'mse_sd', "
+                    "'velocities' under a velocity distribution).")
+      .def_readonly("trial_metrics", &R::trial_metrics,
+                    "Each trial's 'rmse', 'psnr', 'rmse_ci', 'psnr_ci', 'mse' (and 'ssim'), "
+                    "float64 arrays of length trials; trial t at index t.")
+      .def_readonly("parameters", &R::parameters,
+                    "'code', 'code_length', 'mode', 'velocity', 'restore_velocity', 'dt', "
+                    "'snr', 'seed', 'noise', 'trials' (+ 'velocity_distribution').")
+      .def_readonly("code", &R::code, "'name', 'gains', 'sum', 'square_sum', 'normalized_l1'.")
+      .def_readonly("kernel", &R::kernel,
+                    "'k0', 'min_abs', 'min_abs_xi', 'invertible', 'observed_divisor', "
+                    "'zero_bins'.")
+      .def_readonly("warnings", &R::warnings, "The warnings fssim prints for the run (list).")
+      .def_readonly("trial_velocities", &R::trial_velocities,
+                    "Each trial's velocity under a velocity distribution (float64 array; empty "
+                    "without one).")
+      .def("__repr__", [](const R& r) { return r.summary; });
 }
 
 void define_simulate_only(py::module_& m) {
   m.def(
       "simulate",
-      [](const py::object& image, const py::object& code, const py::object& mode,
-         const py::object& velocity, const py::object& snr, const py::object& dt,
-         const py::object& seed, const py::object& trials, const py::object& noise,
-         const py::object& restore_velocity, const py::object& threads,
+      [](const py::object& image, const py::object& data_range, const py::object& code,
+         const py::object& mode, const py::object& velocity, const py::object& snr,
+         const py::object& dt, const py::object& seed, const py::object& trials,
+         const py::object& noise, const py::object& restore_velocity, const py::object& threads,
          const py::object& rmse_margin, const py::object& max_memory, const py::object& read_noise,
          const py::object& dark_current, const py::object& full_well, const py::object& adc_bits,
          const py::object& adc_gain, const py::object& restoration,
          const py::object& regularization, const py::object& prior,
          const py::object& velocity_distribution) {
-        return simulate({image,        code,
-                         mode,         velocity,
-                         snr,          dt,
-                         seed,         trials,
-                         noise,        restore_velocity,
-                         threads,      rmse_margin,
-                         max_memory,   read_noise,
-                         dark_current, full_well,
-                         adc_bits,     adc_gain,
-                         restoration,  regularization,
-                         prior,        velocity_distribution});
+        return simulate({image,
+                         data_range,
+                         code,
+                         mode,
+                         velocity,
+                         snr,
+                         dt,
+                         seed,
+                         trials,
+                         noise,
+                         restore_velocity,
+                         threads,
+                         rmse_margin,
+                         max_memory,
+                         read_noise,
+                         dark_current,
+                         full_well,
+                         adc_bits,
+                         adc_gain,
+                         restoration,
+                         regularization,
+                         prior,
+                         velocity_distribution});
       },
-      py::arg("image"), py::kw_only(), py::arg("code") = "raskar", py::arg("mode") = "numerical",
-      py::arg("velocity") = py::none(), py::arg("snr") = 100.0, py::arg("dt") = 1.0,
-      py::arg("seed") = 0, py::arg("trials") = 1, py::arg("noise") = "poisson",
-      py::arg("restore_velocity") = py::none(), py::arg("threads") = 0,
-      py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0, py::arg("read_noise") = 0.0,
-      py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(), py::arg("adc_bits") = 0,
-      py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
+      py::arg("image"), py::kw_only(), py::arg("data_range") = py::none(),
+      py::arg("code") = "raskar", py::arg("mode") = "numerical", py::arg("velocity") = py::none(),
+      py::arg("snr") = 100.0, py::arg("dt") = 1.0, py::arg("seed") = 0, py::arg("trials") = 1,
+      py::arg("noise") = "poisson", py::arg("restore_velocity") = py::none(),
+      py::arg("threads") = 0, py::arg("rmse_margin") = py::none(), py::arg("max_memory") = 0,
+      py::arg("read_noise") = 0.0, py::arg("dark_current") = 0.0, py::arg("full_well") = py::none(),
+      py::arg("adc_bits") = 0, py::arg("adc_gain") = py::none(), py::arg("restoration") = "inverse",
       py::arg("regularization") = py::none(), py::arg("prior") = py::none(),
       py::arg("velocity_distribution") = py::none(), simulate_doc().c_str());
 }
@@ -396,17 +413,29 @@ void define_simulate_to_folder(py::module_& m) {
          const py::object& regularization, const py::object& prior,
          const py::object& velocity_distribution, const py::object& plots, const py::object& sheet,
          const py::object& report, const py::object& save_float, const py::object& png_depth) {
-        return simulate_to_folder({input,        code,
-                                   mode,         velocity,
-                                   snr,          dt,
-                                   seed,         trials,
-                                   noise,        restore_velocity,
-                                   threads,      rmse_margin,
-                                   max_memory,   read_noise,
-                                   dark_current, full_well,
-                                   adc_bits,     adc_gain,
-                                   restoration,  regularization,
-                                   prior,        velocity_distribution},
+        return simulate_to_folder({input,
+                                   py::none(),
+                                   code,
+                                   mode,
+                                   velocity,
+                                   snr,
+                                   dt,
+                                   seed,
+                                   trials,
+                                   noise,
+                                   restore_velocity,
+                                   threads,
+                                   rmse_margin,
+                                   max_memory,
+                                   read_noise,
+                                   dark_current,
+                                   full_well,
+                                   adc_bits,
+                                   adc_gain,
+                                   restoration,
+                                   regularization,
+                                   prior,
+                                   velocity_distribution},
                                   {outdir, plots, sheet, report, save_float, png_depth});
       },
       py::arg("input"), py::arg("outdir"), py::kw_only(), py::arg("code") = "raskar",

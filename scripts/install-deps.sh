@@ -15,6 +15,11 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module fss (python/)
   python3-pil  # with python3-numpy: the numpy column of bench/run.sh (bench/numpy_flutter.py)
   python3-skimage  # the outside check of SSIM (python/tests/test_restoration.py)
+  python3-venv  # `python3 -m venv` for pip installs of fss (docs/python.md#installing)
+  python3-pip  # pip, which builds and installs the package fssim (pyproject.toml)
+  python3-setuptools  # the build backend of pyproject.toml (setup.py), for --no-build-isolation
+  python3-wheel  # setuptools 66 makes wheels with it (pip install, pip wheel)
+  python3-matplotlib  # the figures of the gallery (python/examples/)
   libgsl-dev  # GSL's normal and Poisson generators, a reference in bench/micro_bench
   strace  # fault injection into output publishing (tests/cli/fault_injection_test.cpp)
   man-db  # the install test renders the installed man page (scripts/test-install.sh)

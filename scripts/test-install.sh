@@ -17,8 +17,13 @@
 #                      `install` test does this); the other variant is built
 #                      fresh, through DIR's compiler launcher if it has one
 #                      (scripts/test.sh's ccache: what DIR compiled with the
-#                      same flags is not compiled again).
-#   --keep             leave the temporary directory (printed) for inspection.
+#                      same flags is not compiled again; the fresh build is
+#                      made in a directory build-install-*.XXXXXX at the top
+#                      of the checkout, as build/ is, so that under a
+#                      CCACHE_BASEDIR the compiler sees the same relative
+#                      paths, ../src/...).
+#   --keep             leave the temporary directory and the fresh build
+#                      directories (printed) for inspection.
 # Prints one line per check and "test-install: N passed, M failed"; exits 1 on
 # any failure. Builds with all cores; a fresh library build takes minutes.
 set -uo pipefail
@@ -47,10 +52,11 @@ if [ -n "$reuse" ]; then
   [ -z "$value" ] || launcher=("-DCMAKE_CXX_COMPILER_LAUNCHER=$value")
 fi
 work=$(mktemp -d "${TMPDIR:-/tmp}/fss-test-install.XXXXXX")
+fresh_builds=()  # the fresh build directories, at the top of the checkout
 if [ "$keep" -eq 1 ]; then
   echo "test-install: working in $work (kept)"
 else
-  trap 'rm -rf "$work"' EXIT
+  trap 'rm -rf "$work" "${fresh_builds[@]}"' EXIT
 fi
 
 passed=0
@@ -208,22 +214,34 @@ check_pkgconfig_consumer() {
     env -u LD_LIBRARY_PATH "$dir/pkgconfig_consumer" "$dir/out"
 }
 
-# The installed Python module (when the build made one): imported from the
-# prefix alone, with the version of the installed fssim, and a small
-# simulation (600 x 8 ramp, snapshot, no noise) whose report matches its
-# arrays.
+# The installed Python package (when the build made one), <platlib>/fss:
+# the files of python/fss/ and the compiled module, nothing else; in the
+# shared variant the module finds the prefix's libfss.so through its RUNPATH;
+# imported from the prefix alone, with the version of the installed fssim,
+# and a small simulation (600 x 8 ramp, snapshot, no noise) whose report
+# matches its arrays.
 check_python() {
-  local prefix=$1 build=$2 python pydir
+  local prefix=$1 build=$2 variant=$3 libdir=$4 python pydir expected installed resolved
   python=$(sed -n 's/^_\{0,1\}Python3_EXECUTABLE:[A-Z]*=//p' "$build/CMakeCache.txt" | head -n 1)
   pydir=$(sed -n 's/^FSS_PYTHON_INSTALL_DIR:[A-Z]*=//p' "$build/CMakeCache.txt")
   [[ $pydir == /* ]] || pydir="$prefix/$pydir"
-  ls "$pydir" &&
-    (cd "$work" && env -u LD_LIBRARY_PATH PYTHONPATH="$pydir" FSSIM="$prefix/bin/fssim" "$python" -c '
+  expected=$( (cd "$root/python/fss" && ls -1 -- *.py *.pyi py.typed 2>/dev/null
+    "$python" -c 'import sysconfig; print("_fss" + sysconfig.get_config_var("EXT_SUFFIX"))') | sort)
+  installed=$(cd "$pydir/fss" && find . -path ./__pycache__ -prune -o -type f -printf '%P\n' | sort) || return 1
+  echo "installed in $pydir/fss: $(echo "$installed" | tr '\n' ' ')"
+  [ "$expected" = "$installed" ] || { echo "expected: $(echo "$expected" | tr '\n' ' ')"; return 1; }
+  if [ "$variant" = shared ]; then
+    readelf -d "$pydir"/fss/_fss*.so | grep -E 'RPATH|RUNPATH'
+    resolved=$(env -u LD_LIBRARY_PATH ldd "$pydir"/fss/_fss*.so | sed -n 's/.*libfss\.so[^ ]* => \([^ ]*\).*/\1/p')
+    echo "libfss.so => $resolved"
+    [ "$(realpath "$resolved")" = "$(realpath "$prefix/$libdir/libfss.so.0.1")" ] || return 1
+  fi
+  (cd "$work" && env -u LD_LIBRARY_PATH PYTHONPATH="$pydir" FSSIM="$prefix/bin/fssim" "$python" -c '
 import os, subprocess, numpy as np, fss
 assert os.path.realpath(fss.__file__).startswith(os.path.realpath(os.environ["PYTHONPATH"])), fss.__file__
 version = subprocess.run([os.environ["FSSIM"], "--version"], capture_output=True, text=True).stdout
 assert version.strip() == "fssim " + fss.__version__, (version, fss.__version__)
-image = np.tile(np.arange(600, dtype=np.uint16) % 256, (8, 1))
+image = np.tile((np.arange(600) % 256).astype(np.uint8), (8, 1))
 run = fss.simulate(image, code="snapshot", noise="none")
 assert run.restored.shape == (8, 600 - 3 * 52) and run.restored.dtype == np.float64
 assert run.geometry["output_width"] == 444 and run.report["fssim_version"] == fss.__version__
@@ -239,7 +257,8 @@ test_variant() {
     build=$reuse
     echo "-- $variant: installing the build in $build"
   else
-    build="$work/build-$variant"
+    build=$(mktemp -d "$root/build-install-$variant.XXXXXX")
+    fresh_builds+=("$build")
     local shared=OFF
     [ "$variant" = shared ] && shared=ON
     echo "-- $variant: configuring and building in $build"
@@ -263,7 +282,7 @@ test_variant() {
   check "$variant: pkg-config consumer" check_pkgconfig_consumer "$prefix" "$libdir" "$work/pkgconfig-consumer-$variant"
   last_output | grep -E '^(snapshot|pkgconfig_consumer)' | sed 's/^/      /'
   if grep -q '^FSS_BUILD_PYTHON:BOOL=ON' "$build/CMakeCache.txt"; then
-    check "$variant: Python module from the prefix" check_python "$prefix" "$build"
+    check "$variant: Python package from the prefix" check_python "$prefix" "$build" "$variant" "$libdir"
     last_output | grep -E '^fss ' | sed 's/^/      /'
   else
     echo "skip  $variant: Python module (not built: FSS_BUILD_PYTHON is OFF)"

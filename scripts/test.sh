@@ -15,6 +15,11 @@ jobs=$(nproc 2>/dev/null || echo 2)
 launcher=()
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  # Paths under the checkout are hashed relative to the build directory, so
+  # that the pip build of the package in a clone inside build/
+  # (scripts/test-python-install.sh) and the install test's shared build
+  # beside build/ reuse these compiles.
+  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
   if [ -z "${CCACHE_DIR:-}" ]; then
     CCACHE_DIR=$(mktemp -d "${TMPDIR:-/tmp}/fss-ccache.XXXXXX")
     export CCACHE_DIR

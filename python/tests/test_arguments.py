@@ -154,11 +154,13 @@ def test_code_functions_check_every_number(call, message):
     assert str(error.value).startswith(message)
 
 
-def test_design_results_are_finite():
+def test_design_results_are_never_nan():
+    # At the ends of the ranges a figure may be infinite (a float, never None), never NaN.
     analysis = fss.analyze_code("raskar", velocity=1e-90, dt=1e-100, snr=1e100)
     for key, value in analysis.items():
         if isinstance(value, float):
-            assert math.isfinite(value), key
+            assert not math.isnan(value), key
+        assert value is not None or key in ("velocity", "velocity_distribution"), key
     assert np.all(np.isfinite(fss.generate_code("sinc", length=8, velocity=1e-10, dt=1e10)))
 
 
@@ -166,6 +168,7 @@ def test_design_results_are_finite():
 # adc_gain needs adc_bits
 
 
+@pytest.mark.filterwarnings("ignore::fss.FssimWarning")  # a flat image near the ADC's 0
 def test_adc_gain_needs_adc_bits():
     for keywords in ({"adc_gain": 2.0}, {"adc_gain": 1.0}, {"adc_gain": 2.0, "adc_bits": 0}):
         with pytest.raises(ValueError) as error:

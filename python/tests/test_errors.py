@@ -33,8 +33,10 @@ def test_usage_errors_have_fssims_messages(fssim, gray, camera, tmp_path):
                                                   "/no/such/code")
     with pytest.raises(ValueError) as error:
         fss.simulate(gray, code="random", mode="analog")
-    assert str(error.value) == fssim_error(fssim, "-i", camera, "-o", out, "--code", "random",
-                                           "--mode", "analog")
+    # fssim's advice in Python words (convert.cpp's translation).
+    cli = fssim_error(fssim, "-i", camera, "-o", out, "--code", "random", "--mode", "analog")
+    assert cli.endswith("(use --mode numerical)")
+    assert str(error.value) == cli.replace("--mode numerical", "mode='numerical'")
 
 
 def test_runtime_errors_have_fssims_messages(fssim, gray, camera, tmp_path):
@@ -77,7 +79,7 @@ def test_bad_images(gray):
     nan = gray.astype(np.float64)
     nan[3, 5] = np.nan
     with pytest.raises(ValueError, match="image: value nan at row 3, column 5 is not finite"):
-        fss.simulate(nan)
+        fss.simulate(nan, data_range=255)
     with pytest.raises(ValueError, match="too narrow|narrow|width"):
         fss.simulate(gray[:, :100])
 

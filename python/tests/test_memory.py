@@ -80,7 +80,7 @@ def test_max_memory_refuses_broadcast_and_rgb_arrays_at_once():
         before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         print(outcome(lambda: fss.simulate(huge, max_memory=1 << 30)))
         half = np.broadcast_to(np.float16(7), (2, 600, 3))  # converted by numpy, not here
-        print(outcome(lambda: fss.simulate(half, max_memory=1 << 20)))
+        print(outcome(lambda: fss.simulate(half, data_range=255, max_memory=1 << 20)))
         print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before)
     """)
     assert lines[0].startswith("RuntimeError: a run on this 60000 x 60000 x 3 image needs about ")

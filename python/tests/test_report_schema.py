@@ -21,8 +21,8 @@ def field_paths(value, prefix=""):
 
 
 def test_schema_document_lists_every_field():
-    image = np.tile(np.arange(600.0) % 256, (8, 1))
-    report = fss.simulate(image, code="snapshot", trials=2).report
+    image = np.tile(np.arange(600.0) % 256, (12, 1))
+    report = fss.simulate(image, data_range=255, code="snapshot", trials=2).report
     documented = set(re.findall(r"`([a-z0-9_.]+)`", (SOURCE_DIR / "docs/report-schema.md").read_text()))
     missing = [path for path in field_paths(report) if path not in documented]
     assert not missing, f"not in docs/report-schema.md: {missing}"
@@ -31,6 +31,7 @@ def test_schema_document_lists_every_field():
 
 
 def test_version_fields():
-    report = fss.simulate(np.tile(np.arange(600.0) % 256, (8, 1)), code="snapshot").report
+    image = np.tile(np.arange(600.0) % 256, (12, 1))
+    report = fss.simulate(image, data_range=255, code="snapshot").report
     assert isinstance(report["schema_version"], int) and report["schema_version"] == 1
     assert re.fullmatch(r"\d+\.\d+\.\d+( \(git [0-9a-f]+(-dirty)?\))?", report["fssim_version"])

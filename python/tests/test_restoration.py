@@ -41,7 +41,8 @@ def test_ssim_matches_scikit_image_in_colour(astronaut_array):
 
 
 def test_ssim_is_null_with_a_warning_when_no_pixel_is_left(camera_array):
-    result = fss.simulate(camera_array, rmse_margin=3)
+    with pytest.warns(fss.FssimWarning, match="SSIM is null"):
+        result = fss.simulate(camera_array, rmse_margin=3)
     assert result.metrics["ssim"] is None
     assert any("SSIM is null" in w for w in result.warnings)
 
@@ -66,10 +67,13 @@ def test_report_records_the_restoration(camera_array):
 
 
 def test_a_code_that_is_not_invertible_gets_a_finite_prediction(camera_array):
-    inverse = fss.simulate(camera_array, code="accumulation")
+    with pytest.warns(fss.FssimWarning, match="not invertible"):
+        inverse = fss.simulate(camera_array, code="accumulation")
     assert inverse.prediction["finite"] is False
+    assert inverse.prediction["rmse"] == float("inf")
     for keywords in RESTORATIONS[1:]:
-        result = fss.simulate(camera_array, code="accumulation", **keywords)
+        with pytest.warns(fss.FssimWarning, match="restoration damps the frequencies"):
+            result = fss.simulate(camera_array, code="accumulation", **keywords)
         assert result.prediction["finite"] is True
         assert np.isfinite(result.prediction["rmse"])
 

@@ -2,6 +2,8 @@
 to the last bit (the PNG pixels of the images, every value of report.json),
 and the shapes, dtypes and conventions of the module."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -47,7 +49,12 @@ def test_same_numbers_as_fssim(fssim, tmp_path, request, name, cli_options, keyw
     path = request.getfixturevalue(image)
     run_fssim(fssim, "--input", path, "--outdir", tmp_path, "--no-plots", *cli_options)
     cli = read_report(tmp_path)
-    result = fss.simulate(read_png8(path), **keywords)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fss.simulate(read_png8(path), **keywords)
+    # fssim's warnings, each an fss.FssimWarning with the same text
+    assert [str(w.message) for w in caught] == result.warnings == cli["warnings"]
+    assert all(w.category is fss.FssimWarning for w in caught)
 
     for output in ("observed", "restored", "groundtruth"):
         written = read_png8(tmp_path / f"{output}.png")
@@ -98,11 +105,12 @@ def test_shapes_and_dtypes(camera, astronaut):
     assert np.any(result.restored != np.round(result.restored))
 
 
-@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int16, np.int64, np.float32, np.float64])
-def test_every_dtype_is_gray_levels(camera, dtype):
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int16, np.int64, np.float32, np.float64,
+                                   ">f8", np.float16])
+def test_every_dtype_with_data_range_255_is_gray_levels(camera, dtype):
     gray = read_png8(camera)
     reference = fss.simulate(gray, noise="none", code="snapshot")
-    result = fss.simulate(gray.astype(dtype), noise="none", code="snapshot")
+    result = fss.simulate(gray.astype(dtype), data_range=255, noise="none", code="snapshot")
     np.testing.assert_array_equal(result.restored, reference.restored)
     assert result.metrics == reference.metrics
 
@@ -131,10 +139,18 @@ def test_fssim_version_is_what_version_prints(fssim, tmp_path, camera):
     assert read_report(tmp_path)["fssim_version"] == fss.__version__
 
 
-def test_not_invertible_gives_none(camera):
-    result = fss.simulate(read_png8(camera), code="accumulation", noise="none")
+def test_not_invertible_gives_inf(fssim, tmp_path, camera):
+    with pytest.warns(fss.FssimWarning, match="not invertible"):
+        result = fss.simulate(read_png8(camera), code="accumulation", noise="none")
     assert result.prediction["finite"] is False
-    assert result.prediction["rmse"] is None
+    # JSON has no infinity: report.json holds null where the module gives inf.
+    run_fssim(fssim, "--input", camera, "--outdir", tmp_path, "--no-plots", "--code",
+              "accumulation", "--noise", "none")
+    cli = read_report(tmp_path)["prediction"]
+    for key in ("rmse", "noise", "sigma", "rmse_stationary", "m"):
+        assert cli[key] is None and result.prediction[key] == float("inf"), key
+    assert isinstance(result.prediction["rmse"], float)
+    assert result.prediction["rmse_noise_free"] == cli["rmse_noise_free"]
     assert result.warnings
 
 

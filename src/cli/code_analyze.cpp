@@ -247,21 +247,8 @@ void print_analysis(const fss::ShutterCode& code, const fss::CodeAnalysis& a,
 // With an ADC, a warning when the mean level-100 readout passes the top of its
 // range (the figure of merit counts only the rounding, not the clipping).
 void warn_adc_range(const fss::CodeAnalysis& a) {
-  if (a.sensor.adc_bits == 0) return;
-  const double lambda2 = a.snr * a.snr / 100.0;
-  const double exposure =
-      fss::readout_exposure_slots(static_cast<std::size_t>(a.length), a.dt, a.mode);
-  // A frame sees one slot of light, the analog exposure sum alpha slots.
-  const double light = a.mode == fss::ShutterMode::kNumerical ? a.dt : a.dt * a.sum;
-  const double charge =
-      100.0 * light * lambda2 + a.sensor.dark_current_electrons_per_slot * exposure;
-  const double top =
-      (std::ldexp(1.0, a.sensor.adc_bits) - 1.0) * a.sensor.adc_gain_electrons_per_count;
-  if (charge > top) {
-    std::fprintf(stderr,
-                 "fssim: warning: a level-100 readout of %g e- passes the ADC's top of %g e-: the "
-                 "figure of merit counts its rounding, not its clipping\n",
-                 charge, top);
+  if (const std::string warning = fss::adc_range_warning(a); !warning.empty()) {
+    fss::write_stderr("fssim: warning: " + warning + "\n");
   }
 }
 

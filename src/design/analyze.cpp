@@ -296,4 +296,20 @@ CodeAnalysis analyze_code(const ShutterCode& code, double velocity, double dt, d
   return a;
 }
 
+// The mean charge of a level-100 readout against the ADC's top (adc_range_warning in analyze.h).
+std::string adc_range_warning(const CodeAnalysis& a) {
+  if (a.sensor.adc_bits == 0) return {};
+  const double lambda2 = a.snr * a.snr / 100.0;
+  const double exposure = readout_exposure_slots(static_cast<std::size_t>(a.length), a.dt, a.mode);
+  // A frame sees one slot of light, the analog exposure sum alpha slots.
+  const double light = a.mode == ShutterMode::kNumerical ? a.dt : a.dt * a.sum;
+  const double charge =
+      100.0 * light * lambda2 + a.sensor.dark_current_electrons_per_slot * exposure;
+  const double top =
+      (std::ldexp(1.0, a.sensor.adc_bits) - 1.0) * a.sensor.adc_gain_electrons_per_count;
+  if (!(charge > top)) return {};
+  return "a level-100 readout of " + format_number(charge) + " e- passes the ADC's top of " +
+         format_number(top) + " e-: the figure of merit counts its rounding, not its clipping";
+}
+
 }  // namespace fss

@@ -2,7 +2,8 @@
 // (python/arguments.h), which the module's glue feeds with the numbers,
 // strings and array memory of a call. The first byte chooses the function:
 //   0 simulation_options, then the memory estimate of a run of a fuzzed size
-//   1 image_from_view   2 values_from_view   3 code_from_view, transfer_values
+//   1 image_from_view (its data_range first)   2 values_from_view
+//   3 code_from_view, transfer_values
 //   4 generate_options  5 optimize_options   6 the text arguments
 // The bytes after it are the values, read front to back (a number: one byte
 // choosing a notable value or the raw bits of the next 8; past the end every
@@ -144,10 +145,16 @@ void fuzz_simulation_options(Input& in) {
 }
 
 void fuzz_arrays(Input& in, int choice) {
+  // data_range as the module passes it: a finite number > 0 (convert.cpp refuses others).
+  double data_range = 255.0;
+  if (choice == 1) {
+    const double number = in.number();
+    if (std::isfinite(number) && number > 0.0) data_range = number;
+  }
   args::ArrayView view;
   if (!make_view(in, view)) return;
   if (choice == 1) {
-    const fss::Image image = args::image_from_view(view);
+    const fss::Image image = args::image_from_view(view, data_range);
     require(image.height == view.shape[0] && image.width == view.shape[1]);
     for (const double value : image.data) require(std::isfinite(value));
   } else if (choice == 2) {

@@ -178,6 +178,13 @@ CodeAnalysis analyze_code(const ShutterCode& code, const VelocityDistribution& v
                           const SensorModel& sensor = {},
                           const RestorationOptions& restoration = {});
 
+// With an ADC, the warning that the mean level-100 readout of the analysis (100 dt lambda2
+// electrons a frame, 100 dt sum alpha lambda2 the analog exposure, lambda2 = snr^2 / 100, plus the
+// dark current over readout_exposure_slots) passes the top of the ADC's range, (2^bits - 1) G:
+// "a level-100 readout of 1.2e+06 e- passes the ADC's top of 4095 e-: the figure of merit counts
+// its rounding, not its clipping"; "" when it does not or there is no ADC.
+std::string adc_range_warning(const CodeAnalysis& analysis);
+
 // How an analysis under a velocity distribution averaged its error, in words: "adaptive
 // Gauss-Kronrod quadrature to relative 1e-4 (405 evaluations, 14 intervals, error estimate
 // 0.00037 gray levels^2)", "the exact weighted sum over its 7 velocities", "one velocity (the

@@ -317,8 +317,12 @@ void fill_values(const ArrayView& view, std::string_view argument, std::string_v
 void check_real_dtype(const ArrayView& view, std::string_view argument) {
   const char kind = view.kind;
   if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f') {
+    // Text given as an image is most likely a file name.
+    const bool text = kind == 'U' || kind == 'S';
+    const std::string hint =
+        text && argument == "image" ? "; for a file, fss.read_image(path)" : "";
     throw_usage_error(std::string(argument) + ": dtype " + shorten_for_message(view.dtype) +
-                      " is not a real numeric type (expected bool, integer or float)");
+                      " is not a real numeric type (expected bool, integer or float" + hint + ")");
   }
 }
 

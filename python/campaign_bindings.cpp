@@ -139,17 +139,19 @@ std::string gap_text(const std::vector<std::string>& lines) {
   return text;
 }
 
-// The settings that did not run, as fssim lists them on stderr: one warning; then, when some
-// cannot run and skip_unrunnable is False, the RuntimeError of fssim's exit status 1.
+// The settings that did not run: when some cannot run and skip_unrunnable is False, the
+// RuntimeError of fssim's exit status 1; else one warning listing them, as fssim's stderr.
 void report_gaps(const fss::ResolvedCampaign& campaign, const std::vector<fss::ResultRow>& rows,
                  const std::string& outdir, bool skip_unrunnable) {
   const std::vector<fss::CampaignGap> gaps =
       fss::campaign_gaps(rows, campaign.has_velocity_distributions());
   const std::string text =
       gap_text(fss::gap_report_lines(gaps, static_cast<long long>(rows.size())));
-  if (!text.empty()) warn(text);
   const long long cannot_run = fss::count_gaps(gaps, fss::GapKind::kCannotRun);
-  if (cannot_run == 0 || skip_unrunnable) return;
+  if (cannot_run == 0 || skip_unrunnable) {
+    if (!text.empty()) warn(text);
+    return;
+  }
   const std::string dir = "'" + fss::shorten_for_message(outdir, 80) + "'";
   fss::throw_runtime_error(std::to_string(cannot_run) +
                            (cannot_run == 1 ? " setting cannot run" : " settings cannot run") +

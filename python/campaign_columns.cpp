@@ -2,7 +2,9 @@
 
 #include <pybind11/numpy.h>
 
+#include <algorithm>
 #include <charconv>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string_view>
@@ -98,11 +100,35 @@ py::array column_array(const std::string& name, const std::vector<std::vector<st
   return py::module_::import("numpy").attr("array")(cells, py::arg("dtype") = "str");
 }
 
+// Every name a column of results.csv or trials.csv (the widest schemas), each once.
+void check_header(const std::vector<std::string>& names, const std::string& source) {
+  const auto known = [](const std::string& name) {
+    for (const auto* columns : {&fss::campaign_columns(true), &fss::trial_columns(true)}) {
+      for (const fss::ResultColumn& column : *columns) {
+        if (name == column.name) return true;
+      }
+    }
+    return false;
+  };
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    if (!known(names[j])) {
+      fss::throw_runtime_error(source + ": column '" + fss::shorten_for_message(names[j], 40) +
+                               "' is not one of results.csv or trials.csv (expected the "
+                               "results of fssim campaign)");
+    }
+    if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(j), names[j]) !=
+        names.begin() + static_cast<std::ptrdiff_t>(j)) {
+      fss::throw_runtime_error(source + ": column '" + names[j] + "' appears twice");
+    }
+  }
+}
+
 }  // namespace
 
 py::dict campaign_columns_dict(const std::vector<std::string>& names,
                                const std::vector<std::vector<std::string>>& rows,
                                const std::string& source) {
+  check_header(names, source);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (rows[i].size() != names.size()) {
       fss::throw_runtime_error(source + ": row " + std::to_string(i + 1) + " has " +

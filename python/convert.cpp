@@ -10,6 +10,7 @@
 #include <exception>
 #include <iterator>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -308,34 +309,86 @@ constexpr std::pair<std::string_view, std::string_view> kCliPhrases[] = {
     {"--no-plots", "plots=False"},
 };
 
-// "--some-option" (after a space, a parenthesis or a quote, or at the start)
-// as "some_option"; the phrases of kCliPhrases first.
+// The options of fssim the library's messages name; each is the keyword of
+// the same name, '-' as '_'.
+constexpr std::string_view kCliOptions[] = {
+    "adc-bits",
+    "adc-gain",
+    "code",
+    "dark-current",
+    "dt",
+    "full-well",
+    "input",
+    "max-memory",
+    "mode",
+    "noise",
+    "outdir",
+    "png-depth",
+    "prior",
+    "read-noise",
+    "regularization",
+    "report",
+    "restoration",
+    "restore-velocity",
+    "rmse-margin",
+    "save-float",
+    "sheet",
+    "snr",
+    "trials",
+    "velocity",
+    "velocity-distribution",
+};
+
+bool is_option_character(char c) {
+  return std::islower(static_cast<unsigned char>(c)) != 0 ||
+         std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '-';
+}
+
+// At `rest` (which begins with "--"), the Python words of a phrase or an option of fssim and
+// the length they replace; nothing for any other text (a file named "--x.png").
+std::optional<std::pair<std::string, std::size_t>> python_option(std::string_view rest) {
+  for (const auto& [cli, python] : kCliPhrases) {
+    if (rest.starts_with(cli) &&
+        (rest.size() == cli.size() || !is_option_character(rest[cli.size()]))) {
+      return std::pair{std::string(python), cli.size()};
+    }
+  }
+  std::size_t end = 2;
+  while (end < rest.size() && is_option_character(rest[end])) ++end;
+  const std::string_view name = rest.substr(2, end - 2);
+  if (std::find(std::begin(kCliOptions), std::end(kCliOptions), name) == std::end(kCliOptions)) {
+    return std::nullopt;
+  }
+  std::string keyword(name);
+  std::replace(keyword.begin(), keyword.end(), '-', '_');
+  return std::pair{keyword, end};
+}
+
+// True when message[i] has a letter or digit on both sides (the apostrophe of "code's").
+bool within_word(const std::string& message, std::size_t i) {
+  const auto alnum = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; };
+  return i > 0 && i + 1 < message.size() && alnum(message[i - 1]) && alnum(message[i + 1]);
+}
+
+// The message with fssim's options ("--rmse-margin", "--mode numerical") as Python keywords
+// ("rmse_margin", "mode='numerical'"), outside the quoted names ('...') it holds.
 std::string python_words(const std::string& message) {
   std::string out;
   out.reserve(message.size());
+  bool quoted = false;
   for (std::size_t i = 0; i < message.size();) {
     const std::string_view rest = std::string_view(message).substr(i);
     const bool starts_word =
-        i == 0 || std::string_view(" (\"'[,").find(message[i - 1]) != std::string_view::npos;
-    const bool option = starts_word && rest.size() > 2 && rest.substr(0, 2) == "--" &&
-                        std::islower(static_cast<unsigned char>(rest[2])) != 0;
-    if (!option) {
-      out += message[i++];
-      continue;
+        i == 0 || std::string_view(" (\"[,").find(message[i - 1]) != std::string_view::npos;
+    if (!quoted && starts_word && rest.starts_with("--")) {
+      if (const auto option = python_option(rest)) {
+        out += option->first;
+        i += option->second;
+        continue;
+      }
     }
-    const auto phrase = std::find_if(std::begin(kCliPhrases), std::end(kCliPhrases),
-                                     [&](const auto& p) { return rest.starts_with(p.first); });
-    if (phrase != std::end(kCliPhrases)) {
-      out += phrase->second;
-      i += phrase->first.size();
-      continue;
-    }
-    for (i += 2; i < message.size() &&
-                 (std::islower(static_cast<unsigned char>(message[i])) != 0 ||
-                  std::isdigit(static_cast<unsigned char>(message[i])) != 0 || message[i] == '-');
-         ++i) {
-      out += message[i] == '-' ? '_' : message[i];
-    }
+    if (message[i] == '\'' && !within_word(message, i)) quoted = !quoted;
+    out += message[i++];
   }
   return out;
 }

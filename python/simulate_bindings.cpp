@@ -227,6 +227,19 @@ args::SimulateArguments simulate_arguments(const SimulateCall& c) {
   return a;
 }
 
+// A warning when the gray levels leave 0..255: the image's values leave [0, data_range], so
+// data_range may not be the scale the image was made on.
+void warn_outside_range(const fss::Image& image, double data_range) {
+  if (image.data.empty()) return;
+  const auto [low, high] = std::minmax_element(image.data.begin(), image.data.end());
+  if (*low >= 0.0 && *high <= 255.0) return;
+  const double to_value = data_range / 255.0;
+  warn("image: values from " + fss::format_number(*low * to_value) + " to " +
+       fss::format_number(*high * to_value) + " leave [0, data_range] = [0, " +
+       fss::format_number(data_range) + "] (gray levels " + fss::format_number(*low) + " to " +
+       fss::format_number(*high) + "): is data_range the image's scale?");
+}
+
 // The run once the options, the code and the array's shape are checked. A
 // float64 copy of an array of another dtype (readable) is freed before the
 // run starts: with the image it takes 16 bytes a sample, less than the run
@@ -234,6 +247,7 @@ args::SimulateArguments simulate_arguments(const SimulateCall& c) {
 SimulationResult run_simulation(const ImageArgument& image, const fss::SimulationOptions& options,
                                 const fss::ShutterCode& code) {
   fss::Image input = image_from_argument(image, "image");
+  warn_outside_range(input, image.data_range);
   fss::SimulationReport report;
   {
     py::gil_scoped_release release;
@@ -276,14 +290,17 @@ fss::FolderRunOptions folder_run_options(const FolderCall& c, const py::object& 
   run.outputs.sheet = bool_argument(c.sheet, "sheet");
   run.outputs.html_report = bool_argument(c.report, "report");
   run.outputs.float_outputs = bool_argument(c.save_float, "save_float");
-  const std::string depth = string_argument(c.png_depth, "png_depth");
+  // 8 and 16 as numbers too, as write_png's bit_depth.
+  const bool number = py::isinstance<py::int_>(c.png_depth) && !PyBool_Check(c.png_depth.ptr());
+  const std::string depth = number ? std::to_string(int_argument(c.png_depth, "png_depth"))
+                                   : string_argument(c.png_depth, "png_depth");
   if (depth == "auto") {
     run.image_depth_from_input = true;
   } else if (const auto bits = fss::png_depth_from_string(depth)) {
     run.outputs.image_depth = *bits;
   } else {
     fss::throw_usage_error("png_depth = '" + fss::escape_control_characters(depth) +
-                           "': expected '8', '16' or 'auto'");
+                           "': expected 8, 16, '8', '16' or 'auto'");
   }
   if (py::isinstance<py::str>(code) || py::isinstance<py::bytes>(code) ||
       py::hasattr(code, "__fspath__")) {

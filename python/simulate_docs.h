@@ -165,7 +165,7 @@ outdir : str, bytes or os.PathLike
 )") + kSimulationParameters +
          R"(plots, sheet, report, save_float : bool
     As fssim's --no-plots (negated), --sheet, --report and --save-float.
-png_depth : {'8', '16', 'auto'}, default '8'
+png_depth : {'8', '16', 'auto', 8, 16}, default '8'
     Bits a sample of observed, restored, groundtruth and residual.png ('auto': 16 for a
     16-bit or float input).
 

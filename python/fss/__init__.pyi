@@ -143,7 +143,7 @@ def simulate_to_folder(
     sheet: bool = False,
     report: bool = False,
     save_float: bool = False,
-    png_depth: Literal["8", "16", "auto"] = "8",
+    png_depth: Literal["8", "16", "auto", 8, 16] = "8",
 ) -> dict[str, Any]: ...
 def read_png(path: _Path, *, max_memory: _Int = 0) -> _Image: ...
 def read_tiff(

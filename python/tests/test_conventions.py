@@ -223,3 +223,14 @@ def test_the_outdir_advice_speaks_python(tmp_path, camera):
         fss.simulate_to_folder(source, tmp_path, plots=False)
     assert str(error.value).endswith("': choose another outdir"), str(error.value)
     assert source.read_bytes() == camera.read_bytes()
+
+
+@pytest.mark.parametrize("name", ["--data.png", "--code.txt", "my --raw-file.png", "--mode numerical"])
+def test_names_in_messages_are_kept_as_given(tmp_path, name):
+    """Only fssim's own options become Python words; a file named like one stays as it is."""
+    with pytest.raises(RuntimeError) as caught:
+        fss.read_png(tmp_path / name)
+    assert name in str(caught.value)
+    with pytest.raises((ValueError, RuntimeError)) as caught:
+        fss.simulate(np.zeros((8, 64), np.uint8), code=str(tmp_path / name))
+    assert name in str(caught.value)

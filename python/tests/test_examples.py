@@ -1,12 +1,11 @@
 """The gallery of python/examples/: each script runs in a fresh folder, exits 0 and writes its
-figure (or says it skipped it when matplotlib is missing), in a few seconds."""
+figure (or says it skipped it when matplotlib is missing)."""
 
 import importlib.util
 import os
 import pathlib
 import subprocess
 import sys
-import time
 
 import pytest
 
@@ -33,13 +32,13 @@ def example_environment(*first):
 
 
 def run_example(name, cwd, env=None):
-    """Runs one example as a user would, in `cwd`, writing into cwd/out."""
-    start = time.monotonic()
+    """Runs one example as a user would, in `cwd`, writing into cwd/out (the timeout is a
+    guard against a hang, not a measure of speed: bench/ measures speed)."""
     result = subprocess.run([sys.executable, str(EXAMPLES / name), "out"], cwd=cwd,
                             env=env or example_environment(), capture_output=True, text=True,
-                            timeout=120)
+                            timeout=600)
     assert result.returncode == 0, result.stderr[-2000:]
-    return result, time.monotonic() - start
+    return result
 
 
 def test_the_gallery_is_there():
@@ -48,7 +47,7 @@ def test_the_gallery_is_there():
 
 @pytest.mark.parametrize("name", SCRIPTS)
 def test_example_runs_and_writes_its_figure(name, tmp_path):
-    result, seconds = run_example(name, tmp_path)
+    result = run_example(name, tmp_path)
     figure = tmp_path / "out" / (pathlib.Path(name).stem + ".png")
     if _has_matplotlib():
         assert figure.is_file() and figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -56,7 +55,6 @@ def test_example_runs_and_writes_its_figure(name, tmp_path):
     else:
         assert SKIPPED in result.stdout.splitlines() and not figure.exists()
     assert "Warning" not in result.stderr, result.stderr
-    assert seconds < 20, "%s took %.1f s" % (name, seconds)
 
 
 def test_an_example_without_matplotlib_skips_the_figure(tmp_path):
@@ -64,7 +62,7 @@ def test_an_example_without_matplotlib_skips_the_figure(tmp_path):
     blocker = tmp_path / "blocker"
     blocker.mkdir()
     (blocker / "matplotlib.py").write_text("raise ImportError('blocked by the test')\n")
-    result, _ = run_example("design_code.py", tmp_path, example_environment(blocker))
+    result = run_example("design_code.py", tmp_path, example_environment(blocker))
     assert SKIPPED in result.stdout.splitlines()
     assert not (tmp_path / "out" / "design_code.png").exists()
     assert "raskar" in result.stdout  # the numbers are still computed

@@ -230,3 +230,17 @@ def test_design_refusals(call, error, message):
     with pytest.raises(error) as raised:
         call()
     assert "\n" not in str(raised.value) and message in str(raised.value), str(raised.value)
+
+
+def test_simulate_to_folder_never_overwrites_the_velocity_file(files, tmp_path):
+    """The file of a discrete distribution is an input, as fssim keeps it: a run whose output
+    has its name is refused and the file stays as it was."""
+    out = tmp_path / "out"
+    out.mkdir()
+    text = "0.9 1\n1.0 1\n"
+    (out / "code.txt").write_text(text)
+    with pytest.raises(RuntimeError, match="refusing to overwrite the input"):
+        fss.simulate_to_folder(files / "crop.png", out, code=files / "short.txt",
+                               velocity_distribution=out / "code.txt", plots=False)
+    assert (out / "code.txt").read_text() == text
+    assert sorted(p.name for p in out.iterdir()) == ["code.txt"]

@@ -226,9 +226,6 @@ int SimulateCommand::Simulate(ErrorContext* context) const {
   if (std::find(builtins.begin(), builtins.end(), code_name) == builtins.end()) {
     run.outputs.other_inputs.push_back(code_name);  // an input too: never overwritten
   }
-  if (const std::string file = flags_.velocity_distribution_file(options); !file.empty()) {
-    run.outputs.other_inputs.push_back(file);
-  }
   run.on_stage = [context](const std::string& stage) { context->activity = stage; };
   run.on_simulated = [](const fss::SimulationReport& report) {
     for (const auto& warning : report.warnings) {

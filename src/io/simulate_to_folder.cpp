@@ -11,6 +11,7 @@
 #include "fss/core/error.h"
 #include "fss/io/image_io.h"
 #include "fss/io/png_io.h"
+#include "fss/model/velocity_distribution.h"
 #include "fss/pipeline/memory_estimate.h"
 #include "io/observed_png8.h"
 #include "io/run_plots.h"
@@ -179,6 +180,10 @@ SimulationReport SimulateToFolder(const std::string& input_path, const ShutterCo
   const Image image = read_image(input_path, options.max_memory_bytes, &input_info);
   OutputOptions outputs = run.outputs;
   outputs.image_depth = image_depth(run, input_info.bits_per_sample);
+  if (const auto& d = options.velocity_distribution;
+      d && d->kind == VelocityDistributionKind::kDiscrete) {
+    outputs.other_inputs.push_back(d->source);  // its file is an input too: never overwritten
+  }
   announce(run, describe_simulation(input_path, image));
   std::optional<ObservedPng8> observed_png8;
   if (observed_to_sink(outputs)) observed_png8.emplace(image.height, image.channels);

@@ -29,7 +29,8 @@ struct FolderRunOptions {
 // the outputs into `outdir`: the report and the files of Simulate and write_outputs (all of them
 // or none), byte for byte. A run over options.max_memory_bytes is refused from the PNG header,
 // before decoding. The code file `code` was read from, if any, belongs in outputs.other_inputs, so
-// that it is never overwritten.
+// that it is never overwritten; the file of a discrete options.velocity_distribution is never
+// overwritten either.
 SimulationReport SimulateToFolder(const std::string& input_path, const ShutterCode& code,
                                   const std::filesystem::path& outdir,
                                   const SimulationOptions& options,

@@ -333,6 +333,35 @@ py::dict simulate_to_folder(const SimulateCall& call, const FolderCall& folder) 
   return result;
 }
 
+// A SimulationResult as a tuple of its fields, and back (pickle: results returned by the
+// processes of multiprocessing or concurrent.futures).
+py::tuple result_state(const SimulationResult& r) {
+  return py::make_tuple(r.observed, r.restored, r.groundtruth, r.report, r.metrics, r.prediction,
+                        r.geometry, r.trials, r.parameters, r.code, r.kernel, r.warnings,
+                        r.trial_velocities, r.trial_metrics, r.summary);
+}
+
+SimulationResult result_from_state(const py::tuple& t) {
+  if (t.size() != 15) throw py::value_error("SimulationResult: not a pickled SimulationResult");
+  SimulationResult r;
+  r.observed = t[0];
+  r.restored = t[1];
+  r.groundtruth = t[2];
+  r.report = t[3].cast<py::dict>();
+  r.metrics = t[4];
+  r.prediction = t[5];
+  r.geometry = t[6];
+  r.trials = t[7];
+  r.parameters = t[8];
+  r.code = t[9];
+  r.kernel = t[10];
+  r.warnings = t[11];
+  r.trial_velocities = t[12];
+  r.trial_metrics = t[13].cast<py::dict>();
+  r.summary = t[14].cast<std::string>();
+  return r;
+}
+
 void define_result(py::module_& m) {
   using R = SimulationResult;
   py::class_<R>(m, "SimulationResult", kSimulationResultDoc)
@@ -367,7 +396,8 @@ void define_result(py::module_& m) {
       .def_readonly("trial_velocities", &R::trial_velocities,
                     "Each trial's velocity under a velocity distribution (float64 array; empty "
                     "without one).")
-      .def("__repr__", [](const R& r) { return r.summary; });
+      .def("__repr__", [](const R& r) { return r.summary; })
+      .def(py::pickle(&result_state, &result_from_state));
 }
 
 void define_simulate_only(py::module_& m) {

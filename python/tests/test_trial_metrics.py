@@ -64,3 +64,25 @@ def test_the_repr_is_one_readable_line():
     assert f"rmse {result.metrics['rmse']:.4g}" in text
     assert f"restored {result.restored.shape[0]} x {result.restored.shape[1]}" in text
     assert text.endswith("0 warnings>")
+
+
+def test_a_result_pickles_and_comes_back_from_a_process(camera_array):
+    """A result crosses process boundaries (multiprocessing, concurrent.futures): pickled and
+    unpickled, every field is the same."""
+    import pickle
+    from concurrent.futures import ProcessPoolExecutor
+    image = camera_array[:16]
+    result = fss.simulate(image, trials=3, seed=5)
+    back = pickle.loads(pickle.dumps(result))
+    for name in ("observed", "restored", "groundtruth", "trial_velocities"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(result, name))
+    for name in ("report", "metrics", "prediction", "geometry", "trials", "parameters", "code",
+                 "kernel", "warnings"):
+        assert getattr(back, name) == getattr(result, name), name
+    assert {k: list(v) for k, v in back.trial_metrics.items()} == \
+        {k: list(v) for k, v in result.trial_metrics.items()}
+    assert repr(back) == repr(result)
+    with ProcessPoolExecutor(max_workers=1) as pool:
+        remote = pool.submit(fss.simulate, image, trials=3, seed=5).result()
+    assert remote.metrics == result.metrics
+    np.testing.assert_array_equal(remote.restored, result.restored)

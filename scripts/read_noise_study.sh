@@ -29,28 +29,8 @@
 # optimum. Needs a built fssim (FSSIM=path to override, default build/fssim)
 # and jq. About 2 minutes of one core's time.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
-update_docs=0
-out=""
-for argument in "$@"; do
-  case "$argument" in
-    --update-docs) update_docs=1 ;;
-    -h | --help)
-      sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
-      exit 0
-      ;;
-    -*)
-      echo "read_noise_study: unknown option $argument (usage: $0 [--update-docs] [OUT_DIR])" >&2
-      exit 2
-      ;;
-    *)
-      [ -z "$out" ] || { echo "read_noise_study: one OUT_DIR only" >&2; exit 2; }
-      out=$argument
-      ;;
-  esac
-done
-out=$(realpath -m "${out:-$root/out/read_noise_study}")
-fssim=$(realpath -m "${FSSIM:-$root/build/fssim}")
+source "$(dirname "$0")/study-arguments.sh"
+study_arguments read_noise_study "$@"
 [ -x "$fssim" ] || { echo "read_noise_study: $fssim not found; build first (cmake -S . -B build && cmake --build build)" >&2; exit 1; }
 command -v jq >/dev/null || { echo "read_noise_study: jq not found (scripts/install-deps.sh installs it)" >&2; exit 1; }
 mkdir -p "$out"

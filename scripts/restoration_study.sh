@@ -29,28 +29,8 @@
 # gnuplot (scripts/install-deps.sh installs them). JOBS (default 2) cases run
 # at once; about 5 minutes on two cores.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
-update_docs=0
-out=""
-for argument in "$@"; do
-  case "$argument" in
-    --update-docs) update_docs=1 ;;
-    -h | --help)
-      sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
-      exit 0
-      ;;
-    -*)
-      echo "restoration_study: unknown option $argument (usage: $0 [--update-docs] [OUT_DIR])" >&2
-      exit 2
-      ;;
-    *)
-      [ -z "$out" ] || { echo "restoration_study: one OUT_DIR only" >&2; exit 2; }
-      out=$argument
-      ;;
-  esac
-done
-out=$(realpath -m "${out:-$root/out/restoration_study}")
-fssim=$(realpath -m "${FSSIM:-$root/build/fssim}")
+source "$(dirname "$0")/study-arguments.sh"
+study_arguments restoration_study "$@"
 jobs=${JOBS:-2}
 restarts=${RESTARTS:-24}
 [ -x "$fssim" ] || { echo "restoration_study: $fssim not found; build first (cmake --build build)" >&2; exit 1; }

@@ -27,28 +27,8 @@
 # (scripts/install-deps.sh installs them). JOBS (default 2) processes at once; a few minutes on
 # two cores.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
-update_docs=0
-out=""
-for argument in "$@"; do
-  case "$argument" in
-    --update-docs) update_docs=1 ;;
-    -h | --help)
-      sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
-      exit 0
-      ;;
-    -*)
-      echo "velocity_robustness: unknown option $argument (usage: $0 [--update-docs] [OUT_DIR])" >&2
-      exit 2
-      ;;
-    *)
-      [ -z "$out" ] || { echo "velocity_robustness: one OUT_DIR only" >&2; exit 2; }
-      out=$argument
-      ;;
-  esac
-done
-out=$(realpath -m "${out:-$root/out/velocity_robustness}")
-fssim=$(realpath -m "${FSSIM:-$root/build/fssim}")
+source "$(dirname "$0")/study-arguments.sh"
+study_arguments velocity_robustness "$@"
 jobs=${JOBS:-2}
 restarts=${RESTARTS:-24}
 [ -x "$fssim" ] || { echo "velocity_robustness: $fssim not found; build first (cmake --build build)" >&2; exit 1; }

@@ -401,6 +401,8 @@ def write_campaign_runs(journal_dir, check_dir):
     checks["no-settings.csv"] = "\x00rmse_mean\n1\n--\nrmse_mean\n2\n"
     checks["quoted.csv"] = "\x03code,rmse_mean,status\n\"a,\"\"b\"\"\n\",,ok\r\n--\n" \
                            "code,rmse_mean,status\n\"a,\"\"b\"\"\n\",1,\"o\nk\"\n"
+    # Quotes that hide "nan" in the text but not in the cell.
+    checks["quoted-nan.csv"] = "\x03code,rmse_mean,status\n\"a)na\"n\"\",1,ok\n"
     write_texts(journal_dir, journals)
     write_texts(check_dir, checks)
 

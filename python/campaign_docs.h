@@ -29,7 +29,9 @@ spec : dict or str or os.PathLike
 outdir : str or os.PathLike
     The campaign directory (created; the same campaign resumes there, another is refused).
 threads : int, default 0
-    Threads of each simulation (0: all).
+    Threads (0: all). Settings of images of at most 4 Mi samples run side by side, one
+    thread each; larger images run one setting at a time on every thread. Never changes a
+    result.
 skip_unrunnable : bool, default False
     Settings that cannot run (an image too narrow for the blur, a value out of range) are rows
     with their status either way; False raises a RuntimeError once every row is written.

@@ -174,22 +174,39 @@ const std::vector<ResultColumn>& trial_columns(bool with_distributions) {
 
 // Settings are image-, code-, mode- and velocity-major, so a kept plan serves every snr value,
 // seed and image of one width of a code, mode, velocity, restore velocity and dt.
-const SimulationPlan& SimulationPlanCache::plan(const SimulationOptions& options, int width,
-                                                const ShutterCode& code) {
+std::shared_ptr<const SimulationPlan> SimulationPlanCache::share(const SimulationOptions& options,
+                                                                 int width,
+                                                                 const ShutterCode& code) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   for (const auto& kept : plans_) {
     if (kept->fits(options, width, code)) {
       ++reused_;
-      return *kept;
+      return kept;
     }
   }
-  plans_.push_back(std::make_unique<const SimulationPlan>(options, width, code));
+  plans_.push_back(std::make_shared<const SimulationPlan>(options, width, code));
   ++built_;
   bytes_ += plans_.back()->bytes();
   while (plans_.size() > 1 && (bytes_ > kMaxBytes || plans_.size() > kMaxPlans)) {
     bytes_ -= plans_.front()->bytes();
     plans_.pop_front();
   }
-  return *plans_.back();
+  return plans_.back();
+}
+
+const SimulationPlan& SimulationPlanCache::plan(const SimulationOptions& options, int width,
+                                                const ShutterCode& code) {
+  return *share(options, width, code);
+}
+
+long long SimulationPlanCache::built() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return built_;
+}
+
+long long SimulationPlanCache::reused() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return reused_;
 }
 
 namespace {
@@ -451,7 +468,7 @@ ResultRow run_setting(const ResolvedCampaign& c, const Setting& s, const Image& 
     try {
       const ShutterCode& code = c.codes[s.code].code;
       const SimulationReport r = plans != nullptr
-                                     ? Simulate(plans->plan(o, image.width, code), o, image, code)
+                                     ? Simulate(*plans->share(o, image.width, code), o, image, code)
                                      : Simulate(o, image, code);
       if (o.rmse_margin_columns == kRmseMarginAuto) row[kRmseMargin] = std::to_string(r.rmse_first);
       status = result_cells(r, row);

@@ -4,6 +4,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -11,15 +12,19 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <span>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "campaign/journal.h"
 #include "campaign/sha256.h"
 #include "campaign/user_input.h"
+#include "core/parallel.h"
 #include "fss/core/error.h"
 #include "fss/io/image_io.h"
 #include "fss/model/code.h"
+#include "fss/pipeline/memory_estimate.h"
 #include "io/created_directories.h"
 #include "io/safe_write.h"
 
@@ -310,54 +315,131 @@ void remove_unstarted_journal(const std::string& dir) {
   ::unlink((fs::path(dir) / kLockName).c_str());
 }
 
+// Images of at most this many samples run their settings side by side, one thread each: a small
+// image's run has serial parts (decoding, planning, the RMSE_CI ranking) that leave cores idle,
+// where a large image's keeps every thread busy on its own.
+constexpr long long kSideBySideMaxSamples = 1LL << 22;
+
+// How many settings of `block` (indices of settings of `image`) run at once: the threads, when the
+// image is small and that many of its largest runs fit in the memory limit together; else 1.
+int setting_lanes(const ResolvedCampaign& campaign, std::span<const long long> block,
+                  const Image& image, const CampaignRunOptions& options) {
+  const int threads = resolve_thread_count(options.threads);
+  const long long samples = static_cast<long long>(image.width) * image.height * image.channels;
+  if (threads < 2 || block.size() < 2 || samples > kSideBySideMaxSamples) return 1;
+  const int lanes = static_cast<int>(std::min<std::size_t>(threads, block.size()));
+  if (options.max_memory_bytes == 0) return lanes;
+  const ImageShape shape{image.width, image.height, image.channels};
+  std::size_t largest = kBaselineMemoryBytes;
+  for (const long long i : block) {
+    const Setting s = setting_at(campaign, i);
+    SimulationOptions o = setting_options(campaign, s);
+    o.threads = 1;
+    try {
+      largest = std::max(largest,
+                         estimate_run_memory_bytes(shape, o, campaign.codes[s.code].code, false));
+    } catch (const Error&) {  // a setting that cannot run uses no memory
+    }
+  }
+  // The process's baseline counts once, each run's own part once per lane.
+  const std::size_t each = largest - kBaselineMemoryBytes;
+  for (int n = lanes; n > 1; --n) {
+    if (kBaselineMemoryBytes + each * static_cast<std::size_t>(n) <= options.max_memory_bytes) {
+      return n;
+    }
+  }
+  return 1;
+}
+
+// What run_shard's settings share: the journal and its appender, the plans, the summary and the
+// progress.
+struct ShardState {
+  journal::Contents contents;
+  journal::Appender* appender = nullptr;
+  SimulationPlanCache plans;  // each kernel once per code, mode, velocities, dt and width
+  CampaignRunSummary summary;
+  CampaignProgress progress;
+  std::chrono::steady_clock::time_point start;
+};
+
+// Runs the settings `block` of `image` (setting_lanes of them at a time, each with one thread, or
+// one at a time with options.threads) and journals each, in block order, once it and those before
+// it have ended: the journal's bytes do not depend on the lanes.
+void run_block(const ResolvedCampaign& campaign, std::span<const long long> block,
+               const Image& image, const CampaignRunOptions& options, ShardState& state) {
+  const int lanes = setting_lanes(campaign, block, image, options);
+  const SettingRunOptions run_options{lanes > 1 ? 1 : options.threads, options.max_memory_bytes,
+                                      options.fssim_version};
+  const int count = static_cast<int>(block.size());
+  std::vector<ResultRow> rows(block.size());
+  std::vector<std::vector<ResultRow>> trial_rows(campaign.per_trial ? block.size() : 0);
+  const auto trials_of = [&](int k) { return campaign.per_trial ? &trial_rows[k] : nullptr; };
+  const auto work = [&](int k, int) {
+    rows[k] = run_setting(campaign, setting_at(campaign, block[k]), image, run_options,
+                          &state.plans, trials_of(k));
+  };
+  const auto commit = [&](int k) {
+    const long long i = block[k];
+    state.appender->append(journal::row_line(i, rows[k], trials_of(k)));
+    if (campaign.per_trial) state.contents.trial_rows[i] = std::move(trial_rows[k]);
+    state.contents.rows[i] = std::move(rows[k]);
+    ++state.summary.ran;
+    state.progress.done = static_cast<long long>(state.contents.rows.size());
+    state.progress.elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - state.start).count();
+    if (options.progress) options.progress(state.progress);
+  };
+  ordered_parallel_for(count, lanes, work, commit);
+}
+
+// The settings of the shard missing from the journal, in product order.
+std::vector<long long> pending_settings(const ResolvedCampaign& campaign,
+                                        const journal::Contents& contents,
+                                        const CampaignShard& shard) {
+  std::vector<long long> pending;
+  const long long settings = campaign.setting_count();
+  for (long long i = shard.index - 1; i < settings; i += shard.count) {
+    if (!contents.rows.count(i)) pending.push_back(i);
+  }
+  return pending;
+}
+
 // Runs the settings of the shard missing from dir's journal; dir is locked. DIR/journal.jsonl is
 // append-only: a header line naming the campaign (its canonical specification and hash) and the
-// shard, then one line per finished setting, written as soon as the setting ends (so a killed
-// process loses none) and fsynced, while the next setting runs, before the next line is written.
-// A rerun reads it and runs only the settings it lacks (a torn last line, from a kill mid-write,
-// is cut off); a different campaign or shard is refused. Once every setting of the shard is in the
-// journal, results.csv, results.jsonl and campaign.json (and, with per_trial, trials.csv and
-// trials.jsonl) are written from it, each to a temporary file renamed into place.
+// shard, then one line per finished setting, in product order, written as soon as the setting
+// and those before it end (so a killed process loses none of those) and fsynced, while the next
+// settings run, before the next line is written. A rerun reads it and runs only the settings it
+// lacks (a torn last line, from a kill mid-write, is cut off); a different campaign or shard is
+// refused. Once every setting of the shard is in the journal, results.csv, results.jsonl and
+// campaign.json (and, with per_trial, trials.csv and trials.jsonl) are written from it, each to a
+// temporary file renamed into place. Settings are image-major: each image is decoded once.
 CampaignRunSummary run_shard(const ResolvedCampaign& campaign, const std::string& dir,
                              const CampaignRunOptions& options) {
-  journal::Contents contents = open_journal(campaign, dir, options.shard);
-  const auto start = std::chrono::steady_clock::now();
-  const long long settings = campaign.setting_count();
-  CampaignRunSummary summary;
-  summary.total = journal::shard_size(settings, options.shard);
-  summary.resumed = static_cast<long long>(contents.rows.size());
-  CampaignProgress progress{summary.resumed, summary.total, summary.resumed, 0.0};
-  if (options.progress) options.progress(progress);
-  const SettingRunOptions run_options{options.threads, options.max_memory_bytes,
-                                      options.fssim_version};
-  journal::Appender appender((fs::path(dir) / kCampaignJournal).string(), contents.valid_bytes);
-  int loaded = -1;  // settings are image-major: each image is decoded once
-  Image image;
-  SimulationPlanCache plans;  // each kernel once per code, mode, velocities, dt and width
-  std::vector<ResultRow> trial_rows;
-  std::vector<ResultRow>* trials = campaign.per_trial ? &trial_rows : nullptr;
-  for (long long i = options.shard.index - 1; i < settings; i += options.shard.count) {
-    if (contents.rows.count(i)) continue;
-    const Setting setting = setting_at(campaign, i);
-    if (setting.image != loaded) {
-      image = load_image(campaign, setting.image);
-      loaded = setting.image;
-    }
-    ResultRow row = run_setting(campaign, setting, image, run_options, &plans, trials);
-    appender.append(journal::row_line(i, row, trials));
-    if (trials != nullptr) contents.trial_rows[i] = std::exchange(trial_rows, {});
-    contents.rows[i] = std::move(row);
-    ++summary.ran;
-    progress.done = static_cast<long long>(contents.rows.size());
-    progress.elapsed_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (options.progress) options.progress(progress);
+  ShardState state;
+  state.contents = open_journal(campaign, dir, options.shard);
+  state.start = std::chrono::steady_clock::now();
+  state.summary.total = journal::shard_size(campaign.setting_count(), options.shard);
+  state.summary.resumed = static_cast<long long>(state.contents.rows.size());
+  state.progress = {state.summary.resumed, state.summary.total, state.summary.resumed, 0.0};
+  if (options.progress) options.progress(state.progress);
+  journal::Appender appender((fs::path(dir) / kCampaignJournal).string(),
+                             state.contents.valid_bytes);
+  state.appender = &appender;
+  const std::vector<long long> pending = pending_settings(campaign, state.contents, options.shard);
+  for (std::size_t first = 0; first < pending.size();) {
+    const int image_index = setting_at(campaign, pending[first]).image;
+    std::size_t end = first + 1;
+    while (end < pending.size() && setting_at(campaign, pending[end]).image == image_index) ++end;
+    const Image image = load_image(campaign, image_index);
+    run_block(campaign, std::span<const long long>(pending).subspan(first, end - first), image,
+              options, state);
+    first = end;
   }
   appender.finish();
-  summary.plans_built = plans.built();
-  summary.plans_reused = plans.reused();
-  write_results(dir, campaign, options.shard, contents, &summary.rows);
-  return summary;
+  state.summary.plans_built = state.plans.built();
+  state.summary.plans_reused = state.plans.reused();
+  write_results(dir, campaign, options.shard, state.contents, &state.summary.rows);
+  return state.summary;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -66,6 +67,68 @@ void parallel_for_each(int count, int threads, const std::function<void(int i)>&
   for (const auto& error : errors) {
     if (error) std::rethrow_exception(error);
   }
+}
+
+namespace {
+
+// What ordered_parallel_for's threads share: which items are done, the next
+// to commit and the first failure, all under `mutex`.
+struct OrderedState {
+  explicit OrderedState(int count) : done(static_cast<std::size_t>(count), 0), failed_at(count) {}
+  std::mutex mutex;
+  std::vector<char> done;
+  int next_commit = 0;
+  int failed_at;  // the lowest item that threw; count when none
+  std::exception_ptr error;
+  std::atomic<int> next{0};
+  std::atomic<bool> stop{false};
+
+  void fail(int i, std::exception_ptr e) {
+    if (i < failed_at) {
+      failed_at = i;
+      error = std::move(e);
+    }
+    stop = true;
+  }
+  // Commits the items done in a row from next_commit, up to the first failure.
+  void commit_ready(const std::function<void(int i)>& commit) {
+    while (next_commit < failed_at && done[static_cast<std::size_t>(next_commit)]) {
+      try {
+        commit(next_commit);
+      } catch (...) {
+        fail(next_commit, std::current_exception());
+        return;
+      }
+      ++next_commit;
+    }
+  }
+};
+
+}  // namespace
+
+void ordered_parallel_for(int count, int lanes, const std::function<void(int i, int lane)>& work,
+                          const std::function<void(int i)>& commit) {
+  if (count <= 0) return;
+  OrderedState state(count);
+  const int workers = std::clamp(lanes, 1, count);
+  parallel_for(workers, workers, [&](int lane, int) {
+    for (int i = state.next++; i < count && !state.stop; i = state.next++) {
+      std::exception_ptr error;
+      try {
+        work(i, lane);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(state.mutex);
+      if (error) {
+        state.fail(i, error);
+      } else {
+        state.done[static_cast<std::size_t>(i)] = 1;
+        state.commit_ready(commit);
+      }
+    }
+  });
+  if (state.error) std::rethrow_exception(state.error);
 }
 
 }  // namespace fss

@@ -21,4 +21,13 @@ void parallel_for(int count, int threads, const std::function<void(int begin, in
 // parallel_for (the first thrown, by item order, is rethrown).
 void parallel_for_each(int count, int threads, const std::function<void(int i)>& body);
 
+// Calls work(i, lane) for every i in [0, count) on `lanes` threads (lane in
+// [0, lanes)), each thread taking the next unclaimed item, and commit(i) for
+// i = 0, 1, ... in that order, one at a time, each as soon as work(0..i) have
+// returned. After an exception no item is claimed; the one of the lowest item
+// is rethrown once the threads finish, and neither that item nor any later one
+// is committed.
+void ordered_parallel_for(int count, int lanes, const std::function<void(int i, int lane)>& work,
+                          const std::function<void(int i)>& commit);
+
 }  // namespace fss

@@ -1,14 +1,16 @@
-// Tests of parallel_for (parallel.h): coverage of the range, exceptions, and
-// a system that refuses new threads.
+// Tests of parallel_for and ordered_parallel_for (parallel.h): coverage of the
+// range, commit order, exceptions, and a system that refuses new threads.
 #include "core/parallel.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support/test_util.h"
@@ -86,6 +88,71 @@ TEST(ParallelForDeathTest, RunsEveryBlockWhenThreadsCannotStart) {
         std::_Exit(0);
       },
       ::testing::ExitedWithCode(0), "");
+}
+
+// Every item is worked once, on a lane in range, and committed once, in order,
+// only after its own work.
+TEST(OrderedParallelFor, CommitsEveryItemInOrderAfterItsWork) {
+  for (const int lanes : {1, 2, 3, 8}) {
+    for (const int count : {0, 1, 2, 7, 200}) {
+      std::vector<std::atomic<int>> worked(static_cast<std::size_t>(count));
+      std::vector<int> committed;
+      ordered_parallel_for(
+          count, lanes,
+          [&](int i, int lane) {
+            EXPECT_GE(lane, 0);
+            EXPECT_LT(lane, lanes);
+            // Later items often finish first: the commits must still come in order.
+            if (i % 3 == 0) std::this_thread::sleep_for(std::chrono::microseconds(200));
+            ++worked[i];
+          },
+          [&](int i) {
+            EXPECT_EQ(worked[i].load(), 1) << i;
+            committed.push_back(i);
+          });
+      ASSERT_EQ(static_cast<int>(committed.size()), count) << lanes;
+      for (int i = 0; i < count; ++i) EXPECT_EQ(committed[i], i);
+    }
+  }
+}
+
+// The lowest failing item's exception is rethrown; it and every later item
+// stay uncommitted, every earlier one is committed.
+TEST(OrderedParallelFor, StopsAtTheLowestFailure) {
+  for (const int lanes : {1, 2, 4}) {
+    std::vector<int> committed;
+    std::mutex mutex;
+    try {
+      ordered_parallel_for(
+          100, lanes,
+          [&](int i, int) {
+            if (i == 40) throw std::runtime_error("item 40");
+            if (i == 60) throw std::runtime_error("item 60");
+          },
+          [&](int i) {
+            const std::lock_guard<std::mutex> lock(mutex);
+            committed.push_back(i);
+          });
+      ADD_FAILURE() << "no exception with " << lanes << " lanes";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "item 40") << lanes;
+    }
+    ASSERT_EQ(committed.size(), 40u) << lanes;
+    for (int i = 0; i < 40; ++i) EXPECT_EQ(committed[i], i);
+  }
+}
+
+// A commit that throws stops the run: nothing after it is committed.
+TEST(OrderedParallelFor, ACommitThatThrowsStopsTheRun) {
+  std::vector<int> committed;
+  EXPECT_THROW(ordered_parallel_for(
+                   50, 2, [](int, int) {},
+                   [&](int i) {
+                     if (i == 10) throw std::runtime_error("commit 10");
+                     committed.push_back(i);
+                   }),
+               std::runtime_error);
+  EXPECT_EQ(committed.size(), 10u);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -74,21 +75,27 @@ struct SettingRunOptions {
 };
 
 // The plans (fss::SimulationPlan) of the settings a run goes through, kept while they fit in
-// kMaxBytes and kMaxPlans, so that each kernel is computed once, not once per snr value.
+// kMaxBytes and kMaxPlans, so that each kernel is computed once, not once per snr value. Safe to
+// share between threads: a plan is looked up, and built when missing, under the cache's lock, so
+// each plan is built once whatever the number of threads.
 class SimulationPlanCache {
  public:
   static constexpr std::size_t kMaxBytes = std::size_t{256} << 20;
   static constexpr std::size_t kMaxPlans = 4096;
 
   // A kept plan that fits the run, or a new one (oldest plans dropped
-  // beyond the limits); valid until the next call. Throws what
+  // beyond the limits); it lives as long as the pointer. Throws what
   // SimulationPlan's constructor throws.
+  std::shared_ptr<const SimulationPlan> share(const SimulationOptions& options, int width,
+                                              const ShutterCode& code);
+  // The same plan, valid until the next call from any thread.
   const SimulationPlan& plan(const SimulationOptions& options, int width, const ShutterCode& code);
-  long long built() const { return built_; }
-  long long reused() const { return reused_; }
+  long long built() const;
+  long long reused() const;
 
  private:
-  std::deque<std::unique_ptr<const SimulationPlan>> plans_;
+  mutable std::mutex mutex_;
+  std::deque<std::shared_ptr<const SimulationPlan>> plans_;
   std::size_t bytes_ = 0;
   long long built_ = 0;
   long long reused_ = 0;

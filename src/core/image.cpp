@@ -1,11 +1,40 @@
 #include "fss/core/image.h"
 
+#include <sys/mman.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <string>
 
 #include "fss/core/error.h"
 
 namespace fss {
+
+namespace {
+
+// Buffers at least this large are prefaulted in one call.
+constexpr std::size_t kPrefaultBytes = std::size_t{1} << 20;
+
+// Maps the whole pages of [data, data + bytes) writable in one system call, where a first
+// touch would fault once per page (MADV_POPULATE_WRITE, Linux 5.14); the kernel's per-fault
+// cost, large in a virtual machine, is paid once. A hint only: where the kernel lacks it, the
+// pages fault in as they are touched.
+void prefault(void* data, std::size_t bytes) {
+#ifdef __linux__
+  constexpr int kPopulateWrite = 23;  // MADV_POPULATE_WRITE, absent from older headers
+  constexpr std::uintptr_t kPage = 4096;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
+  if (end <= begin) return;
+  void* start = reinterpret_cast<void*>(begin);
+  ::madvise(start, end - begin, kPopulateWrite);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+}  // namespace
 
 Image::Image(int width_px, int height_px, int channel_count, double fill)
     : width(width_px), height(height_px), channels(channel_count) {
@@ -13,7 +42,10 @@ Image::Image(int width_px, int height_px, int channel_count, double fill)
     throw_usage_error("image size " + std::to_string(width_px) + "x" + std::to_string(height_px) +
                       "x" + std::to_string(channel_count) + " must not be negative");
   }
-  data.assign(plane_size() * static_cast<std::size_t>(channel_count), fill);
+  const std::size_t count = plane_size() * static_cast<std::size_t>(channel_count);
+  data.reserve(count);
+  if (count * sizeof(double) >= kPrefaultBytes) prefault(data.data(), count * sizeof(double));
+  data.assign(count, fill);
 }
 
 Image crop_columns(const Image& image, int first, int count) {

@@ -150,7 +150,8 @@ void warn_all(const fss::SimulationReport& report) {
   for (const std::string& warning : report.warnings) warn(warning);
 }
 
-SimulationResult make_result(const fss::SimulationReport& report, const fss::Image& input) {
+// The result of `report`, whose images it takes.
+SimulationResult make_result(fss::SimulationReport& report, const fss::Image& input) {
   fss::Image groundtruth;
   std::string json_text;
   {
@@ -159,9 +160,6 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
     json_text = fss::report_json_text(report, "");
   }
   SimulationResult result;
-  result.observed = array_from_image(report.observed);
-  result.restored = array_from_image(report.restored);
-  result.groundtruth = array_from_image(groundtruth);
   result.report = report_dict(report, json_text);
   result.metrics = result.report["metrics"];
   result.prediction = result.report["prediction"];
@@ -174,6 +172,9 @@ SimulationResult make_result(const fss::SimulationReport& report, const fss::Ima
   result.trial_velocities = array_from_vector(report.trial_velocities);
   result.trial_metrics = trial_metrics_dict(report.trial_metrics);
   result.summary = result_summary(report);
+  result.observed = array_from_image(std::move(report.observed));
+  result.restored = array_from_image(std::move(report.restored));
+  result.groundtruth = array_from_image(std::move(groundtruth));
   return result;
 }
 

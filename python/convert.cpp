@@ -271,9 +271,9 @@ py::array_t<double> array_from_image(fss::Image&& image) {
   // The array owns the vector through a capsule that deletes it with the array.
   auto* values = new std::vector<double>(std::move(image.data));
   const py::capsule owner(values, [](void* p) { delete static_cast<std::vector<double>*>(p); });
-  return py::array_t<double>({static_cast<py::ssize_t>(image.height),
-                              static_cast<py::ssize_t>(image.width)},
-                             values->data(), owner);
+  return py::array_t<double>(
+      {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width)},
+      values->data(), owner);
 }
 
 py::array_t<double> array_from_vector(const std::vector<double>& values) {

@@ -13,7 +13,9 @@ run with Debian's python3 (python3-numpy, python3-pil).
 (the options of fssim of the same names).
 
 It prints the RMSE (and a plain sort-based contrast-invariant RMSE) and writes
-observed.png, restored.png, residual.png and groundtruth.png into DIR.
+observed.png, restored.png, residual.png and groundtruth.png into DIR. Its
+simulate() is one run in memory, without the files (bench/python_loop.py
+calls it in a loop).
 """
 
 import argparse
@@ -123,6 +125,28 @@ def midway_rmse(g, r):
     return math.sqrt(total / g.size)
 
 
+def simulate(u, gains, mode="numerical", velocity=1.0, dt=1.0, snr=100.0, noisy=True, seed=0):
+    """One run on the image u (channels, height, width): a dict of the observed, restored,
+    ground-truth and residual arrays (output columns) and the RMSE, PSNR and RMSE_CI."""
+    width = u.shape[-1]
+    blur = max(len(gains), math.ceil(abs(velocity) * dt * len(gains)))
+    half = blur // 2
+    out_width = width - 3 * blur
+    rng = np.random.default_rng(seed)
+
+    o = observe(u, gains, mode, velocity, dt, snr, noisy, rng)
+    deconvolved = restore(o, gains, velocity, dt, blur)
+    restored = deconvolved[..., 2 * half : 2 * half + out_width]
+    observed = o[..., 3 * half : 3 * half + out_width]
+    truth = u[..., 3 * half : 3 * half + out_width]
+    d = truth - restored
+    rmse = math.sqrt(np.mean(d[..., 3 * blur : out_width - 3 * blur] ** 2))
+    window = slice(blur, out_width - blur)
+    rmse_ci = midway_rmse(truth[..., window], restored[..., window])
+    return {"observed": observed, "restored": restored, "groundtruth": truth, "residual": d,
+            "rmse": rmse, "psnr": 10 * math.log10(255.0**2 / rmse**2), "rmse_ci": rmse_ci}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("-i", "--input", required=True)
@@ -138,21 +162,11 @@ def main():
 
     gains = read_code(args.code)
     u = read_image(args.input)
-    width = u.shape[-1]
-    blur = max(len(gains), math.ceil(abs(args.velocity) * args.dt * len(gains)))
-    half = blur // 2
-    out_width = width - 3 * blur
-    rng = np.random.default_rng(args.seed)
-
-    o = observe(u, gains, args.mode, args.velocity, args.dt, args.snr, args.noise == "poisson", rng)
-    deconvolved = restore(o, gains, args.velocity, args.dt, blur)
-    restored = deconvolved[..., 2 * half : 2 * half + out_width]
-    observed = o[..., 3 * half : 3 * half + out_width]
-    truth = u[..., 3 * half : 3 * half + out_width]
-    d = truth - restored
-    rmse = math.sqrt(np.mean(d[..., 3 * blur : out_width - 3 * blur] ** 2))
-    window = slice(blur, out_width - blur)
-    rmse_ci = midway_rmse(truth[..., window], restored[..., window])
+    run = simulate(u, gains, args.mode, args.velocity, args.dt, args.snr,
+                   args.noise == "poisson", args.seed)
+    observed, restored, truth, d = (run[key] for key in
+                                    ("observed", "restored", "groundtruth", "residual"))
+    rmse, rmse_ci = run["rmse"], run["rmse_ci"]
 
     os.makedirs(args.outdir, exist_ok=True)
     k0 = args.dt * gains.sum()
@@ -161,7 +175,7 @@ def main():
     write_png(os.path.join(args.outdir, "groundtruth.png"), truth)
     span = d.max() - d.min()
     write_png(os.path.join(args.outdir, "residual.png"), (d - d.min()) * (255.0 / span if span > 0 else 0.0))
-    metrics = {"rmse": rmse, "psnr": 10 * math.log10(255.0**2 / rmse**2), "rmse_ci": rmse_ci}
+    metrics = {"rmse": rmse, "psnr": run["psnr"], "rmse_ci": rmse_ci}
     with open(os.path.join(args.outdir, "metrics.json"), "w") as f:
         json.dump(metrics, f, indent=1)
     print(f"RMSE: {rmse:.6f}")

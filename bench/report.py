@@ -46,7 +46,10 @@ METHOD_6C = "method.md#6c-aggregated-photon-noise---noise-aggregated-numerical-m
 
 
 def read_results(path):
+    """meta, cases, generators, micro and extra: extra["campaign"] the campaign lines,
+    extra["loop"] the Python-loop lines, in their order."""
     meta, cases, generators, micro = {}, {}, [], []
+    extra = {"campaign": [], "loop": []}
     order = []
     with open(path, encoding="utf-8") as f:
         for number, line in enumerate(f, 1):
@@ -62,6 +65,18 @@ def read_results(path):
                 cases[name][program] = {
                     "runs": int(runs), "seconds": float(seconds),
                     "megabytes": int(megabytes), "arguments": arguments}
+            elif kind == "campaign" and len(fields) == 7:
+                name, runs, seconds, megabytes, settings, arguments = fields[1:]
+                extra["campaign"].append({
+                    "name": name, "runs": int(runs), "seconds": float(seconds),
+                    "megabytes": int(megabytes), "settings": int(settings),
+                    "arguments": arguments})
+            elif kind == "loop" and len(fields) == 7:
+                name, program, runs, per_second, median, arguments = fields[1:]
+                extra["loop"].append({
+                    "name": name, "program": program, "runs": int(runs),
+                    "per_second": float(per_second), "median": float(median),
+                    "arguments": arguments})
             elif kind == "numpy_generator" and len(fields) == 3:
                 generators.append((fields[1], float(fields[2])))
             elif kind == "micro" and len(fields) == 5:
@@ -69,7 +84,7 @@ def read_results(path):
                 micro.append((fields[1], float(fields[2]), fields[3], items))
             else:
                 raise SystemExit(f"report: {path}:{number}: not a line of bench/run.sh's results")
-    return meta, [(name, cases[name]) for name in order], generators, micro
+    return meta, [(name, cases[name]) for name in order], generators, micro, extra
 
 
 def cell(measure):
@@ -136,7 +151,66 @@ def runs_text(count):
     return "a single run, no median" if count == "1" else f"median of {count} runs"
 
 
-def render(meta, cases, generators, micro):
+def render_campaigns(campaigns, add):
+    """The campaign-throughput section: settings per second of `fssim campaign`."""
+    add("## Campaign throughput")
+    add("")
+    add("`fssim campaign` ([campaign.md](campaign.md)) on camera.png, raskar, numerical mode, the "
+        "default sampler, one trial a setting, into a fresh directory each run (the journal, "
+        "its fsync per setting and the result files included): whole-process wall time, "
+        "settings per second = settings / median wall time.")
+    add("")
+    add("| campaign | runs | settings | median wall time, peak memory | settings per second | "
+        "arguments |")
+    add("|---|---:|---:|---:|---:|---|")
+    for c in campaigns:
+        per_second = c["settings"] / c["seconds"] if c["seconds"] > 0 else 0.0
+        add(f"| {c['name']} | {c['runs']} | {c['settings']} | {c['seconds']:.3f} s, "
+            f"{c['megabytes']} MB | {per_second:.1f} | `{c['arguments']}` |")
+    add("")
+
+
+def render_loops(loops, add):
+    """The Python-loop section: runs per second of fss.simulate and numpy's simulate()."""
+    add("## Python loop")
+    add("")
+    add("`bench/python_loop.py`: in one Python process, the image read once, then repeated calls "
+        "of `fss.simulate` (raskar, default options, seeds 1, 2, …) and of "
+        "`bench/numpy_flutter.py`'s `simulate()` (the same model in numpy, in memory, no files): "
+        "runs per second (the calls over the loop's wall time, the first call included) and "
+        "the median wall time of a call.")
+    add("")
+    add("| loop | program | calls | runs per second | median per call |")
+    add("|---|---|---:|---:|---:|")
+    for loop in loops:
+        program = {"fss": "`fss.simulate`", "numpy": "`numpy_flutter.simulate`"}.get(
+            loop["program"], loop["program"])
+        add(f"| {loop['name']} | {program} | {loop['runs']} | {loop['per_second']:.2f} | "
+            f"{1e3 * loop['median']:.1f} ms |")
+    by_name = {}
+    for loop in loops:
+        by_name.setdefault(loop["name"], {})[loop["program"]] = loop["per_second"]
+    ratios = [f"{name}: {p['fss'] / p['numpy']:.1f}×" for name, p in by_name.items()
+              if p.get("fss") and p.get("numpy")]
+    if ratios:
+        add("")
+        add("Runs per second of fss over numpy: " + "; ".join(ratios) + ".")
+    add("")
+
+
+def render_extra(extra, lines):
+    """The campaign and Python-loop sections, when the results have them, after the cases."""
+    if not extra.get("campaign") and not extra.get("loop"):
+        return
+    lines.append("")
+    if extra.get("campaign"):
+        render_campaigns(extra["campaign"], lines.append)
+    if extra.get("loop"):
+        render_loops(extra["loop"], lines.append)
+    lines.pop()  # the blank line that ends a section: the next section adds its own
+
+
+def render(meta, cases, generators, micro, extra=None):
     lines = []
     add = lines.append
     add("<!-- Generated by bench/report.py from the results of bench/run.sh; do not edit: run "
@@ -164,7 +238,8 @@ def render(meta, cases, generators, micro):
         ("cores", meta.get("cores", "?")),
         ("memory", f"{meta['memory_gib']} GiB" if "memory_gib" in meta else "unknown"),
         ("runs", f"RUNS={runs} ({runs_text(runs)}); BIG_RUNS={big_runs} for the 4000×3000 and "
-                 f"100-trial cases ({runs_text(big_runs)})"),
+                 f"100-trial cases{' and the campaigns' if extra and extra.get('campaign') else ''}"
+                 f" ({runs_text(big_runs)})"),
         ("load average (1, 5, 15 min)", f"{meta.get('load_start', '?')} at the start, "
                                          f"{meta.get('load_end', '?')} at the end"),
     ]
@@ -231,6 +306,7 @@ def render(meta, cases, generators, micro):
         add("numpy's own generators in the same run, per variate (the floor a numpy user starts "
             "from): " + ", ".join(f"`Generator.{name}` {value:.0f} M variates/s"
                                   for name, value in generators) + ".")
+    render_extra(extra or {}, lines)
     if micro:
         add("")
         add("## Micro-benchmarks")
@@ -256,7 +332,8 @@ def render(meta, cases, generators, micro):
     add("```")
     add("")
     add("Environment of `bench/run.sh`: `RUNS` (runs per case, default 5), `BIG_RUNS` (runs of "
-        "the 4000×3000 and 100-trial cases, default 1), `SKIP_MICRO=1` (no micro-benchmarks), "
+        "the 4000×3000 and 100-trial cases and the campaigns, default 1), `LOOP_RUNS` (calls "
+        "of each Python loop, default 50), `SKIP_MICRO=1` (no micro-benchmarks), "
         "`BENCH_RESULTS` (the results file, default `build-bench/results.tsv`), `BENCH_NOTE` "
         "(the conditions of the run, shown above). `bench/report.py [RESULTS] [-o OUTPUT]` "
         "reads that file. A run takes several minutes: each numpy run of a 4000×3000 image "
@@ -283,10 +360,10 @@ def main(argv):
                         default=os.path.join(ROOT, "build-bench", "results.tsv"))
     parser.add_argument("-o", "--output", default=os.path.join(ROOT, "docs", "performance.md"))
     args = parser.parse_args(argv[1:])
-    meta, cases, generators, micro = read_results(args.results)
+    meta, cases, generators, micro, extra = read_results(args.results)
     if not cases:
         raise SystemExit(f"report: no case in {args.results}")
-    page = render(meta, cases, generators, micro)
+    page = render(meta, cases, generators, micro, extra)
     if args.output == "-":
         sys.stdout.write(page)
     else:

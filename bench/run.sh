@@ -5,10 +5,14 @@
 # fssim with the aggregated noise (when this fssim has `--noise aggregated`)
 # and numpy, on camera.png, astronaut.png, a generated 4000x3000 RGB image
 # (bench/make_image) and a 4000x3000 RGB photograph (data/astronaut.png
-# resized by bench/scale_image.py, Pillow's LANCZOS filter); then numpy's own
-# generators and the micro-benchmarks (SKIP_MICRO=1 leaves them out). The slow
-# cases (4000x3000, 100 trials) run BIG_RUNS times (default 1): the machine may
-# be shared. Builds in Release in build-bench/ (at nice 10).
+# resized by bench/scale_image.py, Pillow's LANCZOS filter); the settings per
+# second of two campaigns of 100 camera.png settings (`fssim campaign`); the
+# runs per second of a Python loop over fss.simulate and over numpy's
+# (bench/python_loop.py, LOOP_RUNS calls, default 50; left out when the build
+# has no Python module); then numpy's own generators and the micro-benchmarks
+# (SKIP_MICRO=1 leaves them out). The slow cases (4000x3000, 100 trials, the
+# campaigns) run BIG_RUNS times (default 1): the machine may be shared. Builds
+# in Release in build-bench/ (at nice 10).
 #
 # Prints a Markdown table, and writes the results as tab-separated lines to
 # BENCH_RESULTS (default build-bench/results.tsv; a relative path is taken from
@@ -18,6 +22,10 @@
 #                                         load_end, fssim_version, note
 #   case  NAME  PROGRAM  RUNS  MEDIAN_S  PEAK_MB  ARGUMENTS
 #                                         PROGRAM: fssim, fssim-aggregated, numpy
+#   campaign  NAME  RUNS  MEDIAN_S  PEAK_MB  SETTINGS  ARGUMENTS
+#                                         `fssim campaign ARGUMENTS -o DIR`
+#   loop  NAME  PROGRAM  RUNS  RUNS_PER_S  MEDIAN_S  ARGUMENTS
+#                                         bench/python_loop.py; PROGRAM: fss, numpy
 #   numpy_generator  NAME  M_VARIATES_PER_S
 #   micro  NAME  REAL_TIME  TIME_UNIT  ITEMS_PER_SECOND (empty if none)
 # BENCH_NOTE, free text, is recorded as the note (the conditions of the run).
@@ -77,7 +85,8 @@ meta note "${BENCH_NOTE:-}"
 # median of the numbers on stdin
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 
-# measure RUNS COMMAND...: prints "median_seconds peak_MB" of COMMAND --outdir DIR.
+# measure RUNS COMMAND...: prints "median_seconds peak_MB" of COMMAND --outdir DIR
+# (of COMMAND $OUTOPT DIR when OUTOPT is set: a fresh DIR each run).
 measure() {
   local count=$1; shift
   : > "$out/times"; : > "$out/rss"
@@ -87,7 +96,7 @@ measure() {
     # includes starting GNU time itself (about a millisecond); peak RSS from
     # GNU time.
     local start=$EPOCHREALTIME
-    /usr/bin/time -f "%M" -o "$out/t" "$@" --outdir "$out/o" >/dev/null
+    /usr/bin/time -f "%M" -o "$out/t" "$@" "${OUTOPT:---outdir}" "$out/o" >/dev/null
     local end=$EPOCHREALTIME
     awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f\n", e - s }' >> "$out/times"
     cat "$out/t" >> "$out/rss"
@@ -165,6 +174,34 @@ NUMPY=0 row "camera.png, numerical, 100 trials" "$big_runs" "${camera[@]}" --mod
 echo
 echo "fssim draws its plots (code.png, spectrum.png) but in the no-plots rows; the numpy program"
 echo "draws none. Both write the observed, restored, residual and ground-truth PNGs."
+# campaign_row NAME RUNS SETTINGS CAMPAIGN_ARGS...: settings per second of
+# `fssim campaign CAMPAIGN_ARGS`, a fresh directory each run.
+campaign_row() {
+  local name=$1 count=$2 settings=$3 result; shift 3
+  result=$(OUTOPT=--output measure "$count" "$build/fssim" campaign --no-progress "$@")
+  read -r ct cm <<< "$result"
+  printf 'campaign\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$count" "$ct" "$cm" "$settings" "$*" \
+    >> "$tsv"
+  awk -v n="$name" -v s="$settings" -v t="$ct" -v m="$cm" \
+    'BEGIN { printf "| %s | %d | %.3f s, %d MB | %.1f |\n", n, s, t, m, s / t }'
+}
+echo
+echo "| campaign (camera.png, raskar, numerical) | settings | fssim campaign | settings per second |"
+echo "|---|---:|---:|---:|"
+campaign_row "100 velocities 0.5:1.49:0.01, snr 100" "$big_runs" 100 \
+  -i data/camera.png -c raskar -m numerical --snr 100 -v 0.5:1.49:0.01
+campaign_row "100 snr values 1:100:1, v = 1" "$big_runs" 100 \
+  -i data/camera.png -c raskar -m numerical --snr 1:100:1 -v 1
+# A Python loop over fss.simulate (the module built into build-bench/python).
+echo
+if PYTHONPATH=$build/python "$python" -c 'import fss' 2>/dev/null; then
+  loop_numpy=${LOOP_RUNS:-50}
+  [ "$have_numpy" = 1 ] || loop_numpy=0
+  PYTHONPATH=$build/python "$python" bench/python_loop.py --input data/camera.png --code raskar \
+    --mode numerical --runs "${LOOP_RUNS:-50}" --numpy-runs "$loop_numpy" --results "$tsv"
+else
+  echo "bench: Python loop left out: $build has no Python module (needs pybind11-dev, python3-dev)" >&2
+fi
 # numpy's own generators, per variate: the floor a numpy user starts from.
 if [ "$have_numpy" = 1 ]; then
   echo

@@ -1,8 +1,6 @@
 // fssim: the command line over the fss library. main() parses the command
 // line and hands it to the command it selects: the simulation itself
 // (simulate_command.cpp), spectra, code generate / analyze / optimize, sweep, campaign.
-#include <malloc.h>
-
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <exception>
@@ -117,11 +115,6 @@ int main(int argc, char** argv) {
   // Beyond a file size limit (ulimit -f), a write must fail with EFBIG, which
   // is reported and cleaned up, rather than kill the process mid-write.
   std::signal(SIGXFSZ, SIG_IGN);
-  // Buffers up to 32 MiB (a 2048 x 2048 image of doubles) come from the heap and stay there once
-  // freed, so that the next run's (a campaign's next setting) reuse their pages instead of
-  // faulting in fresh ones; larger ones are mapped and unmapped as before.
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
   int status = fssim::kExitRuntime;
   try {
     status = run(argc, argv);

@@ -18,6 +18,7 @@
 #include "fss/pipeline/geometry.h"
 #include "fss/pipeline/metrics.h"
 #include "fss/pipeline/simulate.h"
+#include "model/exact_poisson.h"
 #include "model/noise.h"
 #include "pipeline/restore.h"
 #include "synthetic_image.h"
@@ -87,6 +88,69 @@ void BM_AggregatedRowSampler(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * width * static_cast<std::int64_t>(kFrames));
 }
 BENCHMARK(BM_AggregatedRowSampler)->Arg(512)->Arg(4000);
+
+// A row of 4000 pixels at snr 100 (lambda2 = 100) seen through 52 frames of
+// gain 1, per frame and pixel: range(0) 0 the test row, 1 a dark row (e =
+// 0.05, every frame on Knuth's branch). range(1): 0 the per-frame sampler
+// (PoissonRowSampler, 52 rows), 1 the aggregated sampler without groups
+// (every frame a single frame, as for a code of unique gains), 2 the
+// aggregated sampler with the 52 frames as one group (one exact Poisson
+// variate per pixel, as for raskar).
+void BM_FramesOfOneGain(benchmark::State& state) {
+  constexpr int kWidth = 4000;
+  constexpr std::uint64_t kFrames = 52;
+  std::vector<double> e = test_row(kWidth);
+  if (state.range(0) == 1) e.assign(e.size(), 0.05);
+  std::vector<double> out(static_cast<std::size_t>(kWidth), 0.0);
+  const std::vector<double> gains(kFrames, 1.0);
+  const int sampler_kind = static_cast<int>(state.range(1));
+  fss::PoissonRowSampler per_frame(100.0);
+  fss::AggregatedRowSampler aggregated(
+      100.0, sampler_kind == 2 ? std::span<const double>(gains) : std::span<const double>());
+  std::uint64_t row = 0;
+  for (auto _ : state) {
+    for (std::uint64_t k = 0; k < kFrames; ++k) {
+      if (sampler_kind == 0) {
+        per_frame.accumulate(e, {1, 0, k, row}, 1.0, out);
+      } else {
+        aggregated.add_frame(e, {1, 0, k, row}, 1.0, out);
+      }
+    }
+    if (sampler_kind != 0) aggregated.finish({1, 0, 0, row}, out);
+    ++row;
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kWidth * static_cast<std::int64_t>(kFrames));
+}
+BENCHMARK(BM_FramesOfOneGain)->ArgsProduct({{0, 1}, {0, 1, 2}});
+
+// The exact Poisson sampler alone (exact_poisson_variate) at mean range(0)
+// / 10: inversion below 10, transformed rejection above.
+void BM_ExactPoissonVariate(benchmark::State& state) {
+  const double mean = static_cast<double>(state.range(0)) / 10.0;
+  fss::RandomStream stream(1, 0, 0, 0, 5);
+  double sink = 0.0;
+  for (auto _ : state) {
+    for (int i = 0; i < 1000; ++i) sink += fss::exact_poisson_variate(mean, stream);
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations() * 1000);
+}
+BENCHMARK(BM_ExactPoissonVariate)->Arg(1)->Arg(50)->Arg(99)->Arg(100)->Arg(1000)->Arg(100000);
+
+// The same through the row sampler (add_exact_poisson_row: PTRS's first tries
+// vectorized), a row of 4000 pixels of mean range(0) / 10.
+void BM_ExactPoissonRow(benchmark::State& state) {
+  const std::vector<double> mean(4000, static_cast<double>(state.range(0)) / 10.0);
+  std::vector<double> out(mean.size(), 0.0);
+  fss::RandomStream stream(1, 0, 0, 0, 5);
+  for (auto _ : state) {
+    fss::add_exact_poisson_row(mean, stream, 1.0, out);
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * 4000);
+}
+BENCHMARK(BM_ExactPoissonRow)->Arg(1)->Arg(50)->Arg(99)->Arg(100)->Arg(1000)->Arg(100000);
 
 // The floor, 1: raw 64-bit outputs of xoshiro256** (one per pixel is what
 // the per-frame sampler's Box-Muller consumes).

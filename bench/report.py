@@ -259,9 +259,10 @@ def render(meta, cases, generators, micro, extra=None):
     add("- **fssim per-frame**: fssim with its per-frame photon noise (`--noise poisson`, the "
         "default), one Poisson variate per frame and pixel;")
     add("- **fssim aggregated**: fssim with `--noise aggregated` (numerical mode only, "
-        f"[method.md §6c]({METHOD_6C})): one normal per pixel for all the frames whose "
-        "expected photon count is at least 50, and Knuth's method frame by frame for the "
-        "others;")
+        f"[method.md §6c]({METHOD_6C})): one exact Poisson variate per pixel for each set of "
+        "frames of equal gains (every frame of raskar), and, for the other frames, one normal "
+        "per pixel for those whose expected photon count is at least 50 and Knuth's method "
+        "frame by frame for the rest;")
     add("- **numpy per-frame**: `bench/numpy_flutter.py`, the same model written with numpy as "
         "a user would (Debian's python3-numpy): per-frame `Generator.poisson`, `rfft`, the "
         "four image PNGs, no plots. It measures what a plain numpy program costs, not the "

@@ -526,6 +526,11 @@ void seal(ResolvedCampaign& c) {
             {"noise", to_string(c.noise)},
             {"rmse_margin", c.rmse_margin_columns}};
   if (c.per_trial) j["per_trial"] = true;  // absent when off: earlier campaigns keep their hash
+  // Aggregated noise only (earlier campaigns of the other noise models keep their hash): the
+  // sampler's version, absent in the campaigns of version 1.
+  if (c.noise == NoiseModel::kAggregated && c.aggregated_sampler != 1) {
+    j["aggregated_sampler"] = c.aggregated_sampler;
+  }
   if (c.has_sensor()) j["sensor"] = sensor_json(c);
   // Absent for the inverse filter alone: earlier campaigns keep their hash.
   if (c.has_restorations()) {
@@ -664,6 +669,9 @@ std::string canonical_error(const ResolvedCampaign& c) {
   if (!trials_rule(c.trials).empty() || !margin_rule(c.rmse_margin_columns).empty()) {
     return "trials or rmse_margin out of range";
   }
+  if (c.aggregated_sampler < 1 || c.aggregated_sampler > kAggregatedSamplerVersion) {
+    return "an unknown aggregated_sampler version";
+  }
   for (const auto& r : c.restore_velocities) {
     if (r && !std::isfinite(*r)) return "a value that is not finite";
   }
@@ -713,6 +721,9 @@ void read_canonical(const Json& j, ResolvedCampaign& c) {
   if (!noise) throw_runtime_error("malformed campaign specification: an unknown noise model");
   c.noise = *noise;
   c.per_trial = j.value("per_trial", false);
+  // Absent from an aggregated campaign: version 1, before the versions were named.
+  c.aggregated_sampler = c.noise == NoiseModel::kAggregated ? j.value("aggregated_sampler", 1)
+                                                            : kAggregatedSamplerVersion;
   if (j.contains("sensor")) sensor_from_json(j.at("sensor"), c);
   if (j.contains("restoration")) {
     c.restorations.clear();

@@ -110,8 +110,9 @@ void SimulationFlags::AddSeed(CLI::App& app) {
 void SimulationFlags::AddNoise(CLI::App& app) {
   add_checked_option(app, "--noise", noise_,
                      "poisson (every frame drawn), aggregated (numerical mode: each pixel's frames "
-                     "above 50 photons drawn as one normal of the same mean and variance, much "
-                     "faster), or none for a noise-free run of the same pipeline",
+                     "of equal gains drawn as one exact Poisson variate, the others above 50 "
+                     "photons as one normal of the same mean and variance, much faster), or none "
+                     "for a noise-free run of the same pipeline",
                      CLI::IsMember({"poisson", "aggregated", "none"}));
 }
 

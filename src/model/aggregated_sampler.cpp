@@ -3,14 +3,46 @@
 // vectorize.
 #include "model/aggregated_sampler.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "core/vectorize.h"
+#include "model/exact_poisson.h"
 #include "model/poisson_sampler.h"
 
 namespace fss {
 
-AggregatedRowSampler::AggregatedRowSampler(double snr) : lambda2_(checked_lambda2(snr)) {}
+std::vector<int> gain_groups(std::span<const double> gains) {
+  std::map<double, int> frames;  // nonzero gain -> its count of frames
+  for (const double alpha : gains) {
+    if (alpha != 0.0 && !std::isnan(alpha)) ++frames[alpha];
+  }
+  std::map<double, int> number;  // shared gain -> its group, in the order of first frames
+  std::vector<int> group(gains.size(), kSingleFrame);
+  for (std::size_t k = 0; k < gains.size(); ++k) {
+    if (gains[k] == 0.0 || std::isnan(gains[k]) || frames.at(gains[k]) < 2) continue;
+    group[k] = number.try_emplace(gains[k], static_cast<int>(number.size())).first->second;
+  }
+  return group;
+}
+
+int gain_group_count(std::span<const double> gains) {
+  const std::vector<int> group = gain_groups(gains);
+  return group.empty() ? 0 : *std::max_element(group.begin(), group.end()) + 1;
+}
+
+AggregatedRowSampler::AggregatedRowSampler(double snr, std::span<const double> gains)
+    : lambda2_(checked_lambda2(snr)), group_of_(gain_groups(gains)) {
+  for (std::size_t k = 0; k < gains.size(); ++k) {
+    const int g = group_of_[k];
+    if (g != kSingleFrame && static_cast<std::size_t>(g) == group_gain_.size()) {
+      group_gain_.push_back(gains[k]);
+    }
+  }
+  group_lambda_.resize(group_gain_.size());
+  group_used_.assign(group_gain_.size(), 0);
+}
 
 std::size_t AggregatedRowSampler::intensities_of(std::span<const double> e, double dark,
                                                  IntensityRows& rows) const {
@@ -43,6 +75,23 @@ std::size_t AggregatedRowSampler::intensities_of(std::span<const double> e, doub
 void AggregatedRowSampler::add_frame(std::span<const double> e, const RowNoiseId& id, double gain,
                                      std::span<double> out, const SensorReadout* readout) {
   const double dark = readout != nullptr ? readout->dark_electrons : 0.0;
+  if (id.frame < group_of_.size() && group_of_[id.frame] != kSingleFrame) {
+    // A grouped frame needs lambda only (intensities_of's expression).
+    std::vector<double>& lambda = intensities_.lambda;
+    lambda.resize(e.size());
+    detail::run_vectorized([&]() __attribute__((always_inline)) {
+      const std::size_t n = e.size();
+      const double* __restrict intensity = e.data();
+      double* __restrict to = lambda.data();
+      const double lambda2 = lambda2_;
+      const double dark_electrons = dark;
+      for (std::size_t x = 0; x < n; ++x) {
+        to[x] = std::max(intensity[x], 0.0) * lambda2 + dark_electrons;
+      }
+    });
+    add_frame(FrameIntensities{lambda, {}, {}, 0}, id, gain, out, readout);
+    return;
+  }
   const std::size_t normal_pixels = intensities_of(e, dark, intensities_);
   add_frame(FrameIntensities{intensities_.lambda, intensities_.mean_part,
                              intensities_.variance_part, normal_pixels},
@@ -57,6 +106,12 @@ void AggregatedRowSampler::add_frame(const FrameIntensities& frame, const RowNoi
     mean_.assign(n, 0.0);
     variance_.assign(n, 0.0);
     has_frame_ = true;
+  }
+  const int group = id.frame < group_of_.size() ? group_of_[id.frame] : kSingleFrame;
+  if (group != kSingleFrame) {
+    add_group_frame(group, frame.lambda);
+    if (readout != nullptr) add_readout_terms(gain, *readout);
+    return;
   }
   // Normal branch: M += alpha lambda, V += alpha^2 (lambda + 1/12); the
   // parts are 0 on Knuth's branch, and alpha 0 or alpha^2 0 adds a zero that
@@ -107,6 +162,33 @@ void AggregatedRowSampler::add_knuth_branch(std::span<const double> lambda,
   }
 }
 
+void AggregatedRowSampler::add_group_frame(int group, std::span<const double> lambda) {
+  const auto g = static_cast<std::size_t>(group);
+  std::vector<double>& sum = group_lambda_[g];
+  if (group_used_[g] == 0) {  // the group's first frame of the row: Lambda_g = lambda
+    sum.assign(lambda.begin(), lambda.end());
+    group_used_[g] = 1;
+    return;
+  }
+  // Lambda_g += lambda
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    const std::size_t n = lambda.size();
+    const double* __restrict from = lambda.data();
+    double* __restrict to = sum.data();
+    for (std::size_t x = 0; x < n; ++x) to[x] += from[x];
+  });
+}
+
+void AggregatedRowSampler::draw_groups(const RowNoiseId& id, std::span<double> out) {
+  for (std::size_t g = 0; g < group_used_.size(); ++g) {
+    if (group_used_[g] == 0) continue;
+    group_used_[g] = 0;
+    RandomStream stream = lane_stream(id, g, NoiseLane::kGroupPoisson);
+    add_exact_poisson_row(group_lambda_[g], stream, group_gain_[g] / lambda2_, out);
+    if (plan_ != nullptr) plan_->groups.push_back({g, group_gain_[g], group_lambda_[g]});
+  }
+}
+
 void AggregatedRowSampler::add_readout_terms(double gain, const SensorReadout& readout) {
   // Every pixel: M -= alpha dark (dark-frame correction), V += alpha^2 sigma_r^2.
   const double read_variance = readout.read_noise_electrons * readout.read_noise_electrons;
@@ -137,9 +219,17 @@ void AggregatedRowSampler::add_normals(std::span<const double> mean_photons,
 }
 
 void AggregatedRowSampler::finish(const RowNoiseId& id, std::span<double> out) {
+  draw_groups(id, out);
   if (has_normal_) add_normals(mean_, variance_, id, out);
   if (plan_ != nullptr) {
-    if (plan_->knuth_pixels <= max_knuth_pixels_) {
+    // Within the bound RowPipeline::plan_bytes assumes: M, V, max_knuth_pixels
+    // Knuth-branch pixels (an index and an intensity each) and each group's
+    // Lambda_g: 28 + 8 G bytes a column of max_knuth_pixels columns.
+    const std::size_t width = mean_.size();
+    const std::size_t bytes = 12 * plan_->knuth_pixels + (has_normal_ ? 16 * width : 0) +
+                              8 * width * plan_->groups.size();
+    const std::size_t budget = (28 + 8 * group_gain_.size()) * max_knuth_pixels_;
+    if (plan_->knuth_pixels <= max_knuth_pixels_ && bytes <= budget) {
       if (has_normal_) {
         plan_->mean = mean_;
         plan_->variance = variance_;
@@ -163,13 +253,18 @@ void AggregatedRowSampler::record_next_row(AggregatedRowPlan* plan, std::size_t 
 void AggregatedRowSampler::replay(const AggregatedRowPlan& plan, const RowNoiseId& id,
                                   std::span<double> out) {
   // The Knuth-branch frames in their order, each from its own lane and in
-  // pixel order, then the normal: add_frame()'s and finish()'s operations.
+  // pixel order, then the groups, then the normal: add_frame()'s and
+  // finish()'s operations.
   for (const AggregatedRowPlan::KnuthFrame& frame : plan.knuth) {
     RandomStream knuth_stream = lane_stream(id, frame.frame, NoiseLane::kAggregateKnuth);
     const double scale = frame.gain / lambda2_;
     for (std::size_t i = 0; i < frame.pixels.size(); ++i) {
       out[frame.pixels[i]] += scale * poisson_variate(frame.lambdas[i], knuth_stream);
     }
+  }
+  for (const AggregatedRowPlan::Group& group : plan.groups) {
+    RandomStream stream = lane_stream(id, group.group, NoiseLane::kGroupPoisson);
+    add_exact_poisson_row(group.lambda, stream, group.gain / lambda2_, out);
   }
   if (!plan.mean.empty()) add_normals(plan.mean, plan.variance, id, out);
 }

@@ -1,5 +1,6 @@
-// The numerical mode's photon noise with the normal-branch frames of each
-// pixel aggregated into one normal (docs/method.md §6c, `--noise aggregated`).
+// The numerical mode's photon noise aggregated (docs/method.md §6c, `--noise
+// aggregated`): frames with equal gains drawn as one exact Poisson variate of
+// their summed intensity, the normal-branch frames of the others as one normal.
 #pragma once
 
 #include <cstddef>
@@ -12,36 +13,55 @@
 
 namespace fss {
 
+// Frames with equal gains (docs/method.md §6c): gain_groups(gains)[k] is
+// frame k's group, the index of its gain among the nonzero gains that at
+// least two frames share, numbered in the order of their first frames; or
+// kSingleFrame for a zero gain or a gain no other frame has.
+inline constexpr int kSingleFrame = -1;
+std::vector<int> gain_groups(std::span<const double> gains);
+// The number of groups of gain_groups(gains).
+int gain_group_count(std::span<const double> gains);
+
 // The numerical mode's observation of one row,
 //   o[x] = sum_k alpha_k PoissonSNR(e_k[x]),
-// with the normal-branch frames aggregated (docs/method.md §6c): for each
-// pixel, the frames with lambda_k = max(e_k[x], 0) lambda2 >= 50 are
-// replaced by ONE normal
+// aggregated (docs/method.md §6c). The frames of a group g (gain_groups,
+// gain alpha_g) are exact: each pixel gets ONE variate
+//   out[x] += alpha_g P_g[x] / lambda2,  P_g ~ Poisson(Lambda_g[x]),
+//   Lambda_g = sum_{k in g} lambda_k,  lambda_k = max(e_k[x], 0) lambda2,
+// a sum of independent Poissons being one Poisson (exact_poisson_variate,
+// from the row's kGroupPoisson lane of frame coordinate g, in pixel order).
+// The other frames (single frames: a gain no other frame has) are
+// aggregated as before: for each pixel, the single frames with
+// lambda_k >= 50 are replaced by ONE normal
 //   A[x] = M[x] + sqrt(V[x]) N[x],   M = sum alpha_k lambda_k,
 //                                    V = sum alpha_k^2 (lambda_k + 1/12),
 // added as A[x] / lambda2, not rounded; the frames with lambda_k < 50 are
 // drawn one by one by Knuth's method, as PoissonRowSampler does. One normal
-// per pixel and row instead of one per pixel and frame. Each pixel's mean and
-// variance are the per-frame sampler's; what differs beyond them is in
-// docs/method.md §6c. The variates come from the kAggregate lanes, so the
-// aggregated and per-frame observations of one seed are independent draws.
+// per pixel and row instead of one per pixel and frame. Each pixel's mean is
+// the per-frame sampler's, and so is its variance but for the grouped
+// frames, which have no rounding term (the prediction follows, observe.h);
+// what differs beyond them is in docs/method.md §6c. The variates come from
+// the kAggregate and kGroupPoisson lanes, so the aggregated and per-frame
+// observations of one seed are independent draws.
 // N comes from box_muller_portable: A is not rounded, so N's bits must not
 // depend on the processor (docs/method.md §3).
 //
 // Use, per row: add_frame() for each frame with a nonzero gain, then
-// finish(). Each frame has its own Knuth stream, so the frames' order (or
-// skipping a zero gain) changes no variate, only the rounding of the sums;
-// the observer adds them in k order, as for the per-frame sampler. The
-// Knuth-branch frames go straight into `out`; the normal-branch ones are
-// summed into two row-sized accumulators, M and V, which finish() turns
-// into the normal and resets for the next row: no frame's row is kept.
+// finish(). Each single frame has its own Knuth stream, so the frames' order
+// (or skipping a zero gain) changes no variate, only the rounding of the
+// sums; the observer adds them in k order, as for the per-frame sampler. The
+// single frames' Knuth-branch pixels go straight into `out`; their
+// normal-branch ones are summed into two row-sized accumulators, M and V,
+// and each group's intensities into Lambda_g; finish() draws the groups in
+// g order, then the normal, and resets them for the next row: no frame's
+// row is kept.
 // Holds scratch buffers: one sampler per thread.
 //
 // Trials: everything but the variates is the same for every seed. A row's
-// AggregatedRowPlan (M, V and the Knuth-branch frames' pixels and
-// intensities), recorded while the row is drawn once, lets replay() draw the
-// row again for any seed without its frames: the same bytes as add_frame()
-// for each frame then finish().
+// AggregatedRowPlan (M, V, the Knuth-branch frames' pixels and
+// intensities, each group's Lambda_g), recorded while the row is drawn once,
+// lets replay() draw the row again for any seed without its frames: the same
+// bytes as add_frame() for each frame then finish().
 struct AggregatedRowPlan {
   struct KnuthFrame {
     std::uint64_t frame = 0;
@@ -54,15 +74,24 @@ struct AggregatedRowPlan {
   std::vector<double> variance;  // V
   std::vector<KnuthFrame> knuth;
   std::size_t knuth_pixels = 0;  // total over the frames
+  struct Group {
+    std::uint64_t group = 0;
+    double gain = 0.0;
+    std::vector<double> lambda;  // Lambda_g, one per pixel
+  };
+  std::vector<Group> groups;  // in g order
 };
 
 class AggregatedRowSampler {
  public:
-  explicit AggregatedRowSampler(double snr);
+  // `gains`: the code's, whose groups (gain_groups) are drawn exactly; none:
+  // every frame is a single frame.
+  explicit AggregatedRowSampler(double snr, std::span<const double> gains = {});
   double lambda2() const { return lambda2_; }
-  // Frame id.frame of row (id.seed, id.channel, id.row): out[x] +=
-  // gain * PoissonSNR(e[x]) where lambda < 50, accumulated into M and V
-  // otherwise. e and out have the row's width, the same for every frame.
+  // Frame id.frame of row (id.seed, id.channel, id.row): a grouped frame's
+  // lambda added to its group's Lambda_g (gain is the group's); a single
+  // frame's out[x] += gain * PoissonSNR(e[x]) where lambda < 50,
+  // accumulated into M and V otherwise. e and out have the row's width, the same for every frame.
   // With a `readout` (a linear sensor: dark current and read noise only,
   // docs/method.md §10), aggregated exactly: each lambda gains the dark
   // charge (a sum of Poissons is one Poisson), and every pixel's
@@ -94,15 +123,19 @@ class AggregatedRowSampler {
   // The same as add_frame(e, ...) for the exposure whose intensities these are.
   void add_frame(const FrameIntensities& frame, const RowNoiseId& id, double gain,
                  std::span<double> out, const SensorReadout* readout = nullptr);
-  // out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from the row's
-  // kAggregateNormal lane (id.frame is ignored), then M = V = 0. Draws
-  // nothing when no pixel had a normal-branch frame.
+  // For each group g with frames, in g order: out[x] += alpha_g P_g[x] /
+  // lambda2; then out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from
+  // the row's kAggregateNormal lane (id.frame is ignored), then M = V = 0.
+  // Draws no normal when no pixel had a normal-branch frame.
   void finish(const RowNoiseId& id, std::span<double> out);
 
   // Records the row's plan during the next add_frame() calls and finish()
   // into `plan` (which must outlive them); finish() marks it recorded unless
-  // its Knuth-branch pixel frames exceeded `max_knuth_pixels` (then it is
-  // left empty and not recorded: that row is drawn from its frames).
+  // its Knuth-branch pixel frames exceeded `max_knuth_pixels`, or its arrays
+  // (M and V, 12 bytes a Knuth-branch pixel, 8 bytes a pixel per group)
+  // exceed 28 + 8 G bytes times `max_knuth_pixels` for the code's G groups
+  // (RowPipeline::plan_bytes; then it is left empty and not recorded: that
+  // row is drawn from its frames).
   void record_next_row(AggregatedRowPlan* plan, std::size_t max_knuth_pixels);
   // The row of a recorded plan with the noise of (id.seed, id.channel,
   // id.row): out[x] += what add_frame() for each of its frames, then
@@ -116,12 +149,20 @@ class AggregatedRowSampler {
   // them): out += gain P / lambda2, recorded into the plan being recorded.
   void add_knuth_branch(std::span<const double> lambda, std::size_t knuth_pixels,
                         const RowNoiseId& id, double gain, std::span<double> out);
+  // Group g's frame: Lambda_g += lambda.
+  void add_group_frame(int group, std::span<const double> lambda);
+  // out += alpha_g P_g / lambda2 for each group with frames, recorded.
+  void draw_groups(const RowNoiseId& id, std::span<double> out);
   // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
   void add_normals(std::span<const double> mean, std::span<const double> variance,
                    const RowNoiseId& id, std::span<double> out);
 
   double lambda2_;
-  AggregatedRowPlan* plan_ = nullptr;  // being recorded
+  std::vector<int> group_of_;                      // per frame, gain_groups
+  std::vector<double> group_gain_;                 // alpha_g
+  std::vector<std::vector<double>> group_lambda_;  // Lambda_g, in photons
+  std::vector<char> group_used_;                   // group g had a frame since the last finish()
+  AggregatedRowPlan* plan_ = nullptr;              // being recorded
   std::size_t max_knuth_pixels_ = 0;
   bool has_frame_ = false;   // add_frame() was called since the last finish()
   bool has_normal_ = false;  // and some pixel of some frame was on the normal branch

@@ -68,12 +68,17 @@ struct RowNoiseId {
 //                     per pixel, pixel x gets output x of the Box-Muller
 //                     batch. Drawn only when the read noise is on, so the
 //                     other lanes' variates are those of a run without it.
+//   kGroupPoisson     per (seed, channel, group g, row): AggregatedRowSampler's
+//                     exact Poisson variates of group g (the g-th set of
+//                     >= 2 frames with equal gains, docs/method.md §6c), the
+//                     frame coordinate holding g; in pixel order.
 enum class NoiseLane : std::uint64_t {
   kFrameNormal = 0,
   kFrameKnuth = 1,
   kAggregateNormal = 2,
   kAggregateKnuth = 3,
   kReadNoise = 4,
+  kGroupPoisson = 5,
 };
 
 // The stream of `lane` for frame `frame` of the row (id.seed, id.channel,

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "fss/core/error.h"
+#include "model/aggregated_sampler.h"
 #include "pipeline/fitted_restoration.h"
 #include "pipeline/row_pipeline.h"
 #include "pipeline/run_checks.h"
@@ -76,8 +77,9 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                        extra_encoding_bytes_per_sample);
 }
 
-// RowPipeline::plan_bytes: aggregated noise with trials > 1 keeps each row's recorded plan (M, V
-// and its Knuth-branch pixels) for the later trials.
+// RowPipeline::plan_bytes: aggregated noise with trials > 1 keeps each row's recorded plan (M, V,
+// its Knuth-branch pixels and its groups' Lambda) for the later trials; a code of L gains has at
+// most L / 2 groups.
 std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           const Geometry& geometry,
                                           const SimulationOptions& options, int code_length,
@@ -85,7 +87,7 @@ std::size_t estimate_working_memory_bytes(int width, int height, int channels,
                                           std::size_t extra_encoding_bytes_per_sample) {
   return working_bytes(width, height, channels, geometry, options.trials, observed_sink == nullptr,
                        extra_encoding_bytes_per_sample) +
-         RowPipeline::plan_bytes(width, height, channels, options, code_length) +
+         RowPipeline::plan_bytes(width, height, channels, options, code_length, code_length / 2) +
          fitted_restoration_bytes(options, geometry.observed_width, height, channels) +
          velocity_kernel_bytes(width, height, channels, geometry, options, code_length);
 }
@@ -97,8 +99,8 @@ std::size_t estimate_run_memory_bytes(const ImageShape& shape, const SimulationO
   const Geometry geometry = checked_geometry(options, shape.width, code);
   return working_bytes(shape.width, shape.height, shape.channels, geometry, options.trials,
                        !observed_to_sink, extra_encoding_bytes_per_sample) +
-         RowPipeline::plan_bytes(shape.width, shape.height, shape.channels, options,
-                                 code.length()) +
+         RowPipeline::plan_bytes(shape.width, shape.height, shape.channels, options, code.length(),
+                                 gain_group_count(code.gains)) +
          fitted_restoration_bytes(options, geometry.observed_width, shape.height, shape.channels) +
          velocity_kernel_bytes(shape.width, shape.height, shape.channels, geometry, options,
                                code.length());

@@ -18,7 +18,8 @@ RowObserver::RowObserver(int width, std::span<const double> gains, ShutterMode m
       mode_(mode),
       snr_(params.snr),
       fft_(RowFFT::for_size(width)),
-      aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical) {
+      aggregate_(params.aggregate_noise && mode == ShutterMode::kNumerical),
+      groups_(gain_groups(gains)) {
   fft_.prepare();  // both directions are used for every row
   set_noise(params);
   auto filters = std::make_shared<std::vector<std::vector<Complex>>>();
@@ -84,7 +85,7 @@ RowObserver::Scratch::Scratch(const RowObserver& observer)
     : workspace(observer.width_),
       spectrum(static_cast<std::size_t>(observer.width_ / 2 + 1)),
       sampler(observer.snr_),
-      aggregated(observer.snr_) {}
+      aggregated(observer.snr_, observer.gains_) {}
 
 void RowObserver::load_row(const double* row, Scratch& scratch) const {
   std::copy(row, row + width_, scratch.workspace.real().begin());
@@ -109,7 +110,8 @@ namespace {
 // Var(o) of the noise-free pass, sum_k alpha_k^2 V(e_k) with V(e) =
 // Var(PoissonSNR(e)) (poisson_snr_variance, docs/method.md §6b), into a row
 // the caller gives; every call does nothing without an expectation or for an
-// empty row.
+// empty row. A slot drawn exactly (a grouped frame of the aggregated noise,
+// docs/method.md §6c) has V(e) = max(e, 0) / lambda2, no rounding term.
 // With integer v dt (shifts), V(e_0) is computed once and slot k adds it
 // shifted like its exposure; otherwise each slot adds V of its own exposure.
 //
@@ -119,42 +121,47 @@ namespace {
 class VarianceRow {
  public:
   VarianceRow(bool no_expectation, double snr, std::span<double> variance,
-              std::vector<double>& unit, double dark_electrons, double readout_variance)
+              std::vector<double>& unit, std::vector<double>& exact_unit, double dark_electrons,
+              double readout_variance)
       : active_(!no_expectation && !variance.empty()),
         lambda2_(active_ ? PoissonSNR(snr).lambda2() : 0.0),
         dark_(dark_electrons),
         readout_(active_ ? detail::divide_by_square(readout_variance, lambda2_) : 0.0),
         variance_(variance),
-        unit_(unit) {
+        unit_(unit),
+        exact_unit_(exact_unit) {
     if (active_) std::fill(variance_.begin(), variance_.end(), 0.0);
   }
 
-  // Slot k's exposure e_k (or the analog exposure, weight 1). With shifts
-  // (shift.e0 not empty), unit = V(e_0) is computed at the first slot and
-  // each slot adds it shifted by its offset.
+  // Slot k's exposure e_k (or the analog exposure, weight 1), `exact` when
+  // drawn without rounding. With shifts (shift.e0 not empty), unit = V(e_0)
+  // is computed at the first slot of its kind and each slot adds it shifted
+  // by its offset.
   void add_slot(std::span<const double> e, std::span<const double> e0, std::size_t offset,
-                double weight) {
+                double weight, bool exact = false) {
     if (!active_) return;
     if (e0.empty()) {
-      add(e, weight, variance_);
+      add(e, weight, variance_, exact);
       return;
     }
-    if (!unit_ready_) {
-      unit_.assign(e0.size(), 0.0);
-      add(e0, 1.0, unit_);
-      unit_ready_ = true;
+    bool& ready = exact ? exact_unit_ready_ : unit_ready_;
+    std::vector<double>& unit = exact ? exact_unit_ : unit_;
+    if (!ready) {
+      unit.assign(e0.size(), 0.0);
+      add(e0, 1.0, unit, exact);
+      ready = true;
     }
-    add_shifted(offset, weight);
+    add_shifted(unit, offset, weight);
   }
 
  private:
   // variance[x] += weight * unit[(x - offset) mod W], offset in [0, W).
-  void add_shifted(std::size_t offset, double weight) {
+  void add_shifted(const std::vector<double>& unit, std::size_t offset, double weight) {
     detail::run_vectorized([&]() __attribute__((always_inline)) {
-      const std::size_t n = unit_.size();
+      const std::size_t n = unit.size();
       const std::size_t o = offset;
       const double w = weight;
-      const double* __restrict from = unit_.data();
+      const double* __restrict from = unit.data();
       double* __restrict sum = variance_.data();
       for (std::size_t x = 0; x < o; ++x) sum[x] += w * from[x + n - o];
       for (std::size_t x = o; x < n; ++x) sum[x] += w * from[x - o];
@@ -166,12 +173,13 @@ class VarianceRow {
   // instead of its division (equal within an ulp; a division per slot and
   // pixel would cost about as much as the slot's exposure). With a sensor:
   //   V = max(e, 0) / lambda2 + (lambda + d >= 50 ? 1 / (12 lambda2^2) : 0)
-  //       + v_r / lambda2^2.
-  void add(std::span<const double> e, double weight, std::span<double> into) const {
+  //       + v_r / lambda2^2,
+  // without the rounding term when `exact`.
+  void add(std::span<const double> e, double weight, std::span<double> into, bool exact) const {
     detail::run_vectorized([&]() __attribute__((always_inline)) {
       const double lambda2 = lambda2_;
       const double inverse = 1.0 / lambda2;
-      const double rounding = 1.0 / (12.0 * lambda2 * lambda2);
+      const double rounding = exact ? 0.0 : 1.0 / (12.0 * lambda2 * lambda2);
       const double dark = dark_;
       const double readout = readout_;
       const double w = weight;
@@ -188,11 +196,13 @@ class VarianceRow {
 
   bool active_;
   bool unit_ready_ = false;
+  bool exact_unit_ready_ = false;
   double lambda2_;
   double dark_;
   double readout_;  // v_r / lambda2^2 (0 without a sensor, also where lambda2^2 underflows)
   std::span<double> variance_;
   std::vector<double>& unit_;
+  std::vector<double>& exact_unit_;  // V(e_0) without the rounding term
 };
 
 // The expectation of one readout of a sensor with a full well or an ADC, the
@@ -233,7 +243,7 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
   scratch.intensities_ready = false;
   // the exact prediction's per-pixel variance
   VarianceRow var(expected.empty(), snr_, outputs.variance, scratch.unit_variance,
-                  readout_.dark_electrons, readout_variance_);
+                  scratch.exact_unit_variance, readout_.dark_electrons, readout_variance_);
   ReadoutClipping clipping;
   const double lambda2 = scratch.aggregated.lambda2();
   if (mode_ == ShutterMode::kAnalog) {
@@ -257,7 +267,9 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
     if (!noisy.empty()) add_noisy_slot(k, e, shift, seed, c, y, scratch, noisy);
     if (expected.empty()) return;
     add_expectation(e, gains_[k], lambda2, expected, clipping);
-    var.add_slot(e, shift.e0, shift.offset, gains_[k] * gains_[k]);
+    // A grouped frame of the aggregated noise is drawn exactly (docs/method.md §6c).
+    var.add_slot(e, shift.e0, shift.offset, gains_[k] * gains_[k],
+                 aggregate_ && groups_[k] != kSingleFrame);
   });
   if (noisy.empty()) return clipping;
   // The aggregated normal-branch frames: one normal per pixel.

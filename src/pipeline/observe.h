@@ -78,7 +78,8 @@ class RowObserver {
     AggregatedRowSampler::IntensityRows frame_intensities;
     std::size_t normal_pixels = 0;
     bool intensities_ready = false;
-    std::vector<double> unit_variance;  // Var(PoissonSNR(e_0)), integer v dt only
+    std::vector<double> unit_variance;        // Var(PoissonSNR(e_0)), integer v dt only
+    std::vector<double> exact_unit_variance;  // the same without the rounding term
     PoissonRowSampler sampler;
     AggregatedRowSampler aggregated;
   };
@@ -103,7 +104,9 @@ class RowObserver {
   //   variance     each pixel's Var(o) (docs/method.md §6b), with the
   //                expectation only: numerical sum_k alpha_k^2
   //                Var(PoissonSNR(e_k)), analog Var(PoissonSNR(e)), Var as
-  //                poisson_snr_variance (noise.h).
+  //                poisson_snr_variance (noise.h), without its rounding
+  //                term for the frames aggregated noise draws exactly
+  //                (grouped frames, docs/method.md §6c).
   // Asking for both the noisy observation and its expectation computes each
   // exposure e_k once for both: the first trial of a noisy run and its
   // noise-free pass share the row's transforms. Each output gets the same
@@ -173,9 +176,10 @@ class RowObserver {
   ShutterMode mode_;
   double snr_;
   const RowFFT& fft_;
-  bool aggregate_ = false;  // numerical mode with aggregated noise
-  bool shift_ = false;      // numerical mode with an integer v dt
-  long long step_ = 0;      // v dt when shift_
+  bool aggregate_ = false;   // numerical mode with aggregated noise
+  std::vector<int> groups_;  // gain_groups(gains_): the frames aggregated noise draws exactly
+  bool shift_ = false;       // numerical mode with an integer v dt
+  long long step_ = 0;       // v dt when shift_
   // analog: {K}; numerical: {K_0} when shift_, else K_k for each slot (empty when
   // alpha_k = 0); shared by the copies of with_noise.
   std::shared_ptr<const std::vector<std::vector<std::complex<double>>>> filters_;

@@ -54,7 +54,7 @@ RowPipeline::RowPipeline(const Image& input, const RowObserver& observer,
 }
 
 std::size_t RowPipeline::plan_bytes(int width, int height, int channels,
-                                    const SimulationOptions& options, int code_length) {
+                                    const SimulationOptions& options, int code_length, int groups) {
   const auto w = static_cast<std::size_t>(width);
   const auto rows = static_cast<std::size_t>(height) * static_cast<std::size_t>(channels);
   const bool aggregated =
@@ -65,7 +65,9 @@ std::size_t RowPipeline::plan_bytes(int width, int height, int channels,
   constexpr std::size_t kFrameBytes = 192;
   constexpr std::size_t kRowBytes = sizeof(AggregatedRowPlan) + 256;
   const std::size_t frames = std::min(w, static_cast<std::size_t>(std::max(code_length, 0)));
-  return rows * (kRowBytes + 28 * w + kFrameBytes * frames);
+  const std::size_t group_bytes =
+      (8 * w + kFrameBytes) * static_cast<std::size_t>(std::max(groups, 0));
+  return rows * (kRowBytes + 28 * w + kFrameBytes * frames + group_bytes);
 }
 
 // The buffers of one thread and the three steps of a row.

@@ -51,12 +51,13 @@ class RowPipeline {
 
   // An upper bound of the bytes of the rows' recorded plans of a run of
   // `options` on a width x height x channels image with a code of
-  // `code_length` gains (0 when no plan is recorded): per row, M and V
-  // (16 bytes a pixel), the Knuth-branch pixels (12 bytes each, at most a
-  // width of them) and at most min(L, W) frames' records with their
-  // allocations.
+  // `code_length` gains of which `groups` groups share a gain (gain_groups;
+  // 0 when no plan is recorded): per row, M and V (16 bytes a pixel), the
+  // Knuth-branch pixels (12 bytes each, at most a width of them), each
+  // group's Lambda (8 bytes a pixel) and at most min(L, W) frames' records
+  // with their allocations.
   static std::size_t plan_bytes(int width, int height, int channels,
-                                const SimulationOptions& options, int code_length);
+                                const SimulationOptions& options, int code_length, int groups);
 
   // Frequencies of the deconvolution grid where K = 0, left at 0.
   int zero_bins() const { return restorer_.zero_bins(); }
@@ -123,9 +124,10 @@ class RowPipeline {
   // Aggregated noise with trials > 1 on at most kMaxPlannedSamples samples
   // (W H C): each row's plan, recorded by the first trial and replayed by
   // the others, so that a later trial costs its variates, the restoration
-  // and the metrics only. At most 28 bytes a sample (M, V, and a width's
-  // worth of Knuth-branch pixel frames, 12 bytes each; a row with more is
-  // not recorded and is drawn from its frames every trial): 56 MiB at most.
+  // and the metrics only. At most 28 + 8 G bytes a sample for a code of G
+  // groups (M, V, a width's worth of Knuth-branch pixel frames, 12 bytes
+  // each, and the groups' Lambda; a row with more is not recorded and is
+  // drawn from its frames every trial).
   static constexpr std::size_t kMaxPlannedSamples = std::size_t{1} << 21;
   // Whether a run records the rows' plans: the rule of the constructor and
   // of plan_bytes.

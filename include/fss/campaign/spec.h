@@ -115,6 +115,9 @@ struct CampaignCode {
 
 // The specification with its files read and its lists expanded: what the
 // campaign hash covers.
+// The current version of the aggregated noise's sampler (ResolvedCampaign::aggregated_sampler).
+inline constexpr int kAggregatedSamplerVersion = 2;
+
 struct ResolvedCampaign {
   std::vector<CampaignImage> images;
   std::vector<CampaignCode> codes;
@@ -127,6 +130,11 @@ struct ResolvedCampaign {
   int trials = 1;
   std::uint64_t seed = 0;
   NoiseModel noise = NoiseModel::kPoisson;
+  // The aggregated noise's sampler (noise aggregated only): 1 before the frames of equal gains
+  // were drawn as one exact Poisson variate, 2 since (docs/method.md §6c). A new campaign has the
+  // current one, a journal's specification its own; named in the canonical JSON for aggregated
+  // noise only, so that a directory of the other sampler is not resumed with these draws.
+  int aggregated_sampler = kAggregatedSamplerVersion;
   int rmse_margin_columns = kRmseMarginAuto;
   bool per_trial = false;
   ValueList read_noises = {{0.0}, false};  // the read noise axis

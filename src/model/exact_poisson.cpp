@@ -1,0 +1,187 @@
+// The exact Poisson sampler (exact_poisson.h). Compiled with the samplers'
+// flags (CMakeLists.txt): no contraction into fused multiply-adds, so the
+// arithmetic's bits do not depend on the processor.
+#include "model/exact_poisson.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+
+#include "core/vectorize.h"
+
+namespace fss {
+
+namespace {
+
+// ln k! for k < kLogFactorialTable, from lgamma once.
+constexpr int kLogFactorialTable = 64;
+const std::array<double, kLogFactorialTable> kLogFactorial = [] {
+  std::array<double, kLogFactorialTable> table{};
+  for (int k = 0; k < kLogFactorialTable; ++k) table[k] = std::lgamma(k + 1.0);
+  return table;
+}();
+
+// Stirling's correction, from r = 1 / k: delta(k) = ln k! - (k ln k - k + ln(2 pi k) / 2)
+//   = 1 / (12 k) - 1 / (360 k^3) + 1 / (1260 k^5) - 1 / (1680 k^7) + ...,
+// the omitted terms below 1 / (1188 k^9) < 3e-20 for k >= kLogFactorialTable.
+double stirling_correction_of_inverse(double r) {  // r = 1 / k
+  const double r2 = r * r;
+  return r * (1.0 / 12.0 - r2 * (1.0 / 360.0 - r2 * (1.0 / 1260.0 - r2 * (1.0 / 1680.0))));
+}
+
+// Inversion: the smallest k with U < F(k), F the distribution function summed
+// from p(0) = exp(-mean) by p(k) = p(k - 1) mean / k. The search stops at
+// kInversionCap (P(X >= 100) < 1e-60 for mean < 10): a uniform beyond the
+// rounded F's top is drawn again.
+constexpr int kInversionCap = 100;
+constexpr double kLargestFinite = std::numeric_limits<double>::max();
+constexpr std::array<double, kInversionCap> kInverse = [] {
+  std::array<double, kInversionCap> table{};  // 1 / k, correctly rounded by the compiler
+  for (int k = 1; k < kInversionCap; ++k) table[k] = 1.0 / k;
+  return table;
+}();
+
+// Inversion from the uniform u, then from the stream's should u lie beyond
+// the rounded F's top.
+double inversion(double mean, double u, RandomStream& stream) {
+  const double p0 = std::exp(-mean);
+  for (;;) {
+    double p = p0;
+    double cdf = p0;
+    int k = 0;
+    while (u >= cdf && k + 1 < kInversionCap) {
+      ++k;
+      p *= mean * kInverse[k];
+      cdf += p;
+    }
+    if (u < cdf) return k;
+    u = stream.uniform();
+  }
+}
+
+// PTRS, Hörmann (1993), "The transformed rejection method for generating
+// Poisson random variables", for mean >= 10: with U uniform on [-1/2, 1/2),
+// V on (0, 1] and u_s = 1/2 - |U|, the candidate
+//   k = floor((2 a / u_s + b) U + mean + 0.43),
+//   b = 0.931 + 2.53 sqrt(mean),  a = -0.059 + 0.02483 b,
+// is accepted at once when u_s >= 0.07 and V <= v_r = 0.9277 - 3.6224 / (b - 2),
+// rejected when k < 0 or (u_s < 0.013 and V > u_s), and otherwise accepted when
+//   ln(V alpha / (a / u_s^2 + b)) <= ln P(X = k),  alpha = 1.1239 + 1.1328 / (b - 3.4).
+// Inline, so that the row's first tries vectorize.
+struct Ptrs {
+  double b, a, v_r;
+  explicit Ptrs(double mean)
+      : b(0.931 + 2.53 * std::sqrt(mean)),
+        a(-0.059 + 0.02483 * b),
+        v_r(0.9277 - 3.6224 / (b - 2.0)) {}
+  double candidate(double mean, double u, double u_s) const {
+    return std::floor((2.0 * a / u_s + b) * u + mean + 0.43);  // u_s = 0 gives -inf
+  }
+  bool quick_accept(double u_s, double v) const { return u_s >= 0.07 && v <= v_r; }
+  // The rest of a try that quick_accept did not accept. With
+  // V alpha / (a / u_s^2 + b) = V alpha u_s^2 / (a + b u_s^2) and, for
+  // k >= kLogFactorialTable, ln P(X = k) = (k - mean) + k log1p((mean - k) / k)
+  // - ln(2 pi k) / 2 - delta(k) (poisson_log_pmf), the test for those k is
+  //   ln(V alpha u_s^2 sqrt(2 pi k) / (a + b u_s^2)) <= (k - mean) + k log1p((mean - k) r) - delta,
+  // r = 1 / k: one logarithm and one log1p.
+  bool accepts(double mean, double u_s, double v, double k) const {
+    if (k < 0.0 || (u_s < 0.013 && v > u_s)) return false;
+    const double alpha = 1.1239 + 1.1328 / (b - 3.4);
+    const double u_s2 = u_s * u_s;
+    const double ratio = v * alpha * u_s2 / (a + b * u_s2);
+    if (k < kLogFactorialTable) return std::log(ratio) <= poisson_log_pmf(k, mean);
+    const double r = 1.0 / k;
+    return std::log(ratio * std::sqrt(2.0 * std::numbers::pi * k)) <=
+           (k - mean) + k * std::log1p((mean - k) * r) - stirling_correction_of_inverse(r);
+  }
+};
+
+// PTRS's tries from (u, v) on: u uniform on [0, 1), v on (0, 1].
+double transformed_rejection(double mean, double u, double v, RandomStream& stream) {
+  const Ptrs ptrs(mean);
+  for (;;) {
+    const double centred = u - 0.5;
+    const double u_s = 0.5 - std::abs(centred);
+    const double k = ptrs.candidate(mean, centred, u_s);
+    if (ptrs.quick_accept(u_s, v) || ptrs.accepts(mean, u_s, v, k)) return k;
+    u = stream.uniform();
+    v = stream.uniform_open_zero();
+  }
+}
+
+// The variate for a first pair of uniforms (u on [0, 1), v on (0, 1]; v is
+// unused below kInversionLimit), later ones from the stream.
+double variate_from(double mean, double u, double v, RandomStream& stream) {
+  if (!(mean > 0.0)) return 0.0;
+  if (!std::isfinite(mean)) return mean;
+  return mean < kInversionLimit ? inversion(mean, u, stream)
+                                : transformed_rejection(mean, u, v, stream);
+}
+
+// RandomStream's conversions of a 64-bit output (noise_stream.h).
+inline double to_uniform(std::uint64_t word) {
+  return static_cast<double>(static_cast<std::int64_t>(word >> 11)) * 0x1.0p-53;
+}
+inline double to_uniform_open_zero(std::uint64_t word) {
+  return static_cast<double>(static_cast<std::int64_t>((word >> 11) + 1)) * 0x1.0p-53;
+}
+
+}  // namespace
+
+double poisson_log_pmf(double k, double mean) {
+  if (k < kLogFactorialTable) {
+    return -mean + k * std::log(mean) - kLogFactorial[static_cast<int>(k)];
+  }
+  // ln P = (k - mean) + k ln(mean / k) - ln(2 pi k) / 2 - delta(k), with
+  // ln(mean / k) = log1p((mean - k) / k): no cancellation of large terms.
+  return (k - mean) + k * std::log1p((mean - k) / k) - 0.5 * std::log(2.0 * std::numbers::pi * k) -
+         stirling_correction_of_inverse(1.0 / k);
+}
+
+double exact_poisson_variate(double mean, RandomStream& stream) {
+  if (!(mean > 0.0) || !std::isfinite(mean)) return variate_from(mean, 0.0, 1.0, stream);
+  const double u = stream.uniform();
+  const double v = mean < kInversionLimit ? 1.0 : stream.uniform_open_zero();
+  return variate_from(mean, u, v, stream);
+}
+
+void add_exact_poisson_row(std::span<const double> mean, RandomStream& stream, double scale,
+                           std::span<double> out) {
+  // Blocks of kBlock pixels: two uniforms a pixel in pixel order, PTRS's
+  // first tries with their quick acceptance for the whole block at once
+  // (vectorized), then, in pixel order, every pixel they did not settle.
+  constexpr std::size_t kBlock = 256;
+  std::array<double, kBlock> first_u, first_v, value;
+  for (std::size_t start = 0; start < mean.size(); start += kBlock) {
+    const std::size_t m = std::min(kBlock, mean.size() - start);
+    for (std::size_t i = 0; i < m; ++i) {
+      first_u[i] = to_uniform(stream.next());
+      first_v[i] = to_uniform_open_zero(stream.next());
+    }
+    detail::run_vectorized([&]() __attribute__((always_inline)) {
+      const double* __restrict mu = mean.data() + start;
+      const double* __restrict us = first_u.data();
+      const double* __restrict vs = first_v.data();
+      double* __restrict settled = value.data();
+      const std::size_t count = m;
+      for (std::size_t i = 0; i < count; ++i) {
+        const Ptrs ptrs(mu[i]);
+        const double centred = us[i] - 0.5;
+        const double u_s = 0.5 - std::abs(centred);
+        const double k = ptrs.candidate(mu[i], centred, u_s);
+        const bool quick =
+            mu[i] >= kInversionLimit && mu[i] <= kLargestFinite && ptrs.quick_accept(u_s, vs[i]);
+        settled[i] = quick ? k : -1.0;  // -1: not settled
+      }
+    });
+    for (std::size_t i = 0; i < m; ++i) {
+      if (value[i] < 0.0) value[i] = variate_from(mean[start + i], first_u[i], first_v[i], stream);
+      out[start + i] += scale * value[i];
+    }
+  }
+}
+
+}  // namespace fss

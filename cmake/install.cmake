@@ -71,9 +71,11 @@ string(REGEX REPLACE "\n[.]TH FSSIM 1 \"[^\"]*\" \"fssim [^\"]*\""
 file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/fssim.1 CONTENT "${_fss_man}" @ONLY)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/docs/fssim.1)
 
-# The CMake package. The library links PLplot, libtiff and ISA-L privately: a
-# shared libfss carries them, a static one needs them at the consumer's link,
-# so the config file finds them only for a static build.
+# The CMake package. The library links ISA-L and the dynamic loader's library
+# (CMAKE_DL_LIBS) privately: a shared libfss carries them, a static one needs
+# them at the consumer's link, so the config file finds ISA-L only for a static
+# build. PLplot and libtiff are not linked: libfss loads them at their first
+# use (src/io/plplot_api.cpp, src/io/tiff_api.cpp), from the installed system.
 set(FSS_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/fss)
 install(EXPORT fssTargets NAMESPACE fss:: DESTINATION ${FSS_CMAKE_DIR})
 configure_package_config_file(cmake/fssConfig.cmake.in ${PROJECT_BINARY_DIR}/fssConfig.cmake
@@ -85,12 +87,16 @@ install(FILES ${PROJECT_BINARY_DIR}/fssConfig.cmake ${PROJECT_BINARY_DIR}/fssCon
         DESTINATION ${FSS_CMAKE_DIR})
 
 # fss.pc. A static install has no shared variant, so what a shared libfss
-# would hide (PLplot, libtiff, ISA-L) is needed by every link: they go to Requires, and plain
-# `pkg-config --libs fss` links. No public header includes a third-party one;
-# FFTW3, libpng and nlohmann_json are listed for either kind of library.
+# would hide (ISA-L, the dynamic loader's library) is needed by every link: ISA-L goes to
+# Requires, -ldl to Libs, and plain `pkg-config --libs fss` links. No public header includes a
+# third-party one; FFTW3, libpng and nlohmann_json are listed for either kind of library.
 set(FSS_PC_REQUIRES "fftw3 libpng nlohmann_json >= 3.9")
+set(FSS_PC_LIBS "-L\${libdir} -lfss -pthread")
 if(NOT FSS_SHARED)
-  string(APPEND FSS_PC_REQUIRES " plplot libtiff-4 libisal")
+  string(APPEND FSS_PC_REQUIRES " libisal")
+  foreach(_fss_dl IN LISTS CMAKE_DL_LIBS)
+    string(APPEND FSS_PC_LIBS " -l${_fss_dl}")
+  endforeach()
 endif()
 if(IS_ABSOLUTE "${CMAKE_INSTALL_LIBDIR}")
   set(FSS_PC_LIBDIR "${CMAKE_INSTALL_LIBDIR}")

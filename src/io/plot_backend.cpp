@@ -116,6 +116,7 @@ std::array<int, 3> palette_rgb(PLINT colour) {
 void render(int width, int height, std::vector<std::uint8_t>& rgba,
             const std::function<void()>& draw) {
   std::lock_guard<std::mutex> lock(g_plplot_mutex);
+  plplot_api();  // the first picture loads PLplot, or says why it cannot
   static const bool available = memcairo_available();
   if (!available) {
     throw_runtime_error(

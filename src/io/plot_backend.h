@@ -2,12 +2,12 @@
 // picture into memory, its colour map, and the picture's pixels as samples.
 #pragma once
 
-#include <plplot/plplot.h>
-
 #include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
+
+#include "io/plplot_api.h"  // PLplot, loaded at the first picture
 
 namespace fss::plotting {
 
@@ -37,7 +37,8 @@ inline constexpr double kPixelsPerMm = 72.0 / 25.4;
 // process-wide mutex (PLplot keeps global state). PLplot's recoverable errors
 // and anything a library prints on stderr meanwhile (PLplot's warnings,
 // GLib's) fail the picture with that text, and never reach stderr; so does a
-// fatal PLplot error, instead of ending the process.
+// fatal PLplot error, instead of ending the process. The first call loads PLplot
+// (plplot_api.h): an fss::Error when it is not installed.
 void render(int width, int height, std::vector<std::uint8_t>& rgba,
             const std::function<void()>& draw);
 

@@ -3,8 +3,6 @@
 // Sizes and positions are in pixels of the picture.
 #pragma once
 
-#include <plplot/plplot.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -14,6 +12,7 @@
 
 #include "fss/io/plot.h"
 #include "io/plot_backend.h"
+#include "io/plplot_api.h"
 
 namespace fss::plotting {
 

@@ -1,7 +1,5 @@
 #include "fss/io/tiff_io.h"
 
-#include <tiffio.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -17,6 +15,7 @@
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
 #include "io/input_bytes.h"
+#include "io/tiff_api.h"  // libtiff, loaded at the first use
 
 namespace fss {
 namespace {
@@ -51,6 +50,16 @@ void silence_global_handlers() {
     TIFFSetErrorHandlerExt(nullptr);
     TIFFSetWarningHandlerExt(nullptr);
   });
+}
+
+// Loads libtiff (tiff_api.h) before any other use; a missing library fails `task` ("cannot
+// read TIFF 'a.tif'") in one line.
+void require_libtiff(const std::string& task) {
+  try {
+    tiff_api();
+  } catch (const Error& e) {
+    throw_runtime_error(task + ": " + e.what());
+  }
 }
 
 // A file in memory: read from `bytes`, or written to `sink`.
@@ -444,6 +453,7 @@ Image decode_tiff(const std::uint8_t* bytes, std::size_t size, const std::string
   if (!has_tiff_signature(bytes, size)) {
     throw_runtime_error("input '" + name + "' is not a TIFF file (bad signature)");
   }
+  require_libtiff("cannot read " + quoted(name));
   MemoryFile file{bytes, size, nullptr, 0};
   TiffMessages messages;
   const TiffHandle tiff = open_memory_tiff(name, "r", &file, &messages);
@@ -516,6 +526,7 @@ std::vector<std::uint8_t> encode_tiff_float(
     int width, int height, int channels,
     const std::function<void(int c, int y, double* row)>& fill_row) {
   check_float_encodable(width, height, channels);
+  require_libtiff("cannot write a float TIFF");
   std::vector<std::uint8_t> out;
   MemoryFile file{nullptr, 0, &out, 0};
   TiffMessages messages;

@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 using test::CommandResult;
 using test::run_fssim;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 const char kFixture[] = "camera_numerical_raskar_v1_noisefree";
@@ -585,6 +586,20 @@ TEST_F(CliRuns, NoPlotsLeavesThePlotsOut) {
   std::vector<std::string> expected = output_file_names({false, false, false});
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(test::list_directory(dir_ / "out"), expected);
+}
+
+// A run that draws no plot and reads or writes no TIFF never loads PLplot or
+// libtiff, nor their dependencies. (With plots, the loader's trace would reach
+// stderr while a picture is drawn, which fails the picture by design.)
+TEST_F(CliRuns, PlotAndTiffLibrariesLoadOnlyWhenUsed) {
+  const fs::path input = small_input();
+  const std::string run = "LD_DEBUG=files '" + std::string(FSSIM_BINARY_PATH) + "' --input " +
+                          quote(input) + " --outdir " + quote(dir_ / "out");
+  const CommandResult bare = test::run_command(run + " --no-plots");
+  ASSERT_EQ(bare.exit_code, 0) << bare.err;
+  ASSERT_THAT(bare.err, HasSubstr("file=libpng"));  // the loader's trace is there
+  EXPECT_THAT(bare.err, Not(HasSubstr("libplplot")));
+  EXPECT_THAT(bare.err, Not(HasSubstr("libtiff")));
 }
 
 TEST_F(CliRuns, ReportAndSheetAreWrittenWithTheOtherOutputs) {

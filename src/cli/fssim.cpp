@@ -6,6 +6,7 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <string_view>
 
 #include "campaign_command.h"
 #include "cli_common.h"
@@ -63,6 +64,16 @@ void simplify_type_names(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands({})) simplify_type_names(*sub);
 }
 
+// Whether the command line asks for help (of fssim or of a subcommand).
+bool asks_for_help(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (arg == "--") break;
+    if (arg == "-h" || arg == "--help") return true;
+  }
+  return false;
+}
+
 // Parses the command line; an error is reported and its exit status returned.
 int parse(CLI::App& app, int argc, char** argv) {
   try {
@@ -93,7 +104,8 @@ int run(int argc, char** argv) {
   const fssim::SweepCommand sweep(app);
   const fssim::CampaignCommand campaign(app);
 
-  simplify_type_names(app);
+  // Only --help shows the type names (and renaming them costs an exception per option).
+  if (asks_for_help(argc, argv)) simplify_type_names(app);
   if (const int status = parse(app, argc, argv); status >= 0) return status;
   if (app.get_subcommands().empty()) return simulate.Run();
   if (const std::string option = fssim::first_given_option(app); !option.empty()) {

@@ -71,7 +71,8 @@ fss::Image image_argument(py::handle value, py::handle data_range, const char* a
 
 // Outputs
 py::array_t<double> array_from_image(const fss::Image& image);
-// The same, taking a gray image's buffer without a copy (a color one is copied: planar to H x W x 3).
+// The same, taking a gray image's buffer without a copy (a color one is copied: planar to H x W x
+// 3).
 py::array_t<double> array_from_image(fss::Image&& image);
 py::array_t<double> array_from_vector(const std::vector<double>& values);
 // A number of a result dict: a Python float, inf and nan included (never None).

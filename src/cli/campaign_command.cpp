@@ -228,7 +228,9 @@ void CampaignCommand::AddSpecOptions() {
   c.add_flag("--per-trial", per_trial_,
              "also write one row per trial (trials.csv, trials.jsonl): its seed, RMSE, RMSE_CI "
              "and PSNR (and its velocity, under a velocity distribution)");
-  c.add_option("--threads", threads_, "threads (0: all); settings of small images run side by side, one thread each")->check(at_least(0));
+  c.add_option("--threads", threads_,
+               "threads (0: all); settings of small images run side by side, one thread each")
+      ->check(at_least(0));
   c.add_option("-o,--output", output_, "campaign directory (created; rerun to resume)")
       ->check(not_empty());
   c.add_option("--shard", shard_, "run part I of N (I/N) into DIR; merge with 'campaign merge'")

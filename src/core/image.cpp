@@ -23,11 +23,11 @@ void prefault(void* data, std::size_t bytes) {
 #ifdef __linux__
   constexpr int kPopulateWrite = 23;  // MADV_POPULATE_WRITE, absent from older headers
   constexpr std::uintptr_t kPage = 4096;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
-  if (end <= begin) return;
-  void* start = reinterpret_cast<void*>(begin);
-  ::madvise(start, end - begin, kPopulateWrite);
+  const auto address = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t head = (kPage - address % kPage) % kPage;  // to the first whole page
+  if (bytes < head + kPage) return;
+  const std::size_t length = (bytes - head) & ~(kPage - 1);  // whole pages only
+  ::madvise(static_cast<char*>(data) + head, length, kPopulateWrite);
 #else
   (void)data;
   (void)bytes;

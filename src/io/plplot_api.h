@@ -22,6 +22,8 @@ namespace fss::plotting {
 
 // One pointer a function, with PLplot's own signature.
 struct PlplotApi {
+// A declaration: its arguments are names, which parentheses would break.
+// NOLINTNEXTLINE(bugprone-macro-parentheses)
 #define FSS_PLPLOT_MEMBER(member, symbol) decltype(&::symbol) member = nullptr;
   FSS_PLPLOT_FUNCTIONS(FSS_PLPLOT_MEMBER)
 #undef FSS_PLPLOT_MEMBER

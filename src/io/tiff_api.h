@@ -20,6 +20,8 @@ namespace fss {
 
 // One pointer a function, with libtiff's own signature.
 struct TiffApi {
+// A declaration: its argument is a name, which parentheses would break.
+// NOLINTNEXTLINE(bugprone-macro-parentheses)
 #define FSS_TIFF_MEMBER(member) decltype(&::TIFF##member) member = nullptr;
   FSS_TIFF_FUNCTIONS(FSS_TIFF_MEMBER)
 #undef FSS_TIFF_MEMBER

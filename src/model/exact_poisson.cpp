@@ -18,7 +18,7 @@ namespace {
 
 // ln k! for k < kLogFactorialTable, from lgamma once.
 constexpr int kLogFactorialTable = 64;
-const std::array<double, kLogFactorialTable> kLogFactorial = [] {
+const std::array<double, kLogFactorialTable> kLogFactorial = []() noexcept {
   std::array<double, kLogFactorialTable> table{};
   for (int k = 0; k < kLogFactorialTable; ++k) table[k] = std::lgamma(k + 1.0);
   return table;

@@ -269,8 +269,8 @@ py::array_t<double> array_from_image(const fss::Image& image) {
 py::array_t<double> array_from_image(fss::Image&& image) {
   if (image.channels != 1) return array_from_image(static_cast<const fss::Image&>(image));
   // The array owns the vector through a capsule that deletes it with the array.
-  auto* values = new std::vector<double>(std::move(image.data));
-  const py::capsule owner(values, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  auto* values = new fss::Samples(std::move(image.data));
+  const py::capsule owner(values, [](void* p) { delete static_cast<fss::Samples*>(p); });
   return py::array_t<double>(
       {static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width)},
       values->data(), owner);

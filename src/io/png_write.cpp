@@ -8,6 +8,7 @@
 #include <memory>
 #include <new>
 
+#include "core/huge_pages.h"
 #include "fss/core/error.h"
 
 // The image PNGs are deflated by ISA-L at level 1 after the average filter
@@ -92,21 +93,25 @@ void append_end(Bytes& out) {
   append_chunk(out, iend.data(), 0);
 }
 
+// The bytes of an encoder's buffers: ISA-L's level buffer and a chunk (kLevelBytes and
+// kChunkBytes, in `buffers`), then a block of filtered rows and three rows.
+constexpr std::size_t kLevelBytes = ISAL_DEF_LVL1_DEFAULT;
+constexpr std::size_t kChunkBytes = kChunkHead + kIdatBytes;
+
 // The zlib stream of the filtered rows (ISA-L, level 1), cut into IDAT
-// chunks appended to `out` as they fill. Large (82 KB of stream state and
-// 276 KB of level buffer): allocated once an image.
+// chunks appended to `out` as they fill. Large (82 KB of stream state, and
+// the 276 KB level buffer and a chunk in `buffers`, zeros): allocated once an image.
 template <class Bytes>
 class IdatWriter {
  public:
-  explicit IdatWriter(Bytes& out)
-      : out_(out), level_buffer_(ISAL_DEF_LVL1_DEFAULT), chunk_(kChunkHead + kIdatBytes) {
+  IdatWriter(Bytes& out, std::uint8_t* buffers) : out_(out), chunk_(buffers + kLevelBytes) {
     isal_deflate_init(&stream_);
     stream_.level = 1;
-    stream_.level_buf = level_buffer_.data();
-    stream_.level_buf_size = static_cast<std::uint32_t>(level_buffer_.size());
+    stream_.level_buf = buffers;
+    stream_.level_buf_size = static_cast<std::uint32_t>(kLevelBytes);
     stream_.gzip_flag = IGZIP_ZLIB;
     stream_.flush = NO_FLUSH;
-    std::copy_n("IDAT", 4, chunk_.begin() + 4);
+    std::copy_n("IDAT", 4, chunk_ + 4);
     start_chunk();
   }
 
@@ -133,12 +138,12 @@ class IdatWriter {
  private:
   // Appends the chunk filled so far and starts the next one.
   void next_chunk() {
-    append_chunk(out_, chunk_.data(), kIdatBytes - stream_.avail_out);
+    append_chunk(out_, chunk_, kIdatBytes - stream_.avail_out);
     start_chunk();
   }
 
   void start_chunk() {
-    stream_.next_out = chunk_.data() + kChunkHead;
+    stream_.next_out = chunk_ + kChunkHead;
     stream_.avail_out = static_cast<std::uint32_t>(kIdatBytes);
   }
 
@@ -148,8 +153,7 @@ class IdatWriter {
 
   Bytes& out_;
   isal_zstream stream_{};
-  std::vector<std::uint8_t> level_buffer_;
-  std::vector<std::uint8_t> chunk_;  // length, "IDAT", then up to kIdatBytes of stream
+  std::uint8_t* chunk_;  // length, "IDAT", then up to kIdatBytes of stream
 };
 
 // The largest file: the rows stored as they are (ISA-L stores what it
@@ -188,23 +192,25 @@ Bytes write_png(const PngRaster& raster, const StoredRowSource& rows) {
     Bytes out;
     out.reserve(reserved_bytes(raster));
     append_header(out, raster);
-    auto idat = std::make_unique<IdatWriter<Bytes>>(out);
-    std::vector<std::uint8_t> block(static_cast<std::size_t>(block_rows) * (row_bytes + 1));
-    std::vector<std::uint8_t> scratch(2 * row_bytes);  // this row and the one above
-    const std::vector<std::uint8_t> zeros(row_bytes, 0);
-    const std::uint8_t* above = zeros.data();
+    // The encoder's buffers, a block of filtered rows, this row and the one above, and a row of
+    // zeros, on huge pages of their own: their first touch is one page fault, not hundreds.
+    const std::size_t block_bytes = static_cast<std::size_t>(block_rows) * (row_bytes + 1);
+    const detail::HugePageBuffer buffers(kLevelBytes + kChunkBytes + block_bytes + 3 * row_bytes);
+    auto idat = std::make_unique<IdatWriter<Bytes>>(out, buffers.data());
+    std::uint8_t* const block = buffers.data() + kLevelBytes + kChunkBytes;
+    std::uint8_t* const scratch = block + block_bytes;
+    const std::uint8_t* above = scratch + 2 * row_bytes;  // zeros
     for (int first = 0; first < raster.height; first += block_rows) {
       const int count = std::min(block_rows, raster.height - first);
       for (int i = 0; i < count; ++i) {
         const int y = first + i;
-        const std::uint8_t* row =
-            rows(y, scratch.data() + static_cast<std::size_t>(y % 2) * row_bytes);
-        std::uint8_t* filtered = block.data() + static_cast<std::size_t>(i) * (row_bytes + 1);
+        const std::uint8_t* row = rows(y, scratch + static_cast<std::size_t>(y % 2) * row_bytes);
+        std::uint8_t* filtered = block + static_cast<std::size_t>(i) * (row_bytes + 1);
         filtered[0] = kAverageFilter;
         average_filter(row, above, row_bytes, pixel_bytes, filtered + 1);
         above = row;
       }
-      idat->compress(block.data(), static_cast<std::size_t>(count) * (row_bytes + 1),
+      idat->compress(block, static_cast<std::size_t>(count) * (row_bytes + 1),
                      first + count == raster.height);
     }
     append_end(out);

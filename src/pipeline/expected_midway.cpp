@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "core/parallel.h"
 
 namespace fss::midway {
@@ -204,7 +205,7 @@ class Lattice {
 // bucket.
 struct LevelCounts {
   explicit LevelCounts(std::size_t buckets) : bucket(buckets, 0) {}
-  std::vector<std::uint64_t> count = std::vector<std::uint64_t>(kLevels, 0);
+  detail::ZeroedArray<std::uint64_t> count{kLevels};  // pages touched by the levels held only
   std::uint32_t low = kLevels;
   std::uint32_t high = 0;
   std::vector<std::size_t> bucket;
@@ -244,7 +245,9 @@ std::optional<std::vector<LevelCounts>> count_all_levels(const ChannelWindow& a,
                                                          const ChannelWindow& b,
                                                          const Lattice& lattice,
                                                          const TopBuckets& top, int workers) {
-  std::vector<LevelCounts> counts(static_cast<std::size_t>(workers), LevelCounts(top.count()));
+  std::vector<LevelCounts> counts;
+  counts.reserve(static_cast<std::size_t>(workers));
+  for (int w = 0; w < workers; ++w) counts.emplace_back(top.count());
   std::atomic<bool> on_lattice{true};
   parallel_for(workers, workers, [&](int w, int) {
     const auto [y0, y1] = rows_of(a.height, w, workers);
@@ -270,8 +273,8 @@ std::unique_ptr<std::uint32_t[]> groups_from_counts(const LevelCounts& counts,
                                                     const Lattice& lattice, std::size_t n,
                                                     GroundGroups& groups) {
   auto group_of = std::make_unique_for_overwrite<std::uint32_t[]>(kLevels);
-  const auto held = static_cast<std::size_t>(std::count_if(counts.count.begin() + counts.low,
-                                                           counts.count.begin() + counts.high + 1,
+  const auto held = static_cast<std::size_t>(std::count_if(counts.count.data() + counts.low,
+                                                           counts.count.data() + counts.high + 1,
                                                            [](std::uint64_t c) { return c > 0; }));
   groups.starts = GroupStarts(n, held);
   groups.value.clear();

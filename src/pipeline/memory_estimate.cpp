@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "core/huge_pages.h"
 #include "fss/core/error.h"
 #include "model/aggregated_sampler.h"
 #include "pipeline/fitted_restoration.h"
@@ -30,20 +31,27 @@ std::size_t working_bytes(int width, int height, int channels, const Geometry& g
       ((trials > 1 ? 2 : 1) * sizeof(double) + (keep_observed ? sizeof(double) : 1)) * wo * h * c;
   // RMSE_CI (metrics.h): 16 bytes and at most 1 bit a pixel of one
   // channel's window (its records, a's group starts), and buffers of a
-  // bounded size: two threads' level counts (1 MiB) and sorters (1.75
-  // MiB), the groups of an 8- or 16-bit ground truth (at most 65536: 1.25
-  // MiB with their values and starts), b's tied runs (512 KiB), the 16-bit
-  // levels (512 KiB): 5 MiB, 5.5 with the allocator's.
+  // bounded size: two threads' level counts (1 MiB) and sorters (a huge
+  // page each: 4 MiB), the groups of an 8- or 16-bit ground truth (at most
+  // 65536: 1.25 MiB with their values and starts), b's tied runs (512 KiB),
+  // the 16-bit levels (512 KiB): 7.25 MiB, 7.75 with the allocator's.
   const std::size_t ci_pixels = ci_width * h;
-  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{11} << 19);
+  const std::size_t midway = 16 * ci_pixels + ci_pixels / 8 + (std::size_t{31} << 18);
   // The four image PNGs, each at most a byte a sample (ISA-L stores what it
   // cannot compress), encoded row by row straight into their files' bytes:
   // no raster of samples, no copy (src/io/png_write.cpp); and the encoders'
-  // own buffers (ISA-L's state, a block of rows, a chunk of stream), about
-  // 1.1 MiB for each PNG encoded at once, at most five.
-  const std::size_t encoders = std::size_t{6} << 20;
+  // own buffers, for each PNG encoded at once, at most five: ISA-L's state
+  // (82 KiB) and, on whole huge pages, its level buffer (276 KiB), a chunk of
+  // stream and a block of rows (256 KiB and a row), and three rows (16-bit samples at most).
+  const std::size_t rows = 4 * 2 * w * c;
+  const std::size_t huge = detail::kHugePageBytes;
+  const std::size_t encoder_pages = ((std::size_t{800} << 10) + rows + huge - 1) / huge * huge;
+  const std::size_t encoders = 5 * (encoder_pages + (std::size_t{128} << 10));
   const std::size_t encoding = (4 + extra_encoding_bytes_per_sample) * wo * h * c + encoders;
-  return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding);
+  // Buffers of 1 MiB or more are mapped in whole huge pages (core/huge_pages.cpp): up to 2 MiB
+  // more each for the input, the outputs and the records.
+  const std::size_t rounding = detail::kHugePageBytes * (1 + (trials > 1 ? 2 : 1) + 1 + 1);
+  return kBaselineMemoryBytes + input + outputs + std::max(midway, encoding) + rounding;
 }
 
 // Under a velocity distribution (docs/method.md §13), one velocity's kernel part beside the

@@ -7,30 +7,30 @@
 #include <memory>
 #include <new>
 
-#include <sys/mman.h>
+#include "core/huge_pages.h"
 
 namespace fss::midway {
 
-namespace {
-// Buffers of at least kHugeBuffer bytes are asked for on huge pages of
-// kHugePage: fewer page faults and TLB misses in the scatter of a channel's
-// records (CONTRIBUTING.md, "Hand-written fast paths").
-constexpr std::size_t kHugePage = std::size_t{2} << 20;
-constexpr std::size_t kHugeBuffer = std::size_t{16} << 20;
-}  // namespace
-
-RecordBuffer::RecordBuffer(std::size_t n) {
-  const std::size_t bytes = (n + kPrefetchSlack) * sizeof(Record);
-  const bool huge = bytes >= kHugeBuffer;
-  // The exact size, huge pages from a 2 MiB boundary: the last partial one
-  // stays in 4 KiB pages (no memory beyond the records).
+// Buffers of 1 MiB or more are mapped on huge pages (core/huge_pages.cpp): fewer page faults,
+// and fewer TLB misses in the scatter of a channel's records (CONTRIBUTING.md, "Hand-written
+// fast paths").
+RecordBuffer::RecordBuffer(std::size_t n) : bytes_((n + kPrefetchSlack) * sizeof(Record)) {
+  if (bytes_ >= detail::kHugeBufferBytes) {
+    records_ = static_cast<Record*>(detail::map_on_huge_pages(bytes_));
+    return;
+  }
   void* memory = nullptr;
-  if (posix_memalign(&memory, huge ? kHugePage : 64, bytes) != 0) throw std::bad_alloc();
+  if (posix_memalign(&memory, 64, bytes_) != 0) throw std::bad_alloc();
   records_ = static_cast<Record*>(memory);
-  if (huge) madvise(memory, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);  // a hint only
 }
 
-RecordBuffer::~RecordBuffer() { std::free(records_); }
+RecordBuffer::~RecordBuffer() {
+  if (bytes_ >= detail::kHugeBufferBytes) {
+    detail::unmap_huge_pages(records_, bytes_);
+  } else {
+    std::free(records_);
+  }
+}
 
 BucketMap BucketMap::of_values(std::uint64_t low, std::uint64_t high, std::size_t buckets) {
   const double low_value = value_of_bits(low);
@@ -151,16 +151,16 @@ template <bool kTies>
 RecordSorter<kTies>::RecordSorter(std::size_t capacity)
     : capacity_(std::max<std::size_t>(capacity, kInsertion)) {}
 
-// The buffers for ranges of n records (at most capacity_), grown by half
-// as larger ranges come: the buckets of image data hold about a quarter of
-// the capacity, and each new buffer is new pages to fault in (growing to
-// each larger bucket exactly cost camera.png's window 10 %).
+// The buffers for ranges of up to capacity_ records, at the first range that needs them: on
+// huge pages (core/huge_pages.h), so that they cost one page fault or two, not one per 4 KiB.
 template <bool kTies>
 void RecordSorter<kTies>::reserve(std::size_t n) {
   if (n <= reserved_) return;
-  reserved_ = std::min(capacity_, std::max(n, reserved_ + reserved_ / 2));
-  buffer_ = std::make_unique_for_overwrite<Record[]>(reserved_);
-  bucket_ = std::make_unique_for_overwrite<std::uint32_t[]>(reserved_);
+  reserved_ = capacity_;
+  storage_ = std::make_unique<detail::HugePageBuffer>(reserved_ *
+                                                      (sizeof(Record) + sizeof(std::uint32_t)));
+  buffer_ = reinterpret_cast<Record*>(storage_->data());
+  bucket_ = reinterpret_cast<std::uint32_t*>(storage_->data() + reserved_ * sizeof(Record));
 }
 
 template <bool kTies>
@@ -210,10 +210,10 @@ void RecordSorter<kTies>::distribute(Record* r, std::size_t n, const BucketMap& 
   for (std::size_t b = 0; b < m; ++b) start[b + 1] += start[b];
   for (std::size_t i = 0; i < n; ++i) buffer_[start[bucket_[i]]++] = r[i];
   if (small) {
-    insertion_copy<kTies>(buffer_.get(), r, n);
+    insertion_copy<kTies>(buffer_, r, n);
     return;
   }
-  std::copy(buffer_.get(), buffer_.get() + n, r);
+  std::copy(buffer_, buffer_ + n, r);
   // start_[b] is now the end of bucket b.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> large;
   for (std::size_t b = 0, begin = 0; b < m; begin = start_[b++]) {

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
+
 namespace fss::midway {
 
 // The order-preserving bits of a value: comparing two as unsigned integers
@@ -55,6 +57,7 @@ class RecordBuffer {
   Record* data() { return records_; }
 
  private:
+  std::size_t bytes_;
   Record* records_;
 };
 
@@ -160,9 +163,10 @@ class RecordSorter {
 
   std::size_t capacity_;
   std::size_t reserved_ = 0;
-  std::unique_ptr<Record[]> buffer_;
-  std::unique_ptr<std::uint32_t[]> bucket_;  // each record's bucket, while distributing
-  std::vector<std::uint32_t> start_;         // each bucket's first slot, while distributing
+  std::unique_ptr<detail::HugePageBuffer> storage_;
+  Record* buffer_ = nullptr;
+  std::uint32_t* bucket_ = nullptr;   // each record's bucket, while distributing
+  std::vector<std::uint32_t> start_;  // each bucket's first slot, while distributing
 };
 
 // Puts the records in the order of the buckets of their keys, in place;

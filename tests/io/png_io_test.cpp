@@ -150,7 +150,7 @@ TEST(EncodePng8, GrayRoundTripRoundsAndClamps) {
   const std::vector<double> expected = {0.0, 255.0, 13.0, 12.0,  0.0,   255.0,
                                         1.0, 255.0, 0.0,  128.0, 255.0, 255.0};
   Image image(4, 3, 1);
-  image.data = values;
+  image.data.assign(values.begin(), values.end());
   const Image decoded = decode(encode_png8(image));
   ASSERT_EQ(decoded.width, 4);
   ASSERT_EQ(decoded.height, 3);

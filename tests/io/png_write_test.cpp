@@ -324,7 +324,7 @@ TEST(PngWrite, SamplesAreThoseOfPng8SampleAndPng16Sample) {
   const int rows = static_cast<int>((values.size() + 999) / 1000);
   values.resize(static_cast<std::size_t>(rows) * 1000, 0.0);
   Image image(1000, rows, 1);
-  image.data = values;
+  image.data.assign(values.begin(), values.end());
   for (const PngDepth depth : {PngDepth::k8, PngDepth::k16}) {
     const Image decoded = decode(encode_png(image, depth));
     const std::vector<double> expected = expected_values(image, depth);

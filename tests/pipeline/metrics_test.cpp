@@ -360,8 +360,8 @@ TEST(RmseContrastInvariant, IsTheMeanOverAllTieOrders) {
   for (const Case& k : cases) {
     Image a(3, 2, 1);
     Image b(3, 2, 1);
-    a.data = k.a;
-    b.data = k.b;
+    a.data.assign(k.a.begin(), k.a.end());
+    b.data.assign(k.b.begin(), k.b.end());
     // Enumerate tie orders as permutations of 0..5 used as tie-breaking keys;
     // keep one per distinct rank assignment (each order of each group once).
     auto orders = [](const Image& image) {

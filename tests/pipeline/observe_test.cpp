@@ -78,7 +78,7 @@ struct Moments {
   double variance_se = 0.0;  // standard error of the variance, from the 4th moment
 };
 
-Moments moments(const std::vector<double>& values) {
+Moments moments(const Samples& values) {
   const double n = static_cast<double>(values.size());
   Moments m;
   m.mean = std::accumulate(values.begin(), values.end(), 0.0) / n;

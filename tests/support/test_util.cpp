@@ -207,7 +207,9 @@ std::vector<double> paper_gains(const std::string& name) {
   return {};
 }
 
-double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+namespace {
+template <class Values>
+double largest_difference(const Values& a, const Values& b) {
   EXPECT_EQ(a.size(), b.size());
   double worst = 0.0;
   for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
@@ -215,10 +217,15 @@ double max_abs_difference(const std::vector<double>& a, const std::vector<double
   }
   return worst;
 }
+}  // namespace
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  return largest_difference(a, b);
+}
 
 double max_abs_difference(const Image& a, const Image& b) {
   EXPECT_TRUE(a.width == b.width && a.height == b.height && a.channels == b.channels);
-  return max_abs_difference(a.data, b.data);
+  return largest_difference(a.data, b.data);
 }
 
 }  // namespace fss::test

@@ -1,0 +1,55 @@
+// Buffers mapped on their own: large ones on transparent huge pages, and zeroed ones whose
+// pages are touched on demand. Internal to the library.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+
+namespace fss::detail {
+
+// The size of a huge page (x86-64 and most 64-bit Linux systems).
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+// Buffers of at least this many bytes are worth a mapping on huge pages.
+inline constexpr std::size_t kHugeBufferBytes = std::size_t{1} << 20;
+
+void* map_on_huge_pages(std::size_t bytes);
+void unmap_huge_pages(void* data, std::size_t bytes) noexcept;
+
+// `bytes` of zeros on huge pages of their own (map_on_huge_pages): the scratch of one task (a
+// PNG encoder's, a sorter's), whose first touch is then one page fault per 2 MiB.
+class HugePageBuffer {
+ public:
+  explicit HugePageBuffer(std::size_t bytes)
+      : bytes_(bytes), data_(static_cast<unsigned char*>(map_on_huge_pages(bytes))) {}
+  ~HugePageBuffer() { unmap_huge_pages(data_, bytes_); }
+  HugePageBuffer(const HugePageBuffer&) = delete;
+  HugePageBuffer& operator=(const HugePageBuffer&) = delete;
+  unsigned char* data() const { return data_; }
+
+ private:
+  std::size_t bytes_;
+  unsigned char* data_;
+};
+
+void* map_zeroed_pages(std::size_t bytes);
+void unmap_zeroed_pages(void* data, std::size_t bytes) noexcept;
+
+// n zeros of T (an integer type) on pages of their own (map_zeroed_pages).
+template <typename T>
+class ZeroedArray {
+ public:
+  explicit ZeroedArray(std::size_t n)
+      : bytes_(n * sizeof(T)), data_(static_cast<T*>(map_zeroed_pages(bytes_)), Unmap{bytes_}) {}
+  T* data() const { return data_.get(); }
+  T& operator[](std::size_t i) const { return data_.get()[i]; }
+
+ private:
+  struct Unmap {
+    std::size_t bytes;
+    void operator()(T* data) const noexcept { unmap_zeroed_pages(data, bytes); }
+  };
+  std::size_t bytes_;
+  std::unique_ptr<T, Unmap> data_;
+};
+
+}  // namespace fss::detail

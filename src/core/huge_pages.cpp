@@ -13,8 +13,28 @@ namespace fss::detail {
 namespace {
 constexpr std::size_t kPageBytes = 4096;
 
+// Mappings of their own on Linux; elsewhere, and under AddressSanitizer (which sees an access
+// beyond a heap buffer, not beyond a mapping's requested bytes), aligned heap buffers.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kOwnMappings = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kOwnMappings = false;
+#else
+constexpr bool kOwnMappings = true;
+#endif
+#else
+constexpr bool kOwnMappings = true;
+#endif
+
 std::size_t round_up(std::size_t bytes, std::size_t unit) {
   return (bytes + unit - 1) / unit * unit;
+}
+
+void* heap_zeros(std::size_t bytes, std::size_t alignment) {
+  void* data = ::operator new (bytes == 0 ? 1 : bytes, std::align_val_t{alignment});
+  std::memset(data, 0, bytes);
+  return data;
 }
 }  // namespace
 
@@ -26,34 +46,36 @@ std::size_t round_up(std::size_t bytes, std::size_t unit) {
 // counts it). The bytes are zeros. Throws std::bad_alloc when the system has no room.
 void* map_on_huge_pages(std::size_t bytes) {
 #ifdef __linux__
-  const std::size_t length = round_up(bytes == 0 ? 1 : bytes, kHugePageBytes);
-  const std::size_t span = length + kHugePageBytes - kPageBytes;
-  if (length < bytes || span < length) throw std::bad_alloc();
-  void* mapped = ::mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (mapped == MAP_FAILED) throw std::bad_alloc();
-  auto* const first = static_cast<char*>(mapped);
-  const auto address = reinterpret_cast<std::uintptr_t>(mapped);
-  const std::size_t head = round_up(address, kHugePageBytes) - address;
-  // The unaligned head and what is left beyond `length` go back at once.
-  if (head > 0) ::munmap(first, head);
-  if (span - head > length) ::munmap(first + head + length, span - head - length);
-  char* const data = first + head;
-  ::madvise(data, length, MADV_HUGEPAGE);  // a hint only
-  return data;
-#else
-  void* data = ::operator new (bytes == 0 ? 1 : bytes, std::align_val_t{kHugePageBytes});
-  std::memset(data, 0, bytes);
-  return data;
+  if (kOwnMappings) {
+    const std::size_t length = round_up(bytes == 0 ? 1 : bytes, kHugePageBytes);
+    const std::size_t span = length + kHugePageBytes - kPageBytes;
+    if (length < bytes || span < length) throw std::bad_alloc();
+    void* mapped =
+        ::mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) throw std::bad_alloc();
+    auto* const first = static_cast<char*>(mapped);
+    const auto address = reinterpret_cast<std::uintptr_t>(mapped);
+    const std::size_t head = round_up(address, kHugePageBytes) - address;
+    // The unaligned head and what is left beyond `length` go back at once.
+    if (head > 0) ::munmap(first, head);
+    if (span - head > length) ::munmap(first + head + length, span - head - length);
+    char* const data = first + head;
+    ::madvise(data, length, MADV_HUGEPAGE);  // a hint only
+    return data;
+  }
 #endif
+  return heap_zeros(bytes, kHugePageBytes);
 }
 
 void unmap_huge_pages(void* data, std::size_t bytes) noexcept {
   if (data == nullptr) return;
 #ifdef __linux__
-  ::munmap(data, round_up(bytes == 0 ? 1 : bytes, kHugePageBytes));
-#else
-  ::operator delete (data, std::align_val_t{kHugePageBytes});
+  if (kOwnMappings) {
+    ::munmap(data, round_up(bytes == 0 ? 1 : bytes, kHugePageBytes));
+    return;
+  }
 #endif
+  ::operator delete (data, std::align_val_t{kHugePageBytes});
 }
 
 // A mapping of its own for `bytes` of zeros: the kernel hands out a zeroed page at its first
@@ -61,24 +83,25 @@ void unmap_huge_pages(void* data, std::size_t bytes) noexcept {
 // of an 8-bit image) costs the pages touched, not a fill of the whole.
 void* map_zeroed_pages(std::size_t bytes) {
 #ifdef __linux__
-  void* mapped = ::mmap(nullptr, bytes == 0 ? 1 : bytes, PROT_READ | PROT_WRITE,
-                        MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (mapped == MAP_FAILED) throw std::bad_alloc();
-  return mapped;
-#else
-  void* data = ::operator new (bytes == 0 ? 1 : bytes, std::align_val_t{kPageBytes});
-  std::memset(data, 0, bytes);
-  return data;
+  if (kOwnMappings) {
+    void* mapped = ::mmap(nullptr, bytes == 0 ? 1 : bytes, PROT_READ | PROT_WRITE,
+                          MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) throw std::bad_alloc();
+    return mapped;
+  }
 #endif
+  return heap_zeros(bytes, kPageBytes);
 }
 
 void unmap_zeroed_pages(void* data, std::size_t bytes) noexcept {
   if (data == nullptr) return;
 #ifdef __linux__
-  ::munmap(data, round_up(bytes == 0 ? 1 : bytes, kPageBytes));
-#else
-  ::operator delete (data, std::align_val_t{kPageBytes});
+  if (kOwnMappings) {
+    ::munmap(data, round_up(bytes == 0 ? 1 : bytes, kPageBytes));
+    return;
+  }
 #endif
+  ::operator delete (data, std::align_val_t{kPageBytes});
 }
 
 }  // namespace fss::detail

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "fss/core/image.h"
+#include "support/test_util.h"
 
 namespace fss {
 namespace {
@@ -61,6 +62,7 @@ TEST(HugePages, MappedBuffersAreAlignedZerosAndWritable) {
 #ifdef __linux__
 TEST(HugePages, MappingIsAdvisedForHugePages) {
   // MADV_HUGEPAGE shows as "hg" in the mapping's VmFlags whatever the system's THP setting.
+  if (test::kAddressSanitizer) GTEST_SKIP() << "heap buffers under AddressSanitizer";
   auto* data = static_cast<unsigned char*>(detail::map_on_huge_pages(3 * kMiB));
   const std::string flags = vm_flags_of(data);
   ASSERT_FALSE(flags.empty()) << "no mapping holds the buffer in /proc/self/smaps";

@@ -12,6 +12,7 @@ namespace fss::detail {
 
 namespace {
 constexpr std::size_t kPageBytes = 4096;
+constexpr std::size_t kBufferAlignment = 64;  // a cache line
 
 // Mappings of their own on Linux; elsewhere, and under AddressSanitizer (which sees an access
 // beyond a heap buffer, not beyond a mapping's requested bytes), aligned heap buffers.
@@ -76,6 +77,21 @@ void unmap_huge_pages(void* data, std::size_t bytes) noexcept {
   }
 #endif
   ::operator delete (data, std::align_val_t{kHugePageBytes});
+}
+
+// A buffer of `bytes`, not initialized: from the heap, 64-byte aligned, below kHugeBufferBytes;
+// on huge pages of its own (map_on_huge_pages) from there. free_buffer takes the same `bytes`.
+void* allocate_buffer(std::size_t bytes) {
+  if (bytes < kHugeBufferBytes) return ::operator new (bytes, std::align_val_t{kBufferAlignment});
+  return map_on_huge_pages(bytes);
+}
+
+void free_buffer(void* data, std::size_t bytes) noexcept {
+  if (bytes < kHugeBufferBytes) {
+    ::operator delete (data, std::align_val_t{kBufferAlignment});
+  } else {
+    unmap_huge_pages(data, bytes);
+  }
 }
 
 // A mapping of its own for `bytes` of zeros: the kernel hands out a zeroed page at its first

@@ -15,6 +15,9 @@ inline constexpr std::size_t kHugeBufferBytes = std::size_t{1} << 20;
 void* map_on_huge_pages(std::size_t bytes);
 void unmap_huge_pages(void* data, std::size_t bytes) noexcept;
 
+void* allocate_buffer(std::size_t bytes);
+void free_buffer(void* data, std::size_t bytes) noexcept;
+
 // `bytes` of zeros on huge pages of their own (map_on_huge_pages): the scratch of one task (a
 // PNG encoder's, a sorter's), whose first touch is then one page fault per 2 MiB.
 class HugePageBuffer {
@@ -39,7 +42,7 @@ template <typename T>
 class ZeroedArray {
  public:
   explicit ZeroedArray(std::size_t n)
-      : bytes_(n * sizeof(T)), data_(static_cast<T*>(map_zeroed_pages(bytes_)), Unmap{bytes_}) {}
+      : data_(static_cast<T*>(map_zeroed_pages(n * sizeof(T))), Unmap{n * sizeof(T)}) {}
   T* data() const { return data_.get(); }
   T& operator[](std::size_t i) const { return data_.get()[i]; }
 
@@ -48,7 +51,6 @@ class ZeroedArray {
     std::size_t bytes;
     void operator()(T* data) const noexcept { unmap_zeroed_pages(data, bytes); }
   };
-  std::size_t bytes_;
   std::unique_ptr<T, Unmap> data_;
 };
 

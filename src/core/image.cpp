@@ -40,17 +40,10 @@ void prefault(void* data, std::size_t bytes) {
 // Samples of less than 1 MiB come from the heap; larger buffers are mapped on huge pages
 // (core/huge_pages.cpp): an image's first touch, a page fault every 4 KiB otherwise, is a large
 // part of a small run's time on a virtual machine.
-void* detail::allocate_samples(std::size_t bytes) {
-  if (bytes < detail::kHugeBufferBytes) return ::operator new(bytes);
-  return detail::map_on_huge_pages(bytes);
-}
+void* detail::allocate_samples(std::size_t bytes) { return detail::allocate_buffer(bytes); }
 
 void detail::free_samples(void* data, std::size_t bytes) noexcept {
-  if (bytes < detail::kHugeBufferBytes) {
-    ::operator delete(data);
-  } else {
-    detail::unmap_huge_pages(data, bytes);
-  }
+  detail::free_buffer(data, bytes);
 }
 
 bool operator==(const Samples& a, const std::vector<double>& b) {

@@ -3,34 +3,19 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
-#include <new>
 
 #include "core/huge_pages.h"
 
 namespace fss::midway {
 
-// Buffers of 1 MiB or more are mapped on huge pages (core/huge_pages.cpp): fewer page faults,
-// and fewer TLB misses in the scatter of a channel's records (CONTRIBUTING.md, "Hand-written
-// fast paths").
-RecordBuffer::RecordBuffer(std::size_t n) : bytes_((n + kPrefetchSlack) * sizeof(Record)) {
-  if (bytes_ >= detail::kHugeBufferBytes) {
-    records_ = static_cast<Record*>(detail::map_on_huge_pages(bytes_));
-    return;
-  }
-  void* memory = nullptr;
-  if (posix_memalign(&memory, 64, bytes_) != 0) throw std::bad_alloc();
-  records_ = static_cast<Record*>(memory);
-}
+// From 1 MiB on huge pages (detail::allocate_buffer): fewer page faults, and fewer TLB misses
+// in the scatter of a channel's records (CONTRIBUTING.md, "Hand-written fast paths").
+RecordBuffer::RecordBuffer(std::size_t n)
+    : bytes_((n + kPrefetchSlack) * sizeof(Record)),
+      records_(static_cast<Record*>(detail::allocate_buffer(bytes_))) {}
 
-RecordBuffer::~RecordBuffer() {
-  if (bytes_ >= detail::kHugeBufferBytes) {
-    detail::unmap_huge_pages(records_, bytes_);
-  } else {
-    std::free(records_);
-  }
-}
+RecordBuffer::~RecordBuffer() { detail::free_buffer(records_, bytes_); }
 
 BucketMap BucketMap::of_values(std::uint64_t low, std::uint64_t high, std::size_t buckets) {
   const double low_value = value_of_bits(low);
@@ -154,13 +139,12 @@ RecordSorter<kTies>::RecordSorter(std::size_t capacity)
 // The buffers for ranges of up to capacity_ records, at the first range that needs them: on
 // huge pages (core/huge_pages.h), so that they cost one page fault or two, not one per 4 KiB.
 template <bool kTies>
-void RecordSorter<kTies>::reserve(std::size_t n) {
-  if (n <= reserved_) return;
-  reserved_ = capacity_;
-  storage_ = std::make_unique<detail::HugePageBuffer>(reserved_ *
+void RecordSorter<kTies>::reserve() {
+  if (storage_ != nullptr) return;
+  storage_ = std::make_unique<detail::HugePageBuffer>(capacity_ *
                                                       (sizeof(Record) + sizeof(std::uint32_t)));
   buffer_ = reinterpret_cast<Record*>(storage_->data());
-  bucket_ = reinterpret_cast<std::uint32_t*>(storage_->data() + reserved_ * sizeof(Record));
+  bucket_ = reinterpret_cast<std::uint32_t*>(storage_->data() + capacity_ * sizeof(Record));
 }
 
 template <bool kTies>
@@ -198,7 +182,7 @@ template <bool kTies>
 template <bool kOnTie>
 void RecordSorter<kTies>::distribute(Record* r, std::size_t n, const BucketMap& map, int depth) {
   const std::size_t m = map.count();
-  reserve(n);
+  reserve();
   start_.assign(m + 1, 0);
   std::uint32_t* start = start_.data();
   bool small = true;  // every bucket holds at most kInsertion records

@@ -159,10 +159,9 @@ class RecordSorter {
   template <bool kOnTie>
   void split_in_place(Record* records, std::size_t n, const BucketMap& map, int depth);
 
-  void reserve(std::size_t n);
+  void reserve();
 
   std::size_t capacity_;
-  std::size_t reserved_ = 0;
   std::unique_ptr<detail::HugePageBuffer> storage_;
   Record* buffer_ = nullptr;
   std::uint32_t* bucket_ = nullptr;   // each record's bucket, while distributing

@@ -138,19 +138,23 @@ void BM_ExactPoissonVariate(benchmark::State& state) {
 }
 BENCHMARK(BM_ExactPoissonVariate)->Arg(1)->Arg(50)->Arg(99)->Arg(100)->Arg(1000)->Arg(100000);
 
-// The same through the row sampler (add_exact_poisson_row: PTRS's first tries
-// vectorized), a row of 4000 pixels of mean range(0) / 10.
+// The same through the row sampler, a row of 4000 pixels of mean range(0) /
+// 10: range(1) 1 add_exact_poisson_row (PTRS's first tries and their slow
+// tests vectorized), 0 add_exact_poisson_row_scalar (the same bits, the slow
+// tests one by one).
 void BM_ExactPoissonRow(benchmark::State& state) {
   const std::vector<double> mean(4000, static_cast<double>(state.range(0)) / 10.0);
   std::vector<double> out(mean.size(), 0.0);
   fss::RandomStream stream(1, 0, 0, 0, 5);
+  const bool bulk = state.range(1) == 1;
   for (auto _ : state) {
-    fss::add_exact_poisson_row(mean, stream, 1.0, out);
+    bulk ? fss::add_exact_poisson_row(mean, stream, 1.0, out)
+         : fss::add_exact_poisson_row_scalar(mean, stream, 1.0, out);
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(state.iterations() * 4000);
 }
-BENCHMARK(BM_ExactPoissonRow)->Arg(1)->Arg(50)->Arg(99)->Arg(100)->Arg(1000)->Arg(100000);
+BENCHMARK(BM_ExactPoissonRow)->ArgsProduct({{1, 50, 99, 100, 1000, 100000, 10000000}, {0, 1}});
 
 // The floor, 1: raw 64-bit outputs of xoshiro256** (one per pixel is what
 // the per-frame sampler's Box-Muller consumes).

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "core/vectorize.h"
+#include "model/bounded_log.h"
 
 namespace fss {
 
@@ -38,6 +39,7 @@ double stirling_correction_of_inverse(double r) {  // r = 1 / k
 // rounded F's top is drawn again.
 constexpr int kInversionCap = 100;
 constexpr double kLargestFinite = std::numeric_limits<double>::max();
+constexpr double kSmallestNormal = std::numeric_limits<double>::min();
 constexpr std::array<double, kInversionCap> kInverse = [] {
   std::array<double, kInversionCap> table{};  // 1 / k, correctly rounded by the compiler
   for (int k = 1; k < kInversionCap; ++k) table[k] = 1.0 / k;
@@ -148,40 +150,185 @@ double exact_poisson_variate(double mean, RandomStream& stream) {
   return variate_from(mean, u, v, stream);
 }
 
-void add_exact_poisson_row(std::span<const double> mean, RandomStream& stream, double scale,
-                           std::span<double> out) {
+namespace {
+
+// A first try's slow test, decided in bulk: the candidates `count` of them
+// (compacted from a block), their decision 1 (accept), 0 (reject) or -1
+// (too close to call: the exact scalar test decides).
+struct FirstTries {
+  static constexpr std::size_t kSize = 256;
+  std::array<double, kSize> mean, u_s, v, k, log_factorial;
+  std::array<std::uint32_t, kSize> pixel;  // index in the block
+  std::array<double, kSize> decision;
+  std::size_t count = 0;
+  // Every pixel not settled, in pixel order (those above and the others).
+  std::array<std::uint32_t, kSize> unsettled;
+  std::size_t unsettled_count = 0;
+};
+
+// Ptrs::accepts(mean, u_s, v, k) by the bounded logarithms (log_factorial: ln k! for k below
+// kLogFactorialTable): 1 accept, 0 reject, -1 too close to call. Both sides err by less than
+// 1e-12 S, S = 1 + |ln(...)| + the magnitudes summed on the right, while the double arithmetic
+// of accepts() errs by a few ulps of S: with a margin of 1e-9 S, the decision is accepts()'s
+// wherever it is taken. Selections on bools combined by & and |, no branch: it vectorizes.
+[[gnu::always_inline]] inline double first_try_decision(double mean, double u_s, double v, double k,
+                                                        double log_factorial) {
+  const Ptrs ptrs(mean);
+  const double alpha = 1.1239 + 1.1328 / (ptrs.b - 3.4);
+  const double u_s2 = u_s * u_s;
+  const double ratio = v * alpha * u_s2 / (ptrs.a + ptrs.b * u_s2);
+  const bool table = k < kLogFactorialTable;
+  const double r = 1.0 / k;
+  const double t = (mean - k) * r;
+  const double lhs = bounded_log(table ? ratio : ratio * std::sqrt(2.0 * std::numbers::pi * k));
+  // ln(mean) for the table's k, else ln(1 + t) (bounded_log1p's two ways)
+  const double second_log = bounded_log(table ? mean : 1.0 + t);
+  const double log1p_t = std::abs(t) <= 0.25 ? bounded_log1p_small(t) : second_log;
+  const double rhs = table ? -mean + k * second_log - log_factorial
+                           : (k - mean) + k * log1p_t - stirling_correction_of_inverse(r);
+  const double scale = 1.0 + std::abs(lhs) + mean + std::abs(k - mean) +
+                       k * std::abs(table ? second_log : log1p_t) + log_factorial;
+  const double margin = 1e-9 * scale;
+  const bool rejected = (k < 0.0) | ((u_s < 0.013) & (v > u_s));
+  const bool normal = ratio >= kSmallestNormal;  // bounded_log's domain
+  double sure = -1.0;
+  sure = normal & (lhs - margin > rhs) ? 0.0 : sure;
+  sure = normal & (lhs + margin < rhs) ? 1.0 : sure;
+  return rejected ? 0.0 : sure;
+}
+
+// first_try_decision for each of the tries.
+void decide_first_tries(FirstTries& tries) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    const double* __restrict mu = tries.mean.data();
+    const double* __restrict us = tries.u_s.data();
+    const double* __restrict vs = tries.v.data();
+    const double* __restrict ks = tries.k.data();
+    const double* __restrict log_factorial = tries.log_factorial.data();
+    double* __restrict decision = tries.decision.data();
+    const std::size_t count = tries.count;
+    for (std::size_t i = 0; i < count; ++i) {
+      decision[i] = first_try_decision(mu[i], us[i], vs[i], ks[i], log_factorial[i]);
+    }
+  });
+}
+
+// A block's first tries: the candidate k and u_s of each pixel, and
+// value[i] = k where the quick acceptance settles it, -1 elsewhere.
+struct BlockTries {
+  static constexpr std::size_t kSize = FirstTries::kSize;
+  std::array<double, kSize> u, v, k, u_s, value;
+};
+
+// PTRS's first tries with their quick acceptance, for a block at once: a
+// function of restrict parameters, so that GCC knows the arrays apart and
+// vectorizes the loop.
+[[gnu::always_inline]] inline void quick_first_tries_kernel(
+    std::size_t count, const double* __restrict mu, const double* __restrict us,
+    const double* __restrict vs, double* __restrict ks, double* __restrict shifted,
+    double* __restrict settled) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const Ptrs ptrs(mu[i]);
+    const double centred = us[i] - 0.5;
+    const double u_s = 0.5 - std::abs(centred);
+    const double k = ptrs.candidate(mu[i], centred, u_s);
+    const bool quick =
+        mu[i] >= kInversionLimit && mu[i] <= kLargestFinite && ptrs.quick_accept(u_s, vs[i]);
+    ks[i] = k;
+    shifted[i] = u_s;
+    settled[i] = quick ? k : -1.0;  // -1: not settled
+  }
+}
+
+void quick_first_tries(std::span<const double> mean, BlockTries& block) {
+  detail::run_vectorized([&]() __attribute__((always_inline)) {
+    quick_first_tries_kernel(mean.size(), mean.data(), block.u.data(), block.v.data(),
+                             block.k.data(), block.u_s.data(), block.value.data());
+  });
+}
+
+// The block's pixels not settled by the quick acceptance (value -1), listed
+// in pixel order; with `bulk`, those of means the bulk test takes (PTRS's
+// below 2^40, where every term of the test stays far from overflow) also
+// compacted into `tries` and decided.
+void decide_unsettled(std::span<const double> mean, const BlockTries& block, FirstTries& tries,
+                      bool bulk) {
+  const auto taken = [&](std::size_t i) {
+    return (block.value[i] < 0.0) & (mean[i] >= kInversionLimit) & (mean[i] < 0x1.0p40);
+  };
+  std::size_t unsettled = 0;
+  std::size_t takes = 0;
+  for (std::size_t i = 0; i < mean.size(); ++i) {  // without branches: every pixel written
+    tries.unsettled[unsettled] = static_cast<std::uint32_t>(i);
+    unsettled += block.value[i] < 0.0 ? 1 : 0;
+    takes += taken(i) ? 1 : 0;
+  }
+  std::size_t count = 0;
+  for (std::size_t i = 0; bulk && takes > 0 && i < mean.size(); ++i) {
+    const double k = block.k[i];
+    const bool table = (k >= 0.0) & (k < kLogFactorialTable);
+    tries.mean[count] = mean[i];
+    tries.u_s[count] = block.u_s[i];
+    tries.v[count] = block.v[i];
+    tries.k[count] = k;
+    tries.log_factorial[count] = kLogFactorial[table ? static_cast<std::size_t>(k) : 0];
+    tries.pixel[count] = static_cast<std::uint32_t>(i);
+    count += taken(i) ? 1 : 0;
+  }
+  tries.unsettled_count = unsettled;
+  tries.count = count;
+  if (count > 0) decide_first_tries(tries);
+}
+
+// add_exact_poisson_row, its unsettled first tries decided in bulk or not.
+void add_row(std::span<const double> mean, RandomStream& stream, double scale,
+             std::span<double> out, bool bulk) {
   // Blocks of kBlock pixels: two uniforms a pixel in pixel order, PTRS's
   // first tries with their quick acceptance for the whole block at once
-  // (vectorized), then, in pixel order, every pixel they did not settle.
-  constexpr std::size_t kBlock = 256;
-  std::array<double, kBlock> first_u, first_v, value;
+  // (vectorized), their slow tests in bulk (vectorized), then, in pixel
+  // order, every pixel they did not settle.
+  constexpr std::size_t kBlock = FirstTries::kSize;
+  BlockTries block_tries;
+  FirstTries tries;
+  std::array<double, kBlock>& value = block_tries.value;
   for (std::size_t start = 0; start < mean.size(); start += kBlock) {
     const std::size_t m = std::min(kBlock, mean.size() - start);
+    const std::span<const double> block = mean.subspan(start, m);
     for (std::size_t i = 0; i < m; ++i) {
-      first_u[i] = to_uniform(stream.next());
-      first_v[i] = to_uniform_open_zero(stream.next());
+      block_tries.u[i] = to_uniform(stream.next());
+      block_tries.v[i] = to_uniform_open_zero(stream.next());
     }
-    detail::run_vectorized([&]() __attribute__((always_inline)) {
-      const double* __restrict mu = mean.data() + start;
-      const double* __restrict us = first_u.data();
-      const double* __restrict vs = first_v.data();
-      double* __restrict settled = value.data();
-      const std::size_t count = m;
-      for (std::size_t i = 0; i < count; ++i) {
-        const Ptrs ptrs(mu[i]);
-        const double centred = us[i] - 0.5;
-        const double u_s = 0.5 - std::abs(centred);
-        const double k = ptrs.candidate(mu[i], centred, u_s);
-        const bool quick =
-            mu[i] >= kInversionLimit && mu[i] <= kLargestFinite && ptrs.quick_accept(u_s, vs[i]);
-        settled[i] = quick ? k : -1.0;  // -1: not settled
+    quick_first_tries(block, block_tries);
+    decide_unsettled(block, block_tries, tries, bulk);
+    std::size_t next = 0;                                      // the next decided try
+    for (std::size_t j = 0; j < tries.unsettled_count; ++j) {  // in pixel order
+      const std::size_t i = tries.unsettled[j];
+      const bool decided = next < tries.count && tries.pixel[next] == i;
+      const double decision = decided ? tries.decision[next++] : -1.0;
+      if (decision > 0.0) {
+        value[i] = block_tries.k[i];
+      } else if (decision == 0.0) {  // rejected: PTRS's next tries
+        const double u = stream.uniform();
+        const double v = stream.uniform_open_zero();
+        value[i] = transformed_rejection(block[i], u, v, stream);
+      } else {
+        value[i] = variate_from(block[i], block_tries.u[i], block_tries.v[i], stream);
       }
-    });
-    for (std::size_t i = 0; i < m; ++i) {
-      if (value[i] < 0.0) value[i] = variate_from(mean[start + i], first_u[i], first_v[i], stream);
-      out[start + i] += scale * value[i];
     }
+    for (std::size_t i = 0; i < m; ++i) out[start + i] += scale * value[i];
   }
+}
+
+}  // namespace
+
+void add_exact_poisson_row(std::span<const double> mean, RandomStream& stream, double scale,
+                           std::span<double> out) {
+  add_row(mean, stream, scale, out, /*bulk=*/true);
+}
+
+void add_exact_poisson_row_scalar(std::span<const double> mean, RandomStream& stream, double scale,
+                                  std::span<double> out) {
+  add_row(mean, stream, scale, out, /*bulk=*/false);
 }
 
 }  // namespace fss

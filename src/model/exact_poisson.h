@@ -28,6 +28,14 @@ double exact_poisson_variate(double mean, RandomStream& stream);
 void add_exact_poisson_row(std::span<const double> mean, RandomStream& stream, double scale,
                            std::span<double> out);
 
+// add_exact_poisson_row with every first try that the quick acceptance does
+// not settle decided by the scalar slow test alone: the same bits, slower.
+// add_exact_poisson_row decides those tries in bulk with bounded logarithms
+// and a margin, and leaves the ones too close to call to the scalar test
+// (docs/method.md §6c); the tests hold it to this one.
+void add_exact_poisson_row_scalar(std::span<const double> mean, RandomStream& stream, double scale,
+                                  std::span<double> out);
+
 // ln P(X = k) for X ~ Poisson(mean), k >= 0 an integer, mean > 0: the
 // acceptance test's target, exposed for the tests.
 double poisson_log_pmf(double k, double mean);

@@ -10,8 +10,10 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <vector>
 
+#include "model/bounded_log.h"
 #include "support/test_util.h"
 
 namespace fss {
@@ -208,6 +210,68 @@ TEST(ExactPoisson, RowOfMixedMeans) {
       EXPECT_LT(std::abs(sum / n - pattern[j]) / std::sqrt(pattern[j] / n), 3.0)
           << "mean " << pattern[j] << " seed " << seed;
     }
+  }
+}
+
+// The bulk slow test's logarithms within their stated bound, 1e-13 (1 +
+// |result|), against long double: arguments log-uniform over the normal
+// doubles, powers of two and their neighbours, both sides of sqrt(2) and of
+// the switch at |t| = 1/4, and t near -1 and near 0.
+TEST(BoundedLog, WithinItsBound) {
+  const auto check = [](double got, long double exact, double argument) {
+    const long double error = std::abs(static_cast<long double>(got) - exact);
+    EXPECT_LE(error, 1e-13L * (1.0L + std::abs(exact))) << "argument " << argument;
+  };
+  RandomStream pick(5, 0, 0, 0, 0);
+  std::vector<double> ys;
+  ys.reserve(200000 + 5 * 2046);
+  for (int i = 0; i < 200000; ++i) ys.push_back(std::pow(2.0, -1020.0 + 2040.0 * pick.uniform()));
+  for (int e = -1022; e <= 1023; ++e) {
+    const double p = std::ldexp(1.0, e);
+    ys.insert(ys.end(), {p, std::nextafter(p, 0.0), std::nextafter(p, 1e308),
+                         p * std::numbers::sqrt2, std::nextafter(p * std::numbers::sqrt2, 0.0)});
+  }
+  for (const double y : ys) check(bounded_log(y), std::log(static_cast<long double>(y)), y);
+  std::vector<double> ts = {0.0,
+                            1e-300,
+                            -1e-300,
+                            1e-17,
+                            -1e-17,
+                            0.25,
+                            -0.25,
+                            1e6,
+                            1e300,
+                            std::nextafter(0.25, 1.0),
+                            std::nextafter(-0.25, -1.0),
+                            -1.0 + 1e-10,
+                            std::nextafter(-1.0, 0.0)};
+  for (int i = 0; i < 200000; ++i) ts.push_back(-1.0 + 3.0 * pick.uniform_open_zero());
+  for (int i = 0; i < 2000; ++i) ts.push_back(std::pow(10.0, -20.0 + 40.0 * pick.uniform()));
+  for (const double t : ts) check(bounded_log1p(t), std::log1p(static_cast<long double>(t)), t);
+}
+
+// The first tries left to the slow test, decided in bulk by bounded
+// logarithms, decide as the scalar test does: the same bits and the same
+// stream position after rows of means from 10^-1 to 10^13 (both sides of the
+// log-factorial table, the inversion, overflow-free and huge means, zeros).
+TEST(ExactPoisson, BulkSlowTestDecidesAsTheScalarTest) {
+  const std::size_t width = test::kAddressSanitizer ? 5000 : 40000;
+  for (const std::uint64_t seed : {1, 2, 3, 4}) {
+    std::vector<double> means(width);
+    RandomStream pick(seed, 9, 9, 9, 9);
+    for (double& m : means) m = std::pow(10.0, -1.0 + 14.0 * pick.uniform());
+    means[7] = 0.0;
+    means[8] = 1e300;
+    means[9] = std::numeric_limits<double>::infinity();
+    std::vector<double> bulk(width, 0.25), scalar(width, 0.25);
+    RandomStream a(seed, 1, 2, 3, 4), b(seed, 1, 2, 3, 4);
+    add_exact_poisson_row(means, a, 0.5, bulk);
+    add_exact_poisson_row_scalar(means, b, 0.5, scalar);
+    for (std::size_t x = 0; x < width; ++x) {
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(bulk[x]), std::bit_cast<std::uint64_t>(scalar[x]))
+          << "pixel " << x << " mean " << means[x] << " seed " << seed;
+    }
+    EXPECT_EQ(a.next(), b.next());
   }
 }
 

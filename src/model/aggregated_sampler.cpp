@@ -179,6 +179,19 @@ void AggregatedRowSampler::add_group_frame(int group, std::span<const double> la
   });
 }
 
+void AggregatedRowSampler::add_group_variances(std::span<double> variance, double scale) const {
+  for (std::size_t g = 0; g < group_used_.size(); ++g) {
+    if (group_used_[g] == 0) continue;
+    detail::run_vectorized([&]() __attribute__((always_inline)) {
+      const std::size_t n = variance.size();
+      const double* __restrict lambda = group_lambda_[g].data();
+      double* __restrict sum = variance.data();
+      const double weight = group_gain_[g] * group_gain_[g] * scale;
+      for (std::size_t x = 0; x < n; ++x) sum[x] += weight * lambda[x];
+    });
+  }
+}
+
 void AggregatedRowSampler::draw_groups(const RowNoiseId& id, std::span<double> out) {
   for (std::size_t g = 0; g < group_used_.size(); ++g) {
     if (group_used_[g] == 0) continue;

@@ -123,6 +123,11 @@ class AggregatedRowSampler {
   // The same as add_frame(e, ...) for the exposure whose intensities these are.
   void add_frame(const FrameIntensities& frame, const RowNoiseId& id, double gain,
                  std::span<double> out, const SensorReadout* readout = nullptr);
+  // For each group g with frames since the last finish():
+  //   variance[x] += alpha_g^2 Lambda_g[x] scale,
+  // with scale = 1 / lambda2^2 the exact variance of the group's term of
+  // the observation (no sensor: Lambda_g = lambda2 sum_k max(e_k, 0)).
+  void add_group_variances(std::span<double> variance, double scale) const;
   // For each group g with frames, in g order: out[x] += alpha_g P_g[x] /
   // lambda2; then out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from
   // the row's kAggregateNormal lane (id.frame is ignored), then M = V = 0.

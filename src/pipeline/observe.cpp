@@ -133,13 +133,23 @@ class VarianceRow {
     if (active_) std::fill(variance_.begin(), variance_.end(), 0.0);
   }
 
+  // From now on the exact slots (grouped frames of the aggregated noise) add nothing: their
+  // variance, summed over a group's frames, is alpha_g^2 Lambda_g / lambda2^2 from the intensity
+  // the aggregated sampler sums while it draws them (no sensor), added by add_groups().
+  void take_groups_from_sampler() { groups_from_sampler_ = active_; }
+  // variance += alpha_g^2 Lambda_g / lambda2^2 for each group drawn since the sampler's last
+  // finish(), when take_groups_from_sampler() was called.
+  void add_groups(const AggregatedRowSampler& sampler) {
+    if (groups_from_sampler_) sampler.add_group_variances(variance_, 1.0 / (lambda2_ * lambda2_));
+  }
+
   // Slot k's exposure e_k (or the analog exposure, weight 1), `exact` when
   // drawn without rounding. With shifts (shift.e0 not empty), unit = V(e_0)
   // is computed at the first slot of its kind and each slot adds it shifted
   // by its offset.
   void add_slot(std::span<const double> e, std::span<const double> e0, std::size_t offset,
                 double weight, bool exact = false) {
-    if (!active_) return;
+    if (!active_ || (exact && groups_from_sampler_)) return;
     if (e0.empty()) {
       add(e, weight, variance_, exact);
       return;
@@ -197,6 +207,7 @@ class VarianceRow {
   bool active_;
   bool unit_ready_ = false;
   bool exact_unit_ready_ = false;
+  bool groups_from_sampler_ = false;
   double lambda2_;
   double dark_;
   double readout_;  // v_r / lambda2^2 (0 without a sensor, also where lambda2^2 underflows)
@@ -244,6 +255,8 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
   // the exact prediction's per-pixel variance
   VarianceRow var(expected.empty(), snr_, outputs.variance, scratch.unit_variance,
                   scratch.exact_unit_variance, readout_.dark_electrons, readout_variance_);
+  // The grouped frames' variance from the sampler's sums when it draws them without a sensor.
+  if (aggregate_ && !noisy.empty() && !sensor_) var.take_groups_from_sampler();
   ReadoutClipping clipping;
   const double lambda2 = scratch.aggregated.lambda2();
   if (mode_ == ShutterMode::kAnalog) {
@@ -272,6 +285,7 @@ ReadoutClipping RowObserver::observe(std::uint64_t seed, int channel, int row, S
                  aggregate_ && groups_[k] != kSingleFrame);
   });
   if (noisy.empty()) return clipping;
+  var.add_groups(scratch.aggregated);
   // The aggregated normal-branch frames: one normal per pixel.
   if (aggregate_) scratch.aggregated.finish({seed, c, 0, y}, noisy);
   // The frames' read noise, summed: sigma_r sqrt(sum alpha_k^2) N / lambda2.

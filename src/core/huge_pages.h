@@ -34,6 +34,33 @@ class HugePageBuffer {
   unsigned char* data_;
 };
 
+// n values of T (a trivial type), not initialized, from allocate_buffer: on huge pages of their
+// own from kHugeBufferBytes on.
+template <typename T>
+class BufferArray {
+ public:
+  explicit BufferArray(std::size_t n)
+      : data_(static_cast<T*>(allocate_buffer(n * sizeof(T))), Free{n * sizeof(T)}) {}
+  T* data() const { return data_.get(); }
+
+ private:
+  struct Free {
+    std::size_t bytes;
+    void operator()(T* data) const noexcept { free_buffer(data, bytes); }
+  };
+  std::unique_ptr<T, Free> data_;
+};
+
+void advise_huge_pages(void* data, std::size_t bytes) noexcept;
+
+// v.reserve(n), and the whole huge pages of its storage advised as such (advise_huge_pages):
+// for a large std::vector or std::string about to be written through once.
+template <typename Container>
+void reserve_on_huge_pages(Container& v, std::size_t n) {
+  v.reserve(n);
+  if (v.capacity() >= kHugeBufferBytes) advise_huge_pages(v.data(), v.capacity());
+}
+
 void* map_zeroed_pages(std::size_t bytes);
 void unmap_zeroed_pages(void* data, std::size_t bytes) noexcept;
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "core/huge_pages.h"
 #include "fss/core/error.h"
 
 namespace fss::detail {
@@ -40,7 +41,7 @@ void read_stream(std::ifstream& file, const std::string& name, std::size_t max_b
     block.resize(static_cast<std::size_t>(file.gcount()));
     total += block.size();
   }
-  bytes.reserve(total);
+  detail::reserve_on_huge_pages(bytes, total);
   for (std::vector<std::uint8_t>& block : blocks) {
     bytes.insert(bytes.end(), block.begin(), block.end());
     std::vector<std::uint8_t>().swap(block);
@@ -73,6 +74,8 @@ std::vector<std::uint8_t> read_input_bytes(const std::filesystem::path& path,
   if (regular && !ec) {
     check_file_bytes(name, size, max_bytes);
     const std::size_t have = bytes.size();
+    detail::reserve_on_huge_pages(bytes,
+                                  std::max<std::size_t>(have, static_cast<std::size_t>(size)));
     bytes.resize(std::max<std::size_t>(have, static_cast<std::size_t>(size)));
     file.read(reinterpret_cast<char*>(bytes.data() + have),
               static_cast<std::streamsize>(bytes.size() - have));

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "core/huge_pages.h"
 #include "fss/core/error.h"
 #include "fss/io/png_io.h"
 #include "io/png_write.h"
@@ -19,7 +20,9 @@ ObservedPng8::ObservedPng8(int height, int channels) : height_(height), channels
 void ObservedPng8::store_row(int channel, int row, std::span<const double> values) {
   std::call_once(allocated_, [&] {
     width_ = static_cast<int>(values.size());
-    samples_.resize(values.size() * static_cast<std::size_t>(height_) * channels_);
+    const std::size_t samples = values.size() * static_cast<std::size_t>(height_) * channels_;
+    detail::reserve_on_huge_pages(samples_, samples);
+    samples_.resize(samples);
   });
   if (channel < 0 || channel >= channels_ || row < 0 || row >= height_ ||
       values.size() != static_cast<std::size_t>(width_)) {

@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "core/enum_names.h"
+#include "core/huge_pages.h"
 #include "fss/core/error.h"
 #include "io/input_bytes.h"
 #include "io/png_samples.h"
@@ -245,11 +246,11 @@ Image decode_png(const std::uint8_t* bytes, std::size_t size, const std::string&
   check_decodable(header, size, name, max_bytes);
   const int out_channels = header.channels >= 3 ? 3 : 1;
   try {
-    // Not zero-filled: only the rows libpng actually decodes are touched.
-    const auto pixels =
-        std::make_unique_for_overwrite<std::uint8_t[]>(header.rowbytes * header.height);
+    // Not zero-filled: only the rows libpng actually decodes are touched, on huge pages when
+    // large (detail::allocate_buffer).
+    const detail::BufferArray<std::uint8_t> pixels(std::size_t{header.rowbytes} * header.height);
     std::vector<png_bytep> rows(header.height);
-    for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = pixels.get() + y * header.rowbytes;
+    for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = pixels.data() + y * header.rowbytes;
     if (!read_rows(ctx, rows.data())) {
       throw_runtime_error("cannot read PNG '" + name + "': " + ctx->message);
     }

@@ -190,7 +190,7 @@ Bytes write_png(const PngRaster& raster, const StoredRowSource& rows) {
       kBlockBytes / (row_bytes + 1), 1, static_cast<std::size_t>(raster.height)));
   try {
     Bytes out;
-    out.reserve(reserved_bytes(raster));
+    reserve_on_huge_pages(out, reserved_bytes(raster));
     append_header(out, raster);
     // The encoder's buffers, a block of filtered rows, this row and the one above, and a row of
     // zeros, on huge pages of their own: their first touch is one page fault, not hundreds.

@@ -47,7 +47,10 @@ std::size_t working_bytes(int width, int height, int channels, const Geometry& g
   const std::size_t huge = detail::kHugePageBytes;
   const std::size_t encoder_pages = ((std::size_t{800} << 10) + rows + huge - 1) / huge * huge;
   const std::size_t encoders = 5 * (encoder_pages + (std::size_t{128} << 10));
-  const std::size_t encoding = (4 + extra_encoding_bytes_per_sample) * wo * h * c + encoders;
+  // Each file's bytes are advised onto huge pages (reserve_on_huge_pages): up to a huge page
+  // past what it writes, for each of the five.
+  const std::size_t encoding =
+      (4 + extra_encoding_bytes_per_sample) * wo * h * c + encoders + 5 * huge;
   // Buffers of 1 MiB or more are mapped in whole huge pages (core/huge_pages.cpp): up to 2 MiB
   // more each for the input, the outputs and the records.
   const std::size_t rounding = detail::kHugePageBytes * (1 + (trials > 1 ? 2 : 1) + 1 + 1);

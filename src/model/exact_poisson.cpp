@@ -254,17 +254,19 @@ void quick_first_tries(std::span<const double> mean, BlockTries& block) {
 void decide_unsettled(std::span<const double> mean, const BlockTries& block, FirstTries& tries,
                       bool bulk) {
   const auto taken = [&](std::size_t i) {
-    return (block.value[i] < 0.0) & (mean[i] >= kInversionLimit) & (mean[i] < 0x1.0p40);
+    return (mean[i] >= kInversionLimit) & (mean[i] < 0x1.0p40);
   };
   std::size_t unsettled = 0;
   std::size_t takes = 0;
   for (std::size_t i = 0; i < mean.size(); ++i) {  // without branches: every pixel written
+    const bool open = block.value[i] < 0.0;
     tries.unsettled[unsettled] = static_cast<std::uint32_t>(i);
-    unsettled += block.value[i] < 0.0 ? 1 : 0;
-    takes += taken(i) ? 1 : 0;
+    unsettled += open ? 1 : 0;
+    takes += open & taken(i) ? 1 : 0;
   }
   std::size_t count = 0;
-  for (std::size_t i = 0; bulk && takes > 0 && i < mean.size(); ++i) {
+  for (std::size_t j = 0; bulk && takes > 0 && j < unsettled; ++j) {  // the same, compacted
+    const std::size_t i = tries.unsettled[j];
     const double k = block.k[i];
     const bool table = (k >= 0.0) & (k < kLogFactorialTable);
     tries.mean[count] = mean[i];

@@ -34,22 +34,34 @@ class HugePageBuffer {
   unsigned char* data_;
 };
 
-// n values of T (a trivial type), not initialized, from allocate_buffer: on huge pages of their
-// own from kHugeBufferBytes on.
-template <typename T>
-class BufferArray {
+// n values of T (a trivial type) from Acquire(bytes), given back by Release(data, bytes).
+template <typename T, void* (*Acquire)(std::size_t), void (*Release)(void*, std::size_t) noexcept>
+class OwnedArray {
  public:
-  explicit BufferArray(std::size_t n)
-      : data_(static_cast<T*>(allocate_buffer(n * sizeof(T))), Free{n * sizeof(T)}) {}
+  explicit OwnedArray(std::size_t n)
+      : data_(static_cast<T*>(Acquire(n * sizeof(T))), Give{n * sizeof(T)}) {}
   T* data() const { return data_.get(); }
+  T& operator[](std::size_t i) const { return data_.get()[i]; }
 
  private:
-  struct Free {
+  struct Give {
     std::size_t bytes;
-    void operator()(T* data) const noexcept { free_buffer(data, bytes); }
+    void operator()(T* data) const noexcept { Release(data, bytes); }
   };
-  std::unique_ptr<T, Free> data_;
+  std::unique_ptr<T, Give> data_;
 };
+
+// n values of T, not initialized, from allocate_buffer: on huge pages of their own from
+// kHugeBufferBytes on.
+template <typename T>
+using BufferArray = OwnedArray<T, allocate_buffer, free_buffer>;
+
+void* map_zeroed_pages(std::size_t bytes);
+void unmap_zeroed_pages(void* data, std::size_t bytes) noexcept;
+
+// n zeros of T (an integer type) on pages of their own (map_zeroed_pages).
+template <typename T>
+using ZeroedArray = OwnedArray<T, map_zeroed_pages, unmap_zeroed_pages>;
 
 void advise_huge_pages(void* data, std::size_t bytes) noexcept;
 
@@ -60,25 +72,5 @@ void reserve_on_huge_pages(Container& v, std::size_t n) {
   v.reserve(n);
   if (v.capacity() >= kHugeBufferBytes) advise_huge_pages(v.data(), v.capacity());
 }
-
-void* map_zeroed_pages(std::size_t bytes);
-void unmap_zeroed_pages(void* data, std::size_t bytes) noexcept;
-
-// n zeros of T (an integer type) on pages of their own (map_zeroed_pages).
-template <typename T>
-class ZeroedArray {
- public:
-  explicit ZeroedArray(std::size_t n)
-      : data_(static_cast<T*>(map_zeroed_pages(n * sizeof(T))), Unmap{n * sizeof(T)}) {}
-  T* data() const { return data_.get(); }
-  T& operator[](std::size_t i) const { return data_.get()[i]; }
-
- private:
-  struct Unmap {
-    std::size_t bytes;
-    void operator()(T* data) const noexcept { unmap_zeroed_pages(data, bytes); }
-  };
-  std::unique_ptr<T, Unmap> data_;
-};
 
 }  // namespace fss::detail

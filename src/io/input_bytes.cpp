@@ -74,9 +74,9 @@ std::vector<std::uint8_t> read_input_bytes(const std::filesystem::path& path,
   if (regular && !ec) {
     check_file_bytes(name, size, max_bytes);
     const std::size_t have = bytes.size();
-    detail::reserve_on_huge_pages(bytes,
-                                  std::max<std::size_t>(have, static_cast<std::size_t>(size)));
-    bytes.resize(std::max<std::size_t>(have, static_cast<std::size_t>(size)));
+    const std::size_t total = std::max<std::size_t>(have, static_cast<std::size_t>(size));
+    detail::reserve_on_huge_pages(bytes, total);
+    bytes.resize(total);
     file.read(reinterpret_cast<char*>(bytes.data() + have),
               static_cast<std::streamsize>(bytes.size() - have));
     bytes.resize(have + static_cast<std::size_t>(file.gcount()));

@@ -83,6 +83,17 @@ struct Ptrs {
     return std::floor((2.0 * a / u_s + b) * u + mean + 0.43);  // u_s = 0 gives -inf
   }
   bool quick_accept(double u_s, double v) const { return u_s >= 0.07 && v <= v_r; }
+  // Rejected at once: k < 0, or u_s < 0.013 and V > u_s (& and |: no branch, for the bulk test).
+  static bool rejects(double u_s, double v, double k) {
+    return (k < 0.0) | ((u_s < 0.013) & (v > u_s));
+  }
+  // V alpha / (a / u_s^2 + b) = V alpha u_s^2 / (a + b u_s^2), the test's left side but for
+  // sqrt(2 pi k) above the table.
+  double ratio(double u_s, double v) const {
+    const double alpha = 1.1239 + 1.1328 / (b - 3.4);
+    const double u_s2 = u_s * u_s;
+    return v * alpha * u_s2 / (a + b * u_s2);
+  }
   // The rest of a try that quick_accept did not accept. With
   // V alpha / (a / u_s^2 + b) = V alpha u_s^2 / (a + b u_s^2) and, for
   // k >= kLogFactorialTable, ln P(X = k) = (k - mean) + k log1p((mean - k) / k)
@@ -90,10 +101,8 @@ struct Ptrs {
   //   ln(V alpha u_s^2 sqrt(2 pi k) / (a + b u_s^2)) <= (k - mean) + k log1p((mean - k) r) - delta,
   // r = 1 / k: one logarithm and one log1p.
   bool accepts(double mean, double u_s, double v, double k) const {
-    if (k < 0.0 || (u_s < 0.013 && v > u_s)) return false;
-    const double alpha = 1.1239 + 1.1328 / (b - 3.4);
-    const double u_s2 = u_s * u_s;
-    const double ratio = v * alpha * u_s2 / (a + b * u_s2);
+    if (rejects(u_s, v, k)) return false;
+    const double ratio = this->ratio(u_s, v);
     if (k < kLogFactorialTable) return std::log(ratio) <= poisson_log_pmf(k, mean);
     const double r = 1.0 / k;
     return std::log(ratio * std::sqrt(2.0 * std::numbers::pi * k)) <=
@@ -174,9 +183,7 @@ struct FirstTries {
 [[gnu::always_inline]] inline double first_try_decision(double mean, double u_s, double v, double k,
                                                         double log_factorial) {
   const Ptrs ptrs(mean);
-  const double alpha = 1.1239 + 1.1328 / (ptrs.b - 3.4);
-  const double u_s2 = u_s * u_s;
-  const double ratio = v * alpha * u_s2 / (ptrs.a + ptrs.b * u_s2);
+  const double ratio = ptrs.ratio(u_s, v);
   const bool table = k < kLogFactorialTable;
   const double r = 1.0 / k;
   const double t = (mean - k) * r;
@@ -189,7 +196,7 @@ struct FirstTries {
   const double scale = 1.0 + std::abs(lhs) + mean + std::abs(k - mean) +
                        k * std::abs(table ? second_log : log1p_t) + log_factorial;
   const double margin = 1e-9 * scale;
-  const bool rejected = (k < 0.0) | ((u_s < 0.013) & (v > u_s));
+  const bool rejected = Ptrs::rejects(u_s, v, k);
   const bool normal = ratio >= kSmallestNormal;  // bounded_log's domain
   double sure = -1.0;
   sure = normal & (lhs - margin > rhs) ? 0.0 : sure;

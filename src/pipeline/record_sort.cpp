@@ -9,14 +9,6 @@
 
 namespace fss::midway {
 
-// From 1 MiB on huge pages (detail::allocate_buffer): fewer page faults, and fewer TLB misses
-// in the scatter of a channel's records (CONTRIBUTING.md, "Hand-written fast paths").
-RecordBuffer::RecordBuffer(std::size_t n)
-    : bytes_((n + kPrefetchSlack) * sizeof(Record)),
-      records_(static_cast<Record*>(detail::allocate_buffer(bytes_))) {}
-
-RecordBuffer::~RecordBuffer() { detail::free_buffer(records_, bytes_); }
-
 BucketMap BucketMap::of_values(std::uint64_t low, std::uint64_t high, std::size_t buckets) {
   const double low_value = value_of_bits(low);
   const double range = value_of_bits(high) - low_value;

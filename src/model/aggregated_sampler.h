@@ -121,13 +121,16 @@ class AggregatedRowSampler {
   // Fills `rows` (resized to e's size) for exposure e; returns the count.
   std::size_t intensities_of(std::span<const double> e, double dark, IntensityRows& rows) const;
   // The same as add_frame(e, ...) for the exposure whose intensities these are.
+  // A grouped frame's frame.lambda is read when the row is drawn (finish() or
+  // add_group_variances()), with the group's other frames: it must stay valid
+  // and unchanged until then.
   void add_frame(const FrameIntensities& frame, const RowNoiseId& id, double gain,
                  std::span<double> out, const SensorReadout* readout = nullptr);
   // For each group g with frames since the last finish():
   //   variance[x] += alpha_g^2 Lambda_g[x] scale,
   // with scale = 1 / lambda2^2 the exact variance of the group's term of
   // the observation (no sensor: Lambda_g = lambda2 sum_k max(e_k, 0)).
-  void add_group_variances(std::span<double> variance, double scale) const;
+  void add_group_variances(std::span<double> variance, double scale);
   // For each group g with frames, in g order: out[x] += alpha_g P_g[x] /
   // lambda2; then out[x] += (M[x] + sqrt(V[x]) N[x]) / lambda2 with N from
   // the row's kAggregateNormal lane (id.frame is ignored), then M = V = 0.
@@ -154,8 +157,15 @@ class AggregatedRowSampler {
   // them): out += gain P / lambda2, recorded into the plan being recorded.
   void add_knuth_branch(std::span<const double> lambda, std::size_t knuth_pixels,
                         const RowNoiseId& id, double gain, std::span<double> out);
-  // Group g's frame: Lambda_g += lambda.
-  void add_group_frame(int group, std::span<const double> lambda);
+  // add_frame(frame, ...), `lasting` when frame.lambda stays valid and
+  // unchanged until the row is drawn.
+  void add_frame(const FrameIntensities& frame, const RowNoiseId& id, double gain,
+                 std::span<double> out, const SensorReadout* readout, bool lasting);
+  // Group g's frame: Lambda_g += lambda, now, or when the row is drawn if the
+  // frame's lambda is `lasting`.
+  void add_group_frame(int group, std::span<const double> lambda, bool lasting);
+  // Adds group g's pending frames to Lambda_g, in their order.
+  void sum_pending_frames(std::size_t g);
   // out += alpha_g P_g / lambda2 for each group with frames, recorded.
   void draw_groups(const RowNoiseId& id, std::span<double> out);
   // out += (M + sqrt(V) N) / lambda2, N from the row's kAggregateNormal lane.
@@ -167,7 +177,10 @@ class AggregatedRowSampler {
   std::vector<double> group_gain_;                 // alpha_g
   std::vector<std::vector<double>> group_lambda_;  // Lambda_g, in photons
   std::vector<char> group_used_;                   // group g had a frame since the last finish()
+  std::vector<char> group_summed_;                 // Lambda_g holds frames of this row
   AggregatedRowPlan* plan_ = nullptr;              // being recorded
+  // Per group, the lasting frames' intensities not yet added to Lambda_g.
+  std::vector<std::vector<std::span<const double>>> group_pending_;
   std::size_t max_knuth_pixels_ = 0;
   bool has_frame_ = false;   // add_frame() was called since the last finish()
   bool has_normal_ = false;  // and some pixel of some frame was on the normal branch

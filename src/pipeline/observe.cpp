@@ -139,7 +139,7 @@ class VarianceRow {
   void take_groups_from_sampler() { groups_from_sampler_ = active_; }
   // variance += alpha_g^2 Lambda_g / lambda2^2 for each group drawn since the sampler's last
   // finish(), when take_groups_from_sampler() was called.
-  void add_groups(const AggregatedRowSampler& sampler) {
+  void add_groups(AggregatedRowSampler& sampler) {
     if (groups_from_sampler_) sampler.add_group_variances(variance_, 1.0 / (lambda2_ * lambda2_));
   }
 

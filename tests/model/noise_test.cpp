@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -526,6 +527,52 @@ TEST(AggregatedRowSampler, FinishWithoutFramesAddsNothing) {
   const std::vector<double> once = drawn;
   sampler.finish({1, 0, 0, 0}, drawn);
   EXPECT_TRUE(same_bytes(drawn, once));
+}
+
+// A row whose frames are windows of one exposure's intensities (observe's
+// circular shifts) is drawn from them as from each frame's exposure one at a
+// time: the grouped frames' Lambda_g, summed when the row is drawn, in
+// chunks and four frames at a time, has the bits of the frame-by-frame sum.
+TEST(AggregatedRowSampler, WindowedFramesGiveTheBitsOfFramesOneAtATime) {
+  // Group 1.0 of 7 frames, group 0.5 of 2, two single frames; a width that is
+  // no multiple of the chunk; intensities from 0 to about 4e4 photons.
+  const std::vector<double> gains = {1.0, 0.5, 1.0, 2.0, 1.0, 1.0, -0.3, 0.5, 1.0, 1.0, 1.0};
+  const std::size_t w = 1300;
+  const double snr = 100.0;
+  AggregatedRowSampler by_frame(snr, gains);
+  AggregatedRowSampler by_window(snr, gains);
+  std::vector<double> e0(w);
+  for (std::size_t x = 0; x < w; ++x) {  // sums that round: their order shows in the bits
+    e0[x] = std::exp(7.0 * std::sin(0.37 * static_cast<double>(x))) / 3.0 - 0.5;
+  }
+  AggregatedRowSampler::IntensityRows rows;
+  const std::size_t normal_pixels = by_window.intensities_of(e0, 0.0, rows);
+  for (auto* v : {&rows.lambda, &rows.mean_part, &rows.variance_part}) {
+    v->insert(v->end(), v->begin(), v->end());  // v v: each shift is a window
+  }
+  std::vector<double> out_frame(w, 0.0), out_window(w, 0.0);
+  for (std::size_t k = 0; k < gains.size(); ++k) {
+    const std::size_t offset = (37 * k) % w;  // e_k(x) = e_0((x - offset) mod w)
+    std::vector<double> e(w);
+    for (std::size_t x = 0; x < w; ++x) e[x] = e0[(x + w - offset) % w];
+    const RowNoiseId id{5, 1, k, 3};
+    by_frame.add_frame(e, id, gains[k], out_frame);
+    const auto window = [&](const std::vector<double>& v) {
+      return std::span<const double>(v).subspan(w - offset, w);
+    };
+    by_window.add_frame(
+        AggregatedRowSampler::FrameIntensities{window(rows.lambda), window(rows.mean_part),
+                                               window(rows.variance_part), normal_pixels},
+        id, gains[k], out_window);
+  }
+  // Scale 1: the variances are the Lambda_g, to the last bit.
+  std::vector<double> variance_frame(w, 0.0), variance_window(w, 0.0);
+  by_frame.add_group_variances(variance_frame, 1.0);
+  by_window.add_group_variances(variance_window, 1.0);
+  EXPECT_TRUE(same_bytes(variance_frame, variance_window));
+  by_frame.finish({5, 1, 0, 3}, out_frame);
+  by_window.finish({5, 1, 0, 3}, out_window);
+  EXPECT_TRUE(same_bytes(out_frame, out_window));
 }
 
 // Pixel x's normal as the header documents it: output x of Box-Muller pairs

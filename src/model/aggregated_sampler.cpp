@@ -174,7 +174,8 @@ void AggregatedRowSampler::add_knuth_branch(std::span<const double> lambda,
 namespace {
 
 // Columns summed together: a chunk of Lambda_g stays in the L1 cache while
-// every frame of the group is added to it.
+// every frame of the group is added to it (a fast path measured in
+// CONTRIBUTING.md, "Hand-written fast paths").
 constexpr std::size_t kGroupChunk = 512;
 
 // to[x] = (((to[x] + a[x]) + b[x]) + c[x]) + d[x] for x < n: four frames'

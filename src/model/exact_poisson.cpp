@@ -199,8 +199,8 @@ struct FirstTries {
   const bool rejected = Ptrs::rejects(u_s, v, k);
   const bool normal = ratio >= kSmallestNormal;  // bounded_log's domain
   double sure = -1.0;
-  sure = normal & (lhs - margin > rhs) ? 0.0 : sure;
-  sure = normal & (lhs + margin < rhs) ? 1.0 : sure;
+  sure = (normal & (lhs - margin > rhs)) ? 0.0 : sure;
+  sure = (normal & (lhs + margin < rhs)) ? 1.0 : sure;
   return rejected ? 0.0 : sure;
 }
 
@@ -261,7 +261,7 @@ void quick_first_tries(std::span<const double> mean, BlockTries& block) {
 void decide_unsettled(std::span<const double> mean, const BlockTries& block, FirstTries& tries,
                       bool bulk) {
   const auto taken = [&](std::size_t i) {
-    return (mean[i] >= kInversionLimit) & (mean[i] < 0x1.0p40);
+    return static_cast<int>(mean[i] >= kInversionLimit) & static_cast<int>(mean[i] < 0x1.0p40);
   };
   std::size_t unsettled = 0;
   std::size_t takes = 0;
@@ -269,7 +269,7 @@ void decide_unsettled(std::span<const double> mean, const BlockTries& block, Fir
     const bool open = block.value[i] < 0.0;
     tries.unsettled[unsettled] = static_cast<std::uint32_t>(i);
     unsettled += open ? 1 : 0;
-    takes += open & taken(i) ? 1 : 0;
+    takes += (static_cast<int>(open) & taken(i)) != 0 ? 1 : 0;
   }
   std::size_t count = 0;
   for (std::size_t j = 0; bulk && takes > 0 && j < unsettled; ++j) {  // the same, compacted
@@ -282,7 +282,7 @@ void decide_unsettled(std::span<const double> mean, const BlockTries& block, Fir
     tries.k[count] = k;
     tries.log_factorial[count] = kLogFactorial[table ? static_cast<std::size_t>(k) : 0];
     tries.pixel[count] = static_cast<std::uint32_t>(i);
-    count += taken(i) ? 1 : 0;
+    count += taken(i) != 0 ? 1 : 0;
   }
   tries.unsettled_count = unsettled;
   tries.count = count;

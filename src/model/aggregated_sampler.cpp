@@ -203,20 +203,10 @@ void AggregatedRowSampler::add_group_frame(int group, std::span<const double> la
     group_summed_[g] = 0;
     group_pending_[g].clear();
   }
-  if (lasting) {  // summed when the row is drawn, with the group's other frames
-    group_pending_[g].push_back(lambda);
-    return;
-  }
-  sum_pending_frames(g);
-  std::vector<double>& sum = group_lambda_[g];
-  if (group_summed_[g] == 0) {  // Lambda_g = lambda
-    sum.assign(lambda.begin(), lambda.end());
-    group_summed_[g] = 1;
-    return;
-  }
-  detail::run_vectorized([&]() __attribute__((always_inline)) {  // Lambda_g += lambda
-    add_one(lambda.data(), sum.data(), lambda.size());
-  });
+  // A lasting frame is summed when the row is drawn, with the group's other frames; any other
+  // frame now, its lambda being overwritten by the next frame's.
+  group_pending_[g].push_back(lambda);
+  if (!lasting) sum_pending_frames(g);
 }
 
 void AggregatedRowSampler::sum_pending_frames(std::size_t g) {

@@ -20,6 +20,9 @@ struct OutputFile {
   // large files never holds more of them in memory than the threads make at
   // once.
   std::function<std::string()> make;
+  // The files of a higher rank are made first, the others in file order: the one that takes
+  // longest to make starts first, rather than last with the other threads done and idle.
+  int rank = 0;
 };
 
 // Writes `files` into `outdir` (created if missing) as one set: after a
@@ -37,9 +40,9 @@ struct OutputFile {
 // runs write (with other options) that this set does not have: those in
 // `outdir` belong to the old set and go with it when the new one is published.
 // Files are made (OutputFile::make) and staged on up to `threads` threads
-// (resolve_thread_count, parallel.h), each taking the next file; a file that
-// cannot be made fails the set as a write would, the first such error (in
-// file order) is the one thrown.
+// (resolve_thread_count, parallel.h), each taking the next file by rank, then
+// in file order; a file that cannot be made fails the set as a write would,
+// the first such error (in file order) is the one thrown.
 void write_output_set(const std::filesystem::path& outdir, const std::vector<OutputFile>& files,
                       const std::vector<std::string>& protected_inputs,
                       const std::vector<std::string>& stale_names = {}, int threads = 1);

@@ -38,14 +38,15 @@ void write_run(const std::filesystem::path& outdir, const SimulationReport& repo
                                input_path,  observed,
                                plots.drawn, plots.in_progress,
                                names,       options.image_depth};
-  // Each file is made as it is staged, on the report's threads, each taking
-  // the next file: the four image files cost nearly all of it and come first,
-  // so fixed blocks would give them all to one thread; and a file's bytes are
-  // freed once written, so the large ones are not all in memory at once.
+  // Each file is made as it is staged, on the report's threads, each taking the next file:
+  // the four image files cost nearly all of it and come first, longest first (RunFile::rank),
+  // so fixed blocks would give them all to one thread; and a file's bytes are freed once
+  // written, so the large ones are not all in memory at once.
   std::vector<OutputFile> staged;
   staged.reserve(files.size());
   for (const RunFile& file : files) {
-    staged.push_back({file.name, {}, [&sources, make = file.make] { return make(sources); }});
+    staged.push_back(
+        {file.name, {}, [&sources, make = file.make] { return make(sources); }, file.rank});
   }
   std::vector<std::string> inputs = options.other_inputs;
   inputs.insert(inputs.begin(), input_path);

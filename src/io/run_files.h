@@ -46,6 +46,8 @@ struct RunFile {
   // drawn around it there (report_figures, html_report.h).
   const char* caption = "";
   FrameColour frame = {};
+  // Made before the files of a lower rank (OutputFile::rank).
+  int rank = 0;
 };
 
 // Every file a run may write, in the order write_outputs writes them.

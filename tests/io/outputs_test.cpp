@@ -14,10 +14,13 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fss/core/error.h"
@@ -591,6 +594,54 @@ TEST(WriteOutputSet, AFailedWriteRemovesEveryDirectoryItCreated) {
   EXPECT_TRUE(test::throws_error([&] { write_output_set(dir / "old/g/h", failing, {}); },
                                  ErrorKind::kRuntime));
   EXPECT_EQ(test::list_directory(dir / "old/g"), std::vector<std::string>{"a.txt"});
+}
+
+// A maker that notes its file's name in `made` (under `mutex`) and makes its name as bytes.
+std::function<std::string()> noting_maker(const std::string& name, std::vector<std::string>& made,
+                                          std::mutex& mutex) {
+  return [&made, &mutex, name] {
+    const std::lock_guard<std::mutex> lock(mutex);
+    made.push_back(name);
+    return name;
+  };
+}
+
+TEST(WriteOutputSet, FilesAreMadeByDecreasingRankThenInFileOrder) {
+  test::TempDir dir;
+  std::vector<std::string> made;
+  std::mutex mutex;
+  std::vector<OutputFile> files;
+  const std::vector<std::pair<std::string, int>> ranked = {
+      {"a.txt", 0}, {"b.txt", 2}, {"c.txt", 0}, {"d.txt", 1}, {"e.txt", 2}};
+  files.reserve(ranked.size());
+  for (const auto& [name, rank] : ranked) {
+    files.push_back({name, {}, noting_maker(name, made, mutex), rank});
+  }
+  write_output_set(dir / "out", files, {}, {}, /*threads=*/1);
+  EXPECT_EQ(made, (std::vector<std::string>{"b.txt", "e.txt", "d.txt", "a.txt", "c.txt"}));
+  for (const auto& [name, rank] : ranked) EXPECT_EQ(test::read_file(dir / "out" / name), name);
+  // On two threads too, every file is made once, with its own bytes.
+  made.clear();
+  write_output_set(dir / "out2", files, {}, {}, /*threads=*/2);
+  EXPECT_EQ(made.size(), ranked.size());
+  for (const auto& [name, rank] : ranked) EXPECT_EQ(test::read_file(dir / "out2" / name), name);
+}
+
+TEST(WriteOutputSet, TheErrorThrownIsTheFirstInFileOrderWhateverTheRanks) {
+  test::TempDir dir;
+  const auto failing = [](const std::string& what) {
+    return [what]() -> std::string { throw_runtime_error(what); };
+  };
+  // b.txt is made first (its rank) and fails first, but a.txt comes first in the set.
+  const std::vector<OutputFile> files = {
+      {"a.txt", {}, failing("no a"), 0}, {"b.txt", {}, failing("no b"), 5}, {"c.txt", "c", {}}};
+  for (const int threads : {1, 2}) {
+    const std::optional<Error> error =
+        test::error_of([&] { write_output_set(dir / "out", files, {}, {}, threads); });
+    ASSERT_TRUE(error.has_value()) << threads;
+    EXPECT_NE(std::string(error->what()).find("no a"), std::string::npos) << error->what();
+    EXPECT_FALSE(fs::exists(dir / "out")) << threads;
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <numeric>
 #include <thread>
 #include <vector>
 
@@ -52,15 +53,25 @@ void parallel_for(int count, int threads, const std::function<void(int begin, in
 
 void parallel_for_each(int count, int threads, const std::function<void(int i)>& body) {
   if (count <= 0) return;
+  std::vector<int> order(static_cast<std::size_t>(count));
+  std::iota(order.begin(), order.end(), 0);
+  parallel_for_each(order, threads, body);
+}
+
+void parallel_for_each(std::span<const int> order, int threads,
+                       const std::function<void(int i)>& body) {
+  const int count = static_cast<int>(order.size());
+  if (count <= 0) return;
   const int workers = std::min(resolve_thread_count(threads), count);
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
   std::atomic<int> next{0};
   parallel_for(workers, workers, [&](int, int) {
-    for (int i = next++; i < count; i = next++) {
+    for (int position = next++; position < count; position = next++) {
+      const int i = order[static_cast<std::size_t>(position)];
       try {
         body(i);
       } catch (...) {
-        errors[i] = std::current_exception();
+        errors[static_cast<std::size_t>(i)] = std::current_exception();
       }
     }
   });

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <span>
 
 namespace fss {
 
@@ -20,6 +21,12 @@ void parallel_for(int count, int threads, const std::function<void(int begin, in
 // where fixed blocks would leave a thread idle. Same exceptions rule as
 // parallel_for (the first thrown, by item order, is rethrown).
 void parallel_for_each(int count, int threads, const std::function<void(int i)>& body);
+
+// The same, the items taken in the order `order` lists them (a permutation of
+// [0, order.size())): the longest first, say. The first exception by item, not
+// by position in `order`, is rethrown.
+void parallel_for_each(std::span<const int> order, int threads,
+                       const std::function<void(int i)>& body);
 
 // Calls work(i, lane) for every i in [0, count) on `lanes` threads (lane in
 // [0, lanes)), each thread taking the next unclaimed item, and commit(i) for

@@ -35,7 +35,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -411,11 +410,12 @@ Stage create_stage(int out_fd, const fs::path& outdir) {
 }
 
 // The order in which the files are made: by decreasing rank, in file order within a rank.
-std::vector<std::size_t> making_order(const std::vector<OutputFile>& files) {
-  std::vector<std::size_t> order(files.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return files[a].rank > files[b].rank; });
+std::vector<int> making_order(const std::vector<OutputFile>& files) {
+  std::vector<int> order(files.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return files[static_cast<std::size_t>(a)].rank > files[static_cast<std::size_t>(b)].rank;
+  });
   return order;
 }
 
@@ -427,22 +427,12 @@ void stage_and_commit(Stage& stage, const fs::path& outdir, const std::vector<Ou
   std::vector<WrittenFile> written(files.size() + 2);
   written[0] =
       write_new_file(stage.fd.get(), kMarkerName, kMarkerText, (outdir / kMarkerName).string());
-  const std::vector<std::size_t> order = making_order(files);
-  std::vector<std::exception_ptr> failures(files.size());
-  parallel_for_each(static_cast<int>(files.size()), threads, [&](int position) {
-    const std::size_t i = order[static_cast<std::size_t>(position)];
-    const OutputFile& file = files[i];
-    try {
-      const std::string made = file.make ? file.make() : std::string();
-      written[i + 1] = write_new_file(stage.fd.get(), file.name, file.make ? made : file.bytes,
-                                      (outdir / file.name).string());
-    } catch (...) {
-      failures[i] = std::current_exception();
-    }
+  parallel_for_each(making_order(files), threads, [&](int i) {
+    const OutputFile& file = files[static_cast<std::size_t>(i)];
+    const std::string made = file.make ? file.make() : std::string();
+    written[static_cast<std::size_t>(i) + 1] = write_new_file(
+        stage.fd.get(), file.name, file.make ? made : file.bytes, (outdir / file.name).string());
   });
-  for (const std::exception_ptr& failure : failures) {
-    if (failure) std::rethrow_exception(failure);  // the first in file order
-  }
   for (std::size_t i = 0; i < files.size(); ++i)
     stage.manifest.push_back({files[i].name, written[i + 1].inode});
   for (const std::string& name : stale_names) {

@@ -156,14 +156,14 @@ std::string make_html_report(const RunFileSources& s) {
 using enum RunFileCondition;
 using enum RunFileFigure;
 
-// Every frame colour has a zero component, which neither a gray image nor
-// the plots' palette (all components >= 20) can produce.
 // The image files are made longest first (their rank), so that the threads end together:
 // sheet.png when asked for (three images' pixels through PLplot and zlib); residual.png,
 // whose range takes a pass over the image before it is encoded and whose noise compresses
 // worst; restored.png, with the noise the inverse filter amplifies; the input's crop; and
 // observed.png, smoothed by the blur, the quickest to compress (a 4000x3000 photograph with
 // noise: 0.21, 0.13, 0.11 and 0.08 s for the last four).
+// Every frame colour has a zero component, which neither a gray image nor
+// the plots' palette (all components >= 20) can produce.
 // One row a file (kept by hand: clang-format would give every field a line).
 // clang-format off
 constexpr std::array kRunFiles = {

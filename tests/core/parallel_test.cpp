@@ -68,6 +68,33 @@ TEST(ParallelForEach, RethrowsTheFirstExceptionByIndex) {
   }
 }
 
+TEST(ParallelForEach, TakesTheItemsInTheOrderGiven) {
+  const std::vector<int> order = {3, 0, 4, 1, 2};
+  std::vector<int> taken;
+  parallel_for_each(order, 1, [&](int i) { taken.push_back(i); });
+  EXPECT_EQ(taken, order);
+  for (const int threads : {2, 3, 64}) {
+    std::vector<std::atomic<int>> hits(order.size());
+    parallel_for_each(order, threads, [&](int i) { ++hits[static_cast<std::size_t>(i)]; });
+    for (const auto& hit : hits) EXPECT_EQ(hit, 1) << threads << " threads";
+  }
+}
+
+TEST(ParallelForEach, InAnyOrderRethrowsTheFirstExceptionByItem) {
+  std::vector<int> order(50);  // 49, 48, ..., 0: item 40 is taken before item 7
+  for (int position = 0; position < 50; ++position) order[position] = 49 - position;
+  for (const int threads : {1, 3}) {
+    try {
+      parallel_for_each(order, threads, [](int i) {
+        if (i == 7 || i == 40) throw std::runtime_error("item " + std::to_string(i));
+      });
+      ADD_FAILURE() << "no exception";
+    } catch (const std::runtime_error& e) {
+      EXPECT_STREQ(e.what(), "item 7");
+    }
+  }
+}
+
 TEST(ParallelForDeathTest, RunsEveryBlockWhenThreadsCannotStart) {
   if (test::kAddressSanitizer) GTEST_SKIP() << "RLIMIT_AS cannot be used under AddressSanitizer";
   GTEST_FLAG_SET(death_test_style, "threadsafe");
